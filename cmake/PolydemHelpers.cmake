@@ -1,0 +1,56 @@
+# Helpers shared by all modules, apps and tests.
+#
+#   polydem_add_module(NAME core SOURCES a.cpp b.cpp DEPENDS Eigen3::Eigen ...)
+#     -> static library polydem_core, alias polydem::core, headers included as "core/a.h".
+#
+#   polydem_add_test(NAME geometry_convex_polyhedron SOURCES t.cpp DEPENDS polydem::geometry
+#                    [PROCESSES 1 2 4] [LABELS unit] [TIMEOUT 120])
+#     -> one GoogleTest executable, registered with ctest once per process count. Counts above 1
+#        run through mpiexec with --oversubscribe, and as root where the machine needs it.
+
+function(polydem_add_module)
+  cmake_parse_arguments(M "" "NAME" "SOURCES;DEPENDS" ${ARGN})
+  set(target polydem_${M_NAME})
+  add_library(${target} STATIC ${M_SOURCES})
+  add_library(polydem::${M_NAME} ALIAS ${target})
+  target_include_directories(${target} PUBLIC ${PROJECT_SOURCE_DIR}/module)
+  target_link_libraries(${target} PUBLIC ${M_DEPENDS})
+  set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+endfunction()
+
+# Environment for every MPI launch made by ctest: lets Open MPI run as root (CI containers do),
+# allows more ranks than cores, and avoids the ptrace-based single-copy transport that
+# containers forbid.
+set(POLYDEM_MPI_TEST_ENV
+    "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none"
+    CACHE INTERNAL "")
+
+function(polydem_add_test)
+  cmake_parse_arguments(T "" "NAME;TIMEOUT" "SOURCES;DEPENDS;PROCESSES;LABELS;ARGS" ${ARGN})
+  if(NOT T_PROCESSES)
+    set(T_PROCESSES 1)
+  endif()
+  if(NOT T_TIMEOUT)
+    set(T_TIMEOUT 300)
+  endif()
+  set(exe test_${T_NAME})
+  add_executable(${exe} ${T_SOURCES})
+  target_link_libraries(${exe} PRIVATE ${T_DEPENDS} polydem_test_main GTest::gtest)
+  set_target_properties(${exe} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
+  foreach(np IN LISTS T_PROCESSES)
+    if(np EQUAL 1)
+      add_test(NAME ${T_NAME} COMMAND ${exe} ${T_ARGS})
+    else()
+      add_test(NAME ${T_NAME}_np${np}
+               COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} ${np} --oversubscribe
+                       $<TARGET_FILE:${exe}> ${T_ARGS})
+    endif()
+    set(name ${T_NAME})
+    if(NOT np EQUAL 1)
+      set(name ${T_NAME}_np${np})
+    endif()
+    set_tests_properties(${name} PROPERTIES ENVIRONMENT "${POLYDEM_MPI_TEST_ENV}"
+                                            TIMEOUT ${T_TIMEOUT} PROCESSORS ${np}
+                                            LABELS "${T_LABELS}")
+  endforeach()
+endfunction()

@@ -1,0 +1,92 @@
+// The narrow phase: one result type and one interface for every contact kernel.
+//
+// Conventions (BENCHMARKS.md section C): the pair is (A, B); `normal` is the unit vector pointing
+// from B into A, the direction in which A must move to separate; `depth` >= 0 is the penetration;
+// `point` is the single contact point, in the middle of the overlap (half way between the two
+// surfaces). Kernels are stateless functors: all per-pair memory (warm starts, previous planes)
+// lives in a PairState owned by the contact history, so that it can migrate with particles and be
+// written to checkpoints.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/types.h"
+#include "geometry/convex_polyhedron.h"
+
+namespace polydem::contact {
+
+/// A polyhedron placed in the world: world = position + rotation * (shape vertex).
+/// `vertices` holds the world coordinates of the shape's vertices in the shape's order; the
+/// simulation computes them once per particle per step and every pair reuses them.
+struct Body {
+  const geometry::ConvexPolyhedron* shape = nullptr;
+  Vec3 position = Vec3::Zero();
+  Mat3 rotation = Mat3::Identity();
+  std::span<const Vec3> vertices;
+
+  Vec3 toWorld(const Vec3& body) const { return position + rotation * body; }
+  Vec3 centroid() const { return toWorld(shape->centroid()); }
+  Vec3 faceNormal(int f) const { return rotation * shape->faces()[f].normal; }
+  double circumradius() const { return shape->circumradius(); }
+};
+
+/// Builds a Body whose world vertices live in `storage` (kept alive by the caller).
+Body placeBody(const geometry::ConvexPolyhedron& shape, const Vec3& position,
+               const Mat3& rotation, std::vector<Vec3>& storage);
+
+/// Per-pair memory kept between steps. Plain data, so it can be sent and checkpointed as bytes.
+struct PairState {
+  Vec3 warm_direction = Vec3::Zero();  // GJK: last separating axis; FCP: last common-plane normal
+  Vec3 warm_point = Vec3::Zero();      // FCP: a point on the last common plane
+  std::uint32_t warm_valid = 0;        // 1 if the warm start may be used
+  std::uint32_t reserved = 0;
+};
+
+/// How the force of a contact is to be computed by the contact law.
+enum class ForceModel : std::uint8_t {
+  kPenalty,    // f_n = kn * depth along `normal`, acting at `point`
+  kPotential,  // f_n = penalty (Pa) * `potential` (m^2) along `normal`, acting at `point`
+};
+
+/// Why a kernel could not give a trustworthy answer (the contact is still reported).
+enum class Status : std::uint8_t {
+  kOk = 0,
+  kNotConverged,       // an iteration hit its bound; the best answer so far is returned
+  kDegenerate,         // no overlap polygon/volume could be formed; point falls back
+  kInnerDomainReached  // distance potential: the overlap reached the undefined inner domain
+};
+
+struct Contact {
+  bool touching = false;
+  Vec3 normal = Vec3::UnitZ();
+  Vec3 point = Vec3::Zero();
+  double depth = 0.0;
+  ForceModel model = ForceModel::kPenalty;
+  double potential = 0.0;  // kPotential only: integral of the potential over the overlap surface
+  Status status = Status::kOk;
+};
+
+class Kernel {
+ public:
+  virtual ~Kernel() = default;
+  virtual std::string_view name() const = 0;
+  /// Resolves the pair (a, b). `state` may be null (no warm start, nothing remembered).
+  virtual Contact collide(const Body& a, const Body& b, PairState* state) const = 0;
+};
+
+/// Parameters some kernels take; every kernel ignores the ones it does not use.
+struct KernelParams {
+  double lp_rounding = 0.05;  // LP potential blocks: rounding radius r, fraction of inradius
+};
+
+/// The kernel called `name` (gjk-epa, gjk-epa-ipm, fcp, fcp-ipm, lp, distance-potential, fdem).
+/// Throws polydem::Error listing the known names for an unknown one.
+std::unique_ptr<Kernel> makeKernel(std::string_view name, const KernelParams& params = {});
+/// The names makeKernel() accepts, in the order reports list them.
+std::vector<std::string> kernelNames();
+
+}  // namespace polydem::contact

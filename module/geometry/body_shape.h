@@ -1,0 +1,32 @@
+// BodyShape: a particle shape in its body frame (centroid at the origin, axes along the principal
+// axes of inertia) with its mass properties per unit density. Particles carry an id into one table
+// of BodyShapes that every rank holds; messages and checkpoints carry the id, not the mesh.
+#pragma once
+
+#include <string>
+
+#include "geometry/convex_polyhedron.h"
+
+namespace polydem::geometry {
+
+struct BodyShape {
+  std::string name;
+  ConvexPolyhedron polyhedron;  // body frame
+  double volume = 0.0;
+  Vec3 principal_moments = Vec3::Zero();  // diagonal inertia per unit density, body frame
+  double circumradius = 0.0;
+  double inradius = 0.0;
+};
+
+/// A shape given in some input frame, moved to its body frame. `input_from_body` is the rigid
+/// motion that puts the body-frame shape back where the input was: x_input = R x_body + c.
+/// When the inertia tensor is already diagonal (to 1e-12 relative) R is the identity, so shapes
+/// given axis-aligned keep their exact coordinates.
+struct BodyFrameResult {
+  BodyShape shape;
+  Quat rotation;   // R above
+  Vec3 centroid;   // c above
+};
+BodyFrameResult toBodyFrame(const ConvexPolyhedron& input, std::string name = {});
+
+}  // namespace polydem::geometry

@@ -1,0 +1,113 @@
+// ConvexPolyhedron: a convex polyhedron with true polygon faces (coplanar triangles merged, so a
+// cube has 6 quads), unique edges, adjacency, exact mass properties and support mapping.
+//
+// Built from a point cloud with Qhull; every tolerance is relative to the size of the cloud, so the
+// same shape in millimetres and in metres gives the same topology. The polyhedron is stored in
+// whatever frame its points were given in; BodyShape (body_shape.h) moves it to its body frame.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "core/types.h"
+
+namespace polydem::geometry {
+
+/// A plane n . x = offset, with unit normal n.
+struct Plane {
+  Vec3 normal = Vec3::UnitZ();
+  double offset = 0.0;
+  double signedDistance(const Vec3& x) const { return normal.dot(x) - offset; }
+};
+
+struct Face {
+  std::vector<int> vertices;  // counter-clockwise seen from outside (right-hand rule: outward)
+  std::vector<int> edges;     // edges[i] joins vertices[i] and vertices[i+1]
+  Vec3 normal;                // unit, outward
+  double offset = 0.0;        // normal . x = offset for x on the face
+  Vec3 centroid;              // area centroid of the polygon
+  double area = 0.0;
+};
+
+struct Edge {
+  int v0 = -1, v1 = -1;  // v0 < v1
+  int f0 = -1, f1 = -1;  // the two faces sharing the edge
+};
+
+/// What fromPoints() found besides the hull: input points that are not vertices of the hull.
+struct BuildReport {
+  std::vector<int> interior_points;  // strictly inside the hull
+  std::vector<int> boundary_points;  // on a face or an edge but not a corner
+  std::vector<int> vertex_of_input;  // hull vertex i came from input point vertex_of_input[i]
+};
+
+class ConvexPolyhedron {
+ public:
+  ConvexPolyhedron() = default;
+
+  /// The convex hull of `points`. Throws GeometryError for fewer than 4 points, NaN or infinite
+  /// coordinates, duplicate points (closer than 1e-10 of the cloud's size) and clouds that are
+  /// flat (all points within 1e-10 of the cloud's size from one plane). Points that are not hull
+  /// vertices are dropped and listed in `report`.
+  static ConvexPolyhedron fromPoints(std::span<const Vec3> points, BuildReport* report = nullptr);
+
+  const std::vector<Vec3>& vertices() const { return vertices_; }
+  const std::vector<Face>& faces() const { return faces_; }
+  const std::vector<Edge>& edges() const { return edges_; }
+  /// Edges, faces and neighbouring vertices of each vertex.
+  const std::vector<std::vector<int>>& vertexEdges() const { return vertex_edges_; }
+  const std::vector<std::vector<int>>& vertexFaces() const { return vertex_faces_; }
+  const std::vector<std::vector<int>>& vertexNeighbours() const { return vertex_neighbours_; }
+
+  /// Exact mass properties of the solid with unit density (divergence theorem).
+  double volume() const { return volume_; }
+  const Vec3& centroid() const { return centroid_; }
+  /// Inertia tensor about the centroid, for unit density (multiply by density for kg m^2).
+  const Mat3& inertia() const { return inertia_; }
+
+  /// Largest distance from the centroid to a vertex.
+  double circumradius() const { return circumradius_; }
+  /// Radius and centre of the largest inscribed sphere (Chebyshev centre of the faces).
+  double inradius() const { return inradius_; }
+  const Vec3& incenter() const { return incenter_; }
+  /// Length scale for relative tolerances: the diameter of the circumscribed sphere.
+  double lengthScale() const { return 2.0 * circumradius_; }
+
+  /// Index of a vertex maximising direction . v (ties broken towards the lowest index).
+  /// `hint` is a vertex to start a hill climb from on large polyhedra.
+  int supportIndex(const Vec3& direction, int hint = 0) const;
+  const Vec3& support(const Vec3& direction) const { return vertices_[supportIndex(direction)]; }
+
+  /// The polyhedron moved by x -> rotation * x + translation (same topology and indices).
+  ConvexPolyhedron transformed(const Mat3& rotation, const Vec3& translation) const;
+  /// The polyhedron scaled about the origin by `factor` > 0.
+  ConvexPolyhedron scaled(double factor) const;
+
+  /// Whether x lies inside or on the boundary, within `tolerance` (absolute length).
+  bool contains(const Vec3& x, double tolerance = 0.0) const;
+
+  /// The two parts of the polyhedron on either side of `plane` (below: signedDistance <= 0).
+  /// A part thinner than 1e-9 of the length scale is returned empty.
+  struct Split {
+    std::vector<Vec3> below, above;  // vertices of each part; empty if there is none
+  };
+  Split split(const Plane& plane) const;
+
+ private:
+  void buildTopology(const std::vector<Vec3>& points, const std::vector<std::vector<int>>& faces);
+  void computeMassProperties();
+  void computeRadii();
+
+  std::vector<Vec3> vertices_;
+  std::vector<Face> faces_;
+  std::vector<Edge> edges_;
+  std::vector<std::vector<int>> vertex_edges_, vertex_faces_, vertex_neighbours_;
+  double volume_ = 0.0;
+  Vec3 centroid_ = Vec3::Zero();
+  Mat3 inertia_ = Mat3::Zero();
+  double circumradius_ = 0.0;
+  double inradius_ = 0.0;
+  Vec3 incenter_ = Vec3::Zero();
+};
+
+}  // namespace polydem::geometry

@@ -1,0 +1,19 @@
+// GoogleTest main for every polydem test: initialises MPI, runs the tests on all ranks, prints
+// results from rank 0 only, and fails the process if a test failed on any rank.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include "core/mpi_env.h"
+
+int main(int argc, char** argv) {
+  polydem::mpi::Environment env(argc, argv);
+  ::testing::InitGoogleTest(&argc, argv);
+  if (polydem::mpi::rank() != 0) {
+    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
+    delete listeners.Release(listeners.default_result_printer());
+  }
+  const int local = RUN_ALL_TESTS();
+  int global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  return global;
+}
