@@ -1,0 +1,135 @@
+// Scene: everything a run needs, as read from a scene file (benchmark_scenes/*.toml). The reader
+// (scene_reader.h) fills it and reports every problem with file and line; the simulation (sim/)
+// builds itself from it. Units are SI throughout; angles in scene files are in degrees.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "contact/contact.h"
+#include "core/types.h"
+#include "particles/material.h"
+
+namespace polydem::io {
+
+/// A shape, resolved by the reader to the vertex list of its convex hull (in the shape's own
+/// frame; the simulation moves it to its body frame).
+struct ShapeSpec {
+  std::string name;
+  std::vector<Vec3> vertices;
+  int line = 0;  // where it was defined, for error messages
+};
+
+/// Prescribed motion of a driven particle (a tilting platform, a shaken base). The velocity of a
+/// material point x of the body is v(t) + w(t) x (x - pivot(t)), where the pivot moves with v(t).
+struct DriverSpec {
+  Vec3 velocity = Vec3::Zero();          // constant part of v
+  Vec3 angular_velocity = Vec3::Zero();  // w, rad/s (scene files give deg/s or rad/s: see reader)
+  Vec3 pivot = Vec3::Zero();             // at t = start_time
+  Vec3 oscillation = Vec3::Zero();       // v += oscillation * sin(2 pi frequency (t - start) + phase)
+  double frequency = 0.0;                // Hz
+  double phase = 0.0;                    // rad
+  double start_time = 0.0;               // no motion before
+  double end_time = 1e300;               // no motion after
+  int line = 0;
+};
+
+struct ParticleSpec {
+  Uid uid = 0;                 // assigned by the reader in file order, starting at 1
+  std::string label;           // optional name, used by checks and monitors
+  int shape = -1;              // index into Scene::shapes
+  int material = -1;           // index into Scene::materials
+  // The particle occupies { position + orientation * v : v in the shape's vertices }. Built-in
+  // shapes (box, prisms, regular polyhedra...) are centred on their centroid, so `position` is the
+  // centroid; a vertex-list shape stays where its vertices are when position = 0.
+  Vec3 position = Vec3::Zero();
+  Quat orientation = Quat::Identity();
+  Vec3 velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();
+  bool fixed = false;
+  int driver = -1;  // index into Scene::drivers
+  int line = 0;
+};
+
+struct DomainSpec {
+  std::optional<Vec3> min, max;           // default: particles' bounding box, inflated
+  std::optional<std::array<int, 3>> blocks;  // default: chosen from the rank count
+  std::array<bool, 3> periodic{false, false, false};
+  std::int64_t rebalance_every = 0;  // steps; 0 = never
+  std::string balancer = "metis";    // "metis" | "sfc"
+};
+
+/// The initial-equilibrium stage of 3DEC and Keissar section 3.3: heavy local damping and a
+/// friction angle of 89 degrees until the force ratio R (Keissar eq. 3.2) drops below a threshold.
+struct EquilibriumSpec {
+  bool enabled = false;
+  double local_damping = 0.8;
+  double friction_angle = 89.0;  // degrees
+  double force_ratio = 1e-5;
+  std::int64_t max_steps = 1000000;
+  bool reset_velocities = true;  // zero velocities when the stage ends (3DEC practice)
+};
+
+struct OutputSpec {
+  std::int64_t series_every = 10;      // steps between rows of series.csv
+  std::int64_t snapshot_every = 0;     // steps between VTK snapshots (0 = first and last only)
+  std::int64_t progress_every = 0;     // steps between progress lines (0 = automatic)
+  std::vector<std::string> monitor;    // particle labels whose state goes into series.csv
+};
+
+struct CheckpointSpec {
+  std::int64_t every_steps = 0;   // 0 = never
+  double every_seconds = 0.0;     // wall clock; 0 = never
+  int keep = 2;                   // keep the last K checkpoints
+};
+
+/// One expected result of the scene, computed from the run by the check of that `kind`
+/// (sim/checks). `params` holds the kind's parameters (numbers, vectors, labels) as written.
+struct CheckSpec {
+  std::string name;
+  std::string kind;
+  std::map<std::string, std::vector<double>> numbers;   // scalars are one-element vectors
+  std::map<std::string, std::string> strings;           // e.g. particle labels
+  double expected = 0.0;
+  double tolerance = 0.0;
+  std::string compare = "abs";  // "abs": |v-e| <= tol; "rel": |v-e| <= tol |e|; "max": v <= e;
+                                // "min": v >= e; "report": recorded, never fails
+  std::string reference;        // where the expected value comes from (paper, table, equation)
+  int line = 0;
+};
+
+struct Scene {
+  std::string file;  // path of the scene file, for messages
+  std::string id, title, description, source;
+
+  std::string kernel = "gjk-epa-ipm";
+  contact::KernelParams kernel_params;
+  std::string broadphase = "multilevel";
+  double dt = 0.0;
+  std::optional<double> end_time;
+  std::optional<std::int64_t> steps;
+  Vec3 gravity = Vec3(0, 0, -9.81);
+  double contact_margin = 0.0;  // extra range for candidate pairs, relative to particle size
+
+  std::vector<particles::Material> materials;
+  struct Interaction {
+    int a = -1, b = -1;
+    particles::ContactProperties properties;
+  };
+  std::vector<Interaction> interactions;
+  std::vector<ShapeSpec> shapes;
+  std::vector<ParticleSpec> particles;
+  std::vector<DriverSpec> drivers;
+
+  DomainSpec domain;
+  EquilibriumSpec equilibrium;
+  OutputSpec output;
+  CheckpointSpec checkpoint;
+  std::vector<CheckSpec> checks;
+};
+
+}  // namespace polydem::io

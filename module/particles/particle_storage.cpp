@@ -1,0 +1,78 @@
+#include "particles/particle_storage.h"
+
+#include "core/error.h"
+#include "core/strings.h"
+
+namespace polydem::particles {
+
+int ParticleStorage::indexOf(Uid uid) const {
+  const auto it = index_of_.find(uid);
+  return it == index_of_.end() ? -1 : it->second;
+}
+
+int ParticleStorage::addLocal(const Particle& p) {
+  if (ghostCount() != 0) throw Error("ParticleStorage::addLocal: drop ghosts first");
+  if (p.isGhost()) throw Error("ParticleStorage::addLocal: particle is flagged as ghost");
+  if (!index_of_.emplace(p.uid, static_cast<int>(state_.size())).second) {
+    throw Error(cat("particle uid ", p.uid, " exists twice on this rank"));
+  }
+  state_.push_back(p);
+  local_count_ = state_.size();
+  return static_cast<int>(state_.size() - 1);
+}
+
+void ParticleStorage::removeLocal(std::size_t i) {
+  if (ghostCount() != 0) throw Error("ParticleStorage::removeLocal: drop ghosts first");
+  index_of_.erase(state_[i].uid);
+  if (i + 1 != state_.size()) {
+    state_[i] = state_.back();
+    index_of_[state_[i].uid] = static_cast<int>(i);
+  }
+  state_.pop_back();
+  local_count_ = state_.size();
+}
+
+int ParticleStorage::addGhost(Particle p) {
+  p.flags |= kGhost;
+  if (!index_of_.emplace(p.uid, static_cast<int>(state_.size())).second) {
+    throw Error(cat("ghost of particle uid ", p.uid, " received twice"));
+  }
+  state_.push_back(p);
+  return static_cast<int>(state_.size() - 1);
+}
+
+void ParticleStorage::dropGhosts() {
+  for (std::size_t i = local_count_; i < state_.size(); ++i) index_of_.erase(state_[i].uid);
+  state_.resize(local_count_);
+}
+
+void ParticleStorage::updateDerived(const ShapeTable& shapes, std::span<const double> densities) {
+  const std::size_t n = state_.size();
+  rotation_.resize(n);
+  angular_velocity_.resize(n);
+  mass_.resize(n);
+  vertex_begin_.resize(n + 1);
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    vertex_begin_[i] = total;
+    total += shapes[state_[i].shape].polyhedron.vertices().size();
+  }
+  vertex_begin_[n] = total;
+  world_vertices_.resize(total);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Particle& p = state_[i];
+    const geometry::BodyShape& shape = shapes[p.shape];
+    const double density = densities[p.material];
+    const Mat3 r = p.orientation.toRotationMatrix();
+    rotation_[i] = r;
+    mass_[i] = density * shape.volume;
+    angular_velocity_[i] =
+        p.isFixed() ? Vec3::Zero()
+                    : angularVelocityOf(r, density * shape.principal_moments, p.angular_momentum);
+    const auto& body = shape.polyhedron.vertices();
+    Vec3* out = world_vertices_.data() + vertex_begin_[i];
+    for (std::size_t v = 0; v < body.size(); ++v) out[v] = p.position + r * body[v];
+  }
+}
+
+}  // namespace polydem::particles

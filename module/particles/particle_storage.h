@@ -1,0 +1,76 @@
+// ParticleStorage: the particles a rank knows (its own, the replicated fixed/driven bodies, and
+// ghost copies of neighbours' particles) with their per-step derived data.
+//
+// The persistent state is an array of Particle (what migrates and is checkpointed); derived data
+// (rotation matrices, angular velocities, world vertices, accumulated forces) is kept in parallel
+// arrays recomputed every step. Local particles come first, ghosts after them, so that refreshing
+// the ghosts each step is a truncate-and-append. No result depends on the storage order: pairs
+// are processed in uid order (see sim/), so storage may be reordered freely.
+#pragma once
+
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "geometry/body_shape.h"
+#include "particles/particle.h"
+
+namespace polydem::particles {
+
+using ShapeTable = std::vector<geometry::BodyShape>;
+
+class ParticleStorage {
+ public:
+  std::size_t size() const { return state_.size(); }
+  /// Owned and global particles (everything that is not a ghost): indices [0, localCount()).
+  std::size_t localCount() const { return local_count_; }
+  std::size_t ghostCount() const { return state_.size() - local_count_; }
+
+  Particle& operator[](std::size_t i) { return state_[i]; }
+  const Particle& operator[](std::size_t i) const { return state_[i]; }
+  const std::vector<Particle>& all() const { return state_; }
+
+  /// Index of the particle with this uid (local or ghost), or -1.
+  int indexOf(Uid uid) const;
+
+  /// Adds a local (non-ghost) particle; ghosts must have been dropped first. Returns its index.
+  int addLocal(const Particle& p);
+  /// Removes local particle i (the last local particle takes its place); ghosts must be dropped.
+  void removeLocal(std::size_t i);
+  /// Appends a ghost copy (the kGhost flag is set here).
+  int addGhost(Particle p);
+  void dropGhosts();
+
+  /// Recomputes rotation matrices, angular velocities and world vertices of every particle.
+  void updateDerived(const ShapeTable& shapes, std::span<const double> densities);
+
+  // Per-step derived data, parallel to all(); valid after updateDerived().
+  const Mat3& rotation(std::size_t i) const { return rotation_[i]; }
+  const Vec3& angularVelocity(std::size_t i) const { return angular_velocity_[i]; }
+  double mass(std::size_t i) const { return mass_[i]; }
+  /// Driven particles get their angular velocity from their driver, not from a momentum.
+  void setAngularVelocity(std::size_t i, const Vec3& w) { angular_velocity_[i] = w; }
+  std::span<const Vec3> worldVertices(std::size_t i) const {
+    return {world_vertices_.data() + vertex_begin_[i], vertex_begin_[i + 1] - vertex_begin_[i]};
+  }
+
+ private:
+  std::vector<Particle> state_;
+  std::size_t local_count_ = 0;
+  std::unordered_map<Uid, int> index_of_;
+
+  std::vector<Mat3> rotation_;
+  std::vector<Vec3> angular_velocity_;
+  std::vector<double> mass_;
+  std::vector<Vec3> world_vertices_;
+  std::vector<std::size_t> vertex_begin_;
+};
+
+/// Angular velocity from angular momentum: w = R I^-1 R^T L, I the body-frame principal moments.
+inline Vec3 angularVelocityOf(const Mat3& rotation, const Vec3& principal_inertia,
+                              const Vec3& angular_momentum) {
+  const Vec3 body = rotation.transpose() * angular_momentum;
+  return rotation * body.cwiseQuotient(principal_inertia);
+}
+
+}  // namespace polydem::particles
