@@ -1,0 +1,60 @@
+// polydem: the command-line entry point. Each sub-command lives in its own file (cmd_*.cpp).
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+
+#include "commands.h"
+#include "core/error.h"
+#include "core/logging.h"
+#include "core/mpi_env.h"
+
+namespace {
+
+void usage() {
+  std::printf(
+      "polydem %s: polyhedral DEM for rock-slope failure and runout\n\n"
+      "usage: polydem <command> [options]\n\n"
+      "commands:\n"
+      "  run SCENE --out DIR      run a scene file (mpirun -n N polydem run ... for N ranks)\n"
+      "  contact --kernel NAME    resolve contacts of vertex lists given as JSON lines\n"
+      "  report contact-types     the contact-type table of every kernel (BENCHMARKS.md C)\n"
+      "  bench kernels|scaling    benchmarks (see README)\n"
+      "  kernels                  list the contact kernels\n"
+      "  version                  print the version\n\n"
+      "Run 'polydem <command> --help' for a command's options.\n",
+      polydem::app::version());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  polydem::mpi::Environment env(argc, argv);
+  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
+    usage();
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string command = argv[1];
+  const int sub_argc = argc - 2;
+  char** sub_argv = argv + 2;
+  try {
+    if (command == "run") return polydem::app::runCommand(sub_argc, sub_argv);
+    if (command == "contact") return polydem::app::contactCommand(sub_argc, sub_argv);
+    if (command == "report") return polydem::app::reportCommand(sub_argc, sub_argv);
+    if (command == "bench") return polydem::app::benchCommand(sub_argc, sub_argv);
+    if (command == "kernels") return polydem::app::kernelsCommand(sub_argc, sub_argv);
+    if (command == "version") {
+      std::printf("polydem %s\n", polydem::app::version());
+      return 0;
+    }
+    polydem::log::error("unknown command '" + command + "' (polydem --help lists them)");
+    return 2;
+  } catch (const polydem::app::UsageError& e) {
+    polydem::log::error(e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    polydem::log::error(e.what());
+    MPI_Abort(MPI_COMM_WORLD, 1);
+    return 1;
+  }
+}

@@ -1,0 +1,8 @@
+// Factory functions of the contact kernels, one per kernel file (see kernel_list.inc).
+#pragma once
+
+#include <memory>
+
+#include "contact/contact.h"
+
+namespace polydem::contact {}  // namespace polydem::contact
