@@ -17,6 +17,7 @@ int ParticleStorage::addLocal(const Particle& p) {
     throw Error(cat("particle uid ", p.uid, " exists twice on this rank"));
   }
   state_.push_back(p);
+  shift_.push_back(Vec3::Zero());
   local_count_ = state_.size();
   return static_cast<int>(state_.size() - 1);
 }
@@ -29,21 +30,20 @@ void ParticleStorage::removeLocal(std::size_t i) {
     index_of_[state_[i].uid] = static_cast<int>(i);
   }
   state_.pop_back();
+  shift_.pop_back();
   local_count_ = state_.size();
 }
 
-int ParticleStorage::addGhost(Particle p) {
+int ParticleStorage::addGhost(Particle p, const Vec3& shift) {
   p.flags |= kGhost;
-  if (!index_of_.emplace(p.uid, static_cast<int>(state_.size())).second) {
-    throw Error(cat("ghost of particle uid ", p.uid, " received twice"));
-  }
   state_.push_back(p);
+  shift_.push_back(shift);
   return static_cast<int>(state_.size() - 1);
 }
 
 void ParticleStorage::dropGhosts() {
-  for (std::size_t i = local_count_; i < state_.size(); ++i) index_of_.erase(state_[i].uid);
   state_.resize(local_count_);
+  shift_.resize(local_count_);
 }
 
 void ParticleStorage::updateDerived(const ShapeTable& shapes, std::span<const double> densities) {
@@ -71,7 +71,8 @@ void ParticleStorage::updateDerived(const ShapeTable& shapes, std::span<const do
                     : angularVelocityOf(r, density * shape.principal_moments, p.angular_momentum);
     const auto& body = shape.polyhedron.vertices();
     Vec3* out = world_vertices_.data() + vertex_begin_[i];
-    for (std::size_t v = 0; v < body.size(); ++v) out[v] = p.position + r * body[v];
+    const Vec3 placed = p.position + shift_[i];
+    for (std::size_t v = 0; v < body.size(); ++v) out[v] = placed + r * body[v];
   }
 }
 

@@ -30,21 +30,29 @@ class ParticleStorage {
   const Particle& operator[](std::size_t i) const { return state_[i]; }
   const std::vector<Particle>& all() const { return state_; }
 
-  /// Index of the particle with this uid (local or ghost), or -1.
+  /// Index of the local (non-ghost) particle with this uid, or -1. Ghosts are not indexed: across a
+  /// periodic boundary a rank may hold a ghost image of one of its own particles.
   int indexOf(Uid uid) const;
 
   /// Adds a local (non-ghost) particle; ghosts must have been dropped first. Returns its index.
   int addLocal(const Particle& p);
   /// Removes local particle i (the last local particle takes its place); ghosts must be dropped.
   void removeLocal(std::size_t i);
-  /// Appends a ghost copy (the kGhost flag is set here).
-  int addGhost(Particle p);
+  /// Appends a ghost copy (the kGhost flag is set here). `shift` is the periodic image offset: the
+  /// ghost stands at p.position + shift (zero without periodic boundaries). The stored position
+  /// stays the owner's bits, so that every rank can rebuild any pair in one canonical frame.
+  int addGhost(Particle p, const Vec3& shift = Vec3::Zero());
   void dropGhosts();
 
-  /// Recomputes rotation matrices, angular velocities and world vertices of every particle.
+  /// Recomputes rotation matrices, angular velocities and world vertices (at the placed position)
+  /// of every particle.
   void updateDerived(const ShapeTable& shapes, std::span<const double> densities);
 
   // Per-step derived data, parallel to all(); valid after updateDerived().
+  /// Periodic image offset of entry i (zero for local particles).
+  const Vec3& shift(std::size_t i) const { return shift_[i]; }
+  /// Where entry i stands in this rank's frame: position + shift.
+  Vec3 placedPosition(std::size_t i) const { return state_[i].position + shift_[i]; }
   const Mat3& rotation(std::size_t i) const { return rotation_[i]; }
   const Vec3& angularVelocity(std::size_t i) const { return angular_velocity_[i]; }
   double mass(std::size_t i) const { return mass_[i]; }
@@ -58,6 +66,7 @@ class ParticleStorage {
   std::vector<Particle> state_;
   std::size_t local_count_ = 0;
   std::unordered_map<Uid, int> index_of_;
+  std::vector<Vec3> shift_;
 
   std::vector<Mat3> rotation_;
   std::vector<Vec3> angular_velocity_;

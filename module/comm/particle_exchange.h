@@ -1,0 +1,54 @@
+// Migration and ghost exchange over the block forest.
+//
+// After each integration step:
+//  1. migrate(): a free particle whose centroid left this rank's blocks goes to the rank owning
+//     the block it is now in, together with the contact history of every pair it belongs to
+//     (along periodic axes the centroid is wrapped back into the domain first);
+//  2. refreshGhosts(): every free particle is copied, as a ghost, to every other rank owning a block
+//     within its ghost radius (own circumradius + the largest circumradius of any free particle +
+//     the contact margin), and to this rank itself as a shifted image across periodic faces.
+// Fixed and driven particles are replicated on all ranks and never move between them.
+// A pair whose two particles live on two ranks is evaluated on both, from identical inputs, so
+// no force is sent back; the ghost radius above guarantees each owner sees all its partners.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "domain/block_forest.h"
+#include "particles/contact_history.h"
+#include "particles/particle_storage.h"
+
+namespace polydem::comm {
+
+struct ExchangeStats {
+  std::int64_t particles_sent = 0, particles_received = 0;
+  std::int64_t histories_sent = 0, histories_received = 0;
+  std::int64_t history_conflicts = 0;  // received copies that differ from ours: must stay 0
+  std::int64_t bytes_sent = 0;
+};
+
+class ParticleExchange {
+ public:
+  explicit ParticleExchange(MPI_Comm comm);
+
+  /// Moves particles to their owners (see above). Drops ghosts first. Throws SimulationError if a
+  /// particle left the domain along a non-periodic axis. Collective.
+  ExchangeStats migrate(const domain::BlockForest& forest, particles::ParticleStorage& storage,
+                        particles::ContactHistory& history, std::int64_t step);
+
+  /// Replaces all ghosts by fresh copies. `range` is added to each particle's own circumradius
+  /// to get its ghost radius (the largest free circumradius plus the contact margin). Collective.
+  ExchangeStats refreshGhosts(const domain::BlockForest& forest,
+                              particles::ParticleStorage& storage,
+                              const particles::ShapeTable& shapes, double range);
+
+ private:
+  MPI_Comm comm_;
+  int rank_ = 0;
+  std::vector<domain::RankHit> hits_;  // reused between calls
+};
+
+}  // namespace polydem::comm

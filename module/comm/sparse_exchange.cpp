@@ -1,0 +1,49 @@
+#include "comm/sparse_exchange.h"
+
+#include <limits>
+
+#include "core/error.h"
+#include "core/mpi_env.h"
+#include "core/strings.h"
+
+namespace polydem::comm {
+
+std::vector<Message> sparseExchange(const std::map<int, SendBuffer>& outgoing, MPI_Comm comm,
+                                    int tag, std::int64_t* bytes_sent) {
+  const int ranks = mpi::size(comm);
+  std::vector<std::int64_t> send_counts(ranks, 0), recv_counts(ranks, 0);
+  std::int64_t sent = 0;
+  for (const auto& [rank, buffer] : outgoing) {
+    if (buffer.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+      throw Error(cat("message of ", buffer.size(), " bytes to rank ", rank,
+                      " exceeds MPI's 2 GiB count limit; use more ranks or blocks"));
+    }
+    send_counts[rank] = static_cast<std::int64_t>(buffer.size());
+    sent += send_counts[rank];
+  }
+  if (bytes_sent) *bytes_sent = sent;
+  MPI_Alltoall(send_counts.data(), 1, MPI_INT64_T, recv_counts.data(), 1, MPI_INT64_T, comm);
+
+  std::vector<Message> received;
+  std::vector<MPI_Request> requests;
+  for (int r = 0; r < ranks; ++r) {
+    if (recv_counts[r] == 0) continue;
+    received.push_back({r, std::vector<std::byte>(static_cast<std::size_t>(recv_counts[r]))});
+  }
+  requests.reserve(received.size() + outgoing.size());
+  for (auto& m : received) {
+    requests.emplace_back();
+    MPI_Irecv(m.bytes.data(), static_cast<int>(m.bytes.size()), MPI_BYTE, m.rank, tag, comm,
+              &requests.back());
+  }
+  for (const auto& [rank, buffer] : outgoing) {
+    if (buffer.size() == 0) continue;
+    requests.emplace_back();
+    MPI_Isend(buffer.bytes().data(), static_cast<int>(buffer.size()), MPI_BYTE, rank, tag, comm,
+              &requests.back());
+  }
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  return received;
+}
+
+}  // namespace polydem::comm
