@@ -29,17 +29,40 @@ Vec3 localDamping(const Vec3& force, const Vec3& velocity, double alpha) {
 
 namespace {
 
+// sin and cos of x. The rotations of one DEM step are small, and for |x| <= 1/16 the Taylor
+// polynomials below are exact to rounding (first omitted terms: x^11/11! and x^12/12!, below
+// 1e-19 relative); they cost a few multiplications instead of two libm calls, and give the same
+// bits on every machine whatever its libm.
+inline void sinCos(double x, double& s, double& c) {
+  if (std::abs(x) <= 0.0625) {
+    const double x2 = x * x;
+    s = x * (1.0 +
+             x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362880.0)))));
+    c = 1.0 +
+        x2 * (-0.5 + x2 * (1.0 / 24.0 +
+                           x2 * (-1.0 / 720.0 + x2 * (1.0 / 40320.0 + x2 * (-1.0 / 3628800.0)))));
+  } else {
+    s = std::sin(x);
+    c = std::cos(x);
+  }
+}
+
 // Exact flow of H_k = pi_k^2 / (2 I_k) over time h: the body turns about its axis k by
 // phi = h pi_k / I_k (q <- q * exp(phi e_k / 2)), and the body-frame momentum turns the other way
 // (pi <- R_k(-phi) pi) so that the world momentum q pi q^-1 is unchanged.
 inline void rotateAboutAxis(int k, double h, const Vec3& inv_inertia, Vec3& pi, Quat& q) {
-  const double half = 0.5 * h * pi[k] * inv_inertia[k];
-  const double s = std::sin(half), c = std::cos(half);
-  Quat turn(c, 0.0, 0.0, 0.0);
-  turn.vec()[k] = s;
-  q = q * turn;
-  const double cos_phi = c * c - s * s, sin_phi = 2.0 * s * c;
+  double s, c;
+  sinCos(0.5 * h * pi[k] * inv_inertia[k], s, c);
   const int i = (k + 1) % 3, j = (k + 2) % 3;
+  // q * (c, s e_k), written out: the turn has one vector component, so 8 products instead of 16.
+  Eigen::Vector4d& xyzw = q.coeffs();  // Eigen's storage order: x, y, z, w
+  const double w = xyzw[3], vi = xyzw[i], vj = xyzw[j], vk = xyzw[k];
+  xyzw[3] = c * w - s * vk;
+  xyzw[k] = c * vk + s * w;
+  xyzw[i] = c * vi + s * vj;
+  xyzw[j] = c * vj - s * vi;
+  // pi <- R_k(-phi) pi with cos(phi) and sin(phi) from the half angle.
+  const double cos_phi = c * c - s * s, sin_phi = 2.0 * s * c;
   const double pi_i = pi[i], pi_j = pi[j];
   pi[i] = cos_phi * pi_i + sin_phi * pi_j;
   pi[j] = cos_phi * pi_j - sin_phi * pi_i;
