@@ -56,8 +56,12 @@ void resetShear(particles::PairHistory& history) {
 
 ContactForce contactForce(const contact::Contact& c, const Vec3& v_rel, double m_eff, double dt,
                           const LawCoefficients& k, particles::PairHistory& history) {
-  const Vec3& n = c.normal;
   ContactForce out;
+  if (!c.touching) {
+    resetShear(history);
+    return out;
+  }
+  const Vec3& n = c.normal;
 
   // Normal force: elastic part, then viscous damping on the normal relative velocity.
   double f_elastic = 0.0;

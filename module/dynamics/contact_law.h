@@ -53,9 +53,10 @@ struct ContactForce {
   bool sliding = false;         // the Coulomb cap was reached this step
 };
 
-/// The force on A for one touching contact, and the pair's history advanced by one step.
+/// The force on A for one contact, and the pair's history advanced by one step. A contact that is
+/// not touching (c.touching false) gives a zero force and resetShear(history).
 ///
-/// Pre:  c.touching; c.normal is a unit vector from B into A; c.depth >= 0 (kPenalty) or
+/// Pre:  c.normal is a unit vector from B into A; c.depth >= 0 (kPenalty) or
 ///       c.potential >= 0 (kPotential); dt > 0; m_eff > 0 (mA mB / (mA + mB), or mA when B is
 ///       fixed or driven); `history` is this pair's entry (a default PairHistory for a new pair).
 /// Post: history.shear_force is the new shear force on A (tangent to c.normal, |.| <= cap);

@@ -242,7 +242,12 @@ TEST(ContactLaw, FirstContactStartsFromZeroShearAndResetClears) {
   const Vec3 v(0.1, 0, 0);
   contactForce(penaltyContact(Vec3::UnitZ(), 1e-3), v, 1.0, dt, k, h);
   EXPECT_NEAR((h.shear_force - (-2e8 * dt) * v).norm(), 0.0, 1e-12 * 2e8 * dt * 0.1);
-  resetShear(h);
+  // A step without contact: no force, and the history is reset as by resetShear().
+  contact::Contact apart;
+  apart.touching = false;
+  const ContactForce none = contactForce(apart, v, 1.0, dt, k, h);
+  EXPECT_EQ(none.force, Vec3::Zero());
+  EXPECT_EQ(none.normal, 0.0);
   EXPECT_EQ(h.shear_force, Vec3::Zero());
   EXPECT_EQ(h.normal, Vec3::Zero());
   EXPECT_EQ(h.touching, 0u);
