@@ -59,8 +59,9 @@ struct ContactForce {
 /// Pre:  c.normal is a unit vector from B into A; c.depth >= 0 (kPenalty) or
 ///       c.potential >= 0 (kPotential); dt > 0; m_eff > 0 (mA mB / (mA + mB), or mA when B is
 ///       fixed or driven); `history` is this pair's entry (a default PairHistory for a new pair).
-/// Post: history.shear_force is the new shear force on A (tangent to c.normal, |.| <= cap);
-///       history.normal == c.normal; history.touching == 1; history.kernel is not touched.
+/// Post (touching): history.shear_force is the new shear force on A (tangent to c.normal,
+///       |.| <= cap); history.normal == c.normal; history.touching == 1. history.kernel is never
+///       touched.
 ///
 /// Normal force (Zhao eq. 13 for kPotential):
 ///   f_el = kn depth (kPenalty)   or   penalty * potential (kPotential),
