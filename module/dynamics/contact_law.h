@@ -68,7 +68,8 @@ struct ContactForce {
 ///   f_n  = max(0, f_el - 2 zeta sqrt(m_eff k_eff) (v_rel . n)),
 /// with k_eff = kn for kPenalty and the secant stiffness f_el / depth for kPotential (the tangent
 /// stiffness of the potential is not known from one contact; the secant equals it for face
-/// contacts, where the potential grows linearly with depth). The normal force never pulls.
+/// contacts, where the potential grows linearly with depth; no damping if depth is 0). The normal
+/// force never pulls.
 /// Shear force (Zhao eqs. 32-35), tangential velocity v_t = v_rel - (v_rel . n) n:
 ///   f_s = rotateShear(f_s_old, n_old, n) - ks dt v_t,   |f_s| <= f_el tan(phi) + C,
 /// the shear is scaled back onto the cap when it exceeds it (then `sliding`). The shear on A
