@@ -1,0 +1,159 @@
+#include "sim/contact_phase.h"
+
+#include <algorithm>
+
+#include "dynamics/driver.h"
+
+namespace polydem::sim {
+
+namespace {
+
+using particles::ParticleStorage;
+
+// A body's pose and velocities in the pair's canonical frame.
+struct Placed {
+  Vec3 position;
+  Vec3 velocity_half;  // of the centroid, at t - dt/2
+  Vec3 angular_velocity;
+};
+
+// Min/max corner of a vertex set.
+void bounds(std::span<const Vec3> v, Vec3& lo, Vec3& hi) {
+  lo = hi = v[0];
+  for (const Vec3& x : v) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+}
+
+bool boxesOverlap(std::span<const Vec3> a, std::span<const Vec3> b, double slack) {
+  Vec3 alo, ahi, blo, bhi;
+  bounds(a, alo, ahi);
+  bounds(b, blo, bhi);
+  return (alo.array() <= bhi.array() + slack).all() && (blo.array() <= ahi.array() + slack).all();
+}
+
+// World vertices of entry i placed at `position` (used when an image shift moves the frame).
+std::span<const Vec3> verticesAt(const ParticleStorage& s, const particles::ShapeTable& shapes,
+                                 std::size_t i, const Vec3& position, std::vector<Vec3>& out) {
+  const auto& body = shapes[s[i].shape].polyhedron.vertices();
+  out.resize(body.size());
+  const Mat3& r = s.rotation(i);
+  for (std::size_t v = 0; v < body.size(); ++v) out[v] = position + r * body[v];
+  return out;
+}
+
+}  // namespace
+
+void ContactPhase::sortCandidates(const ParticleStorage& storage,
+                                  std::span<const broadphase::CandidatePair> candidates) {
+  candidates_.clear();
+  candidates_.reserve(candidates.size());
+  for (const auto& c : candidates) {
+    const Uid ui = storage[c.i].uid, uj = storage[c.j].uid;
+    candidates_.push_back(ui < uj ? Candidate{{ui, uj}, c.i, c.j} : Candidate{{uj, ui}, c.j, c.i});
+  }
+  std::sort(candidates_.begin(), candidates_.end(), [](const Candidate& x, const Candidate& y) {
+    return x.key != y.key ? x.key < y.key : (x.a != y.a ? x.a < y.a : x.b < y.b);
+  });
+}
+
+ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleStorage& storage,
+                                    std::span<const broadphase::CandidatePair> candidates,
+                                    particles::ContactHistory& history,
+                                    std::vector<dynamics::ForceAccumulator>& forces) {
+  ContactPhaseStats stats;
+  stats.candidates = static_cast<std::int64_t>(candidates.size());
+  sortCandidates(storage, candidates);
+  records_.clear();
+  next_.clear();
+  forces.assign(storage.size(), dynamics::ForceAccumulator{});
+  const auto& shapes = *setup.shapes;
+  particles::ContactHistory::Cursor old(history);
+  const double t_half = setup.time - 0.5 * setup.dt;
+
+  auto placed = [&](std::size_t i, const Vec3& position) {
+    const auto& p = storage[i];
+    if (p.isDriven()) {
+      const auto state = dynamics::driverState((*setup.drivers)[p.driver], t_half);
+      return Placed{position, dynamics::materialPointVelocity(state, position),
+                    state.angular_velocity};
+    }
+    return Placed{position, p.velocity, storage.angularVelocity(i)};
+  };
+  auto localFree = [&](std::int32_t i) {
+    return static_cast<std::size_t>(i) < storage.localCount() && storage[i].isFree();
+  };
+
+  for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    const Candidate& c = candidates_[k];
+    // Periodic images can yield the same pair twice on one rank: evaluate once, and apply the
+    // force to whichever copies of A and B are local.
+    std::int32_t local_a = localFree(c.a) ? c.a : -1, local_b = localFree(c.b) ? c.b : -1;
+    while (k + 1 < candidates_.size() && candidates_[k + 1].key == c.key) {
+      ++k;
+      if (local_a < 0 && localFree(candidates_[k].a)) local_a = candidates_[k].a;
+      if (local_b < 0 && localFree(candidates_[k].b)) local_b = candidates_[k].b;
+    }
+    const auto& pa = storage[c.a];
+    const auto& pb = storage[c.b];
+    const auto& sa = shapes[pa.shape];
+    const auto& sb = shapes[pb.shape];
+
+    // Canonical frame: A where its owner stores it, B shifted by the difference of the images.
+    const Vec3& xa = pa.position;
+    const Vec3 xb = pb.position + (storage.shift(c.b) - storage.shift(c.a));
+    const double reach = sa.circumradius + sb.circumradius + setup.margin;
+    if ((xb - xa).squaredNorm() > reach * reach) continue;
+    const bool unshifted = storage.shift(c.a).isZero(0.0) && storage.shift(c.b).isZero(0.0);
+    const auto va = unshifted ? storage.worldVertices(c.a)
+                              : verticesAt(storage, shapes, c.a, xa, scratch_a_);
+    const auto vb = unshifted ? storage.worldVertices(c.b)
+                              : verticesAt(storage, shapes, c.b, xb, scratch_b_);
+    if (!boxesOverlap(va, vb, setup.margin)) continue;
+
+    ++stats.evaluated;
+    particles::PairHistory h;
+    if (const auto* previous = old.seek(c.key)) h = *previous;
+    contact::Body body_a{&sa.polyhedron, xa, storage.rotation(c.a), va};
+    contact::Body body_b{&sb.polyhedron, xb, storage.rotation(c.b), vb};
+    const contact::Contact contact = setup.kernel->collide(body_a, body_b, &h.kernel);
+
+    ContactRecord rec;
+    rec.key = c.key;
+    rec.a = local_a;
+    rec.b = local_b;
+    rec.touching = contact.touching;
+    rec.status = contact.status;
+    rec.a_is_local = static_cast<std::size_t>(c.a) < storage.localCount();
+    const Placed a = placed(c.a, xa), b = placed(c.b, xb);
+    const double ma = storage.mass(c.a), mb = storage.mass(c.b);
+    const double m_eff = pa.isFree() && pb.isFree() ? ma * mb / (ma + mb) : (pa.isFree() ? ma : mb);
+    const auto& law = (*setup.law)[pa.material * setup.materials + pb.material];
+    const Vec3 v_rel =
+        contact.touching ? dynamics::relativeVelocity(contact.point, a.position, a.velocity_half,
+                                                      a.angular_velocity, b.position,
+                                                      b.velocity_half, b.angular_velocity)
+                         : Vec3::Zero();
+    const auto f = dynamics::contactForce(contact, v_rel, m_eff, setup.dt, law, h);
+    next_.appendSorted(c.key, h);
+    if (contact.touching) {
+      ++stats.touching;
+      rec.point = contact.point;
+      rec.normal = contact.normal;
+      rec.force = f.force;
+      rec.normal_force = f.normal;
+      rec.shear_force = f.shear;
+      if (local_a >= 0) forces[local_a].addContact(f.force, contact.point, xa);
+      if (local_b >= 0) forces[local_b].addContact(-f.force, contact.point, xb);
+    }
+    stats.not_converged += contact.status == contact::Status::kNotConverged;
+    stats.degenerate += contact.status == contact::Status::kDegenerate;
+    stats.inner_domain += contact.status == contact::Status::kInnerDomainReached;
+    records_.push_back(rec);
+  }
+  std::swap(history, next_);
+  return stats;
+}
+
+}  // namespace polydem::sim

@@ -1,0 +1,223 @@
+// The steps of a Simulation and its two stages.
+#include "sim/simulation.h"
+
+#include <cmath>
+
+#include "core/exact_sum.h"
+#include "core/logging.h"
+#include "core/mpi_env.h"
+#include "core/strings.h"
+#include "domain/rebalance.h"
+#include "dynamics/driver.h"
+#include "dynamics/integrator.h"
+
+namespace polydem::sim {
+
+dynamics::MassProperties Simulation::massProperties(std::size_t i) const {
+  const auto& p = storage_[i];
+  const double density = densities_[p.material];
+  const auto& s = shapes_[p.shape];
+  return {density * s.volume, density * s.principal_moments};
+}
+
+void Simulation::registerSteps() {
+  loop_.setTimeStep(scene_.dt);
+  loop_.add("derived", [this] { updateDerived(); });
+  loop_.add("broadphase", [this] { findCandidates(); });
+  loop_.add("contacts", [this] { computeContacts(); });
+  loop_.add("integrate", [this] { integrate(); });
+  loop_.add("communicate", [this] { communicate(); });
+  loop_.add("observe", [this] { observe(); });
+  loop_.setMonitor([this] {
+    const auto m = monitors();
+    return timeloop::Monitor{m.contacts, m.kinetic_energy, m.force_ratio};
+  });
+}
+
+void Simulation::updateDerived() {
+  storage_.updateDerived(shapes_, densities_);
+  // Driven bodies turn with their driver's angular velocity, at the same half step as the
+  // free particles' velocities (frozen during the equilibrium stage).
+  const double t_half = time() - 0.5 * dt();
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    const auto& p = storage_[i];
+    if (!p.isDriven()) continue;
+    const Vec3 w = stage_ == Stage::kEquilibrium
+                       ? Vec3::Zero()
+                       : dynamics::driverState(scene_.drivers[p.driver], t_half).angular_velocity;
+    storage_.setAngularVelocity(i, w);
+  }
+}
+
+void Simulation::findCandidates() {
+  const std::size_t n = storage_.size();
+  centers_.resize(n);
+  radii_.resize(n);
+  uids_.resize(n);
+  active_.resize(n);
+  double r_max = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = storage_[i];
+    centers_[i] = storage_.placedPosition(i);
+    radii_[i] = shapes_[p.shape].circumradius;
+    uids_[i] = p.uid;
+    active_[i] = i < storage_.localCount() && p.isFree();
+    r_max = std::max(r_max, radii_[i]);
+  }
+  // A superset of the contact phase's own test, which is made in each pair's canonical frame.
+  const double margin = margin_ + 1e-9 * 2.0 * r_max;
+  broadphase_->findPairs({centers_, radii_, uids_, active_}, margin, candidates_);
+}
+
+void Simulation::computeContacts() {
+  ContactSetup setup;
+  setup.shapes = &shapes_;
+  setup.kernel = kernel_.get();
+  setup.law = stage_ == Stage::kEquilibrium ? &law_equilibrium_ : &law_main_;
+  setup.materials = static_cast<int>(materials_.size());
+  setup.drivers = &scene_.drivers;
+  setup.margin = margin_;
+  setup.dt = dt();
+  setup.time = stage_ == Stage::kEquilibrium ? 0.0 : time();
+  contact_stats_ = contact_phase_.run(setup, storage_, candidates_, history_, forces_);
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    if (storage_[i].isFree()) forces_[i].addBodyForce(storage_.mass(i) * scene_.gravity);
+  }
+}
+
+void Simulation::integrate() {
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    auto& p = storage_[i];
+    if (p.isFree()) {
+      const double alpha = stage_ == Stage::kEquilibrium
+                               ? scene_.equilibrium.local_damping
+                               : materials_[p.material].local_damping;
+      dynamics::advanceFree(p, massProperties(i), forces_[i].force, forces_[i].torque, dt(), alpha);
+    } else if (p.isDriven() && stage_ == Stage::kMain) {
+      dynamics::advanceDriven(p, scene_.drivers[p.driver], time(), dt());
+    }
+  }
+}
+
+void Simulation::communicate() {
+  const std::int64_t next_step = loop_.step() + 1;
+  exchange_stats_ = exchange_.migrate(*forest_, storage_, history_, next_step);
+  if (scene_.domain.rebalance_every > 0 && next_step % scene_.domain.rebalance_every == 0) {
+    rebalance();
+  }
+  const auto ghosts = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  exchange_stats_.particles_sent += ghosts.particles_sent;
+  exchange_stats_.particles_received += ghosts.particles_received;
+  exchange_stats_.bytes_sent += ghosts.bytes_sent;
+}
+
+void Simulation::rebalance() {
+  std::vector<double> weights(forest_->numBlocks(), 0.0);
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    if (!storage_[i].isFree()) continue;
+    weights[forest_->blockOf(storage_[i].position)] += 1.0;
+  }
+  const auto method = scene_.domain.balancer == "sfc" ? domain::PartitionMethod::kSfc
+                                                      : domain::PartitionMethod::kMetis;
+  const auto report = domain::rebalance(*forest_, weights, comm_, method);
+  const auto moved = exchange_.migrate(*forest_, storage_, history_, loop_.step());
+  log::info(cat("rebalanced at step ", loop_.step(), ": imbalance ", report.imbalance_before,
+                " -> ", report.imbalance_after, ", ", report.blocks_moved, " blocks and ",
+                mpi::allreduceSum(moved.particles_sent, comm_), " particles moved"));
+}
+
+void Simulation::observe() {
+  for (const auto& o : observers_) o();
+}
+
+void Simulation::startLeapfrog() {
+  // Velocities of a scene are given at t = 0; the leapfrog keeps them at t - dt/2. The forces at
+  // t = 0 are computed on a copy of the (empty) history so that this start leaves no trace.
+  const particles::ContactHistory saved = history_;
+  updateDerived();
+  findCandidates();
+  computeContacts();
+  history_ = saved;
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    auto& p = storage_[i];
+    if (p.isFree()) {
+      dynamics::startLeapfrog(p, massProperties(i), forces_[i].force, forces_[i].torque, dt());
+    }
+  }
+  exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+}
+
+void Simulation::step() { loop_.singleStep(); }
+
+std::int64_t Simulation::runEquilibrium() {
+  if (!scene_.equilibrium.enabled) return 0;
+  stage_ = Stage::kEquilibrium;
+  timeloop::TimeLoop eq(comm_);
+  std::swap(eq, loop_);  // the equilibrium stage runs in its own loop, with the same steps
+  registerSteps();
+  loop_.stopWhenForceRatioBelow(scene_.equilibrium.force_ratio,
+                                [this] { return monitors().force_ratio; });
+  loop_.stopAtStep(scene_.equilibrium.max_steps);
+  log::info(cat("initial equilibrium: local damping ", scene_.equilibrium.local_damping,
+                ", friction ", scene_.equilibrium.friction_angle, " deg, until R < ",
+                scene_.equilibrium.force_ratio));
+  const auto reason = loop_.run();
+  equilibrium_steps_ = loop_.step();
+  equilibrium_reached_ = reason == timeloop::StopReason::kForceRatio;
+  log::info(cat("initial equilibrium ", equilibrium_reached_ ? "reached" : "NOT reached",
+                " after ", equilibrium_steps_, " steps (", loop_.stopMessage(), ")"));
+  equilibrium_timing_ = loop_.timing();
+  std::swap(eq, loop_);
+  stage_ = Stage::kMain;
+  if (scene_.equilibrium.reset_velocities) {
+    for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+      auto& p = storage_[i];
+      if (!p.isFree()) continue;
+      p.velocity.setZero();
+      p.angular_momentum.setZero();
+    }
+    exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  }
+  return equilibrium_steps_;
+}
+
+timeloop::StopReason Simulation::run() {
+  if (scene_.end_time) loop_.stopAtTime(*scene_.end_time);
+  if (scene_.steps) loop_.stopAtStep(*scene_.steps);
+  return loop_.run();
+}
+
+GlobalMonitors Simulation::monitors() {
+  ExactSum kinetic, speed;
+  dynamics::ForceRatio ratio;
+  std::int64_t contacts = 0, free_particles = 0;
+  double max_speed = 0.0;
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    const auto& p = storage_[i];
+    if (!p.isFree()) continue;
+    ++free_particles;
+    kinetic += dynamics::kineticEnergy(p, massProperties(i));
+    const double v = p.velocity.norm();
+    speed += v;
+    max_speed = std::max(max_speed, v);
+    if (i < forces_.size()) ratio.add(forces_[i]);
+  }
+  for (const auto& r : contact_phase_.records()) contacts += r.touching && r.a_is_local;
+  kinetic.allreduce(comm_);
+  speed.allreduce(comm_);
+  ratio.allreduce(comm_);
+  GlobalMonitors m;
+  m.kinetic_energy = kinetic.value();
+  m.force_ratio = ratio.value();
+  m.contacts = mpi::allreduceSum(contacts, comm_);
+  m.particles = mpi::allreduceSum(free_particles, comm_);
+  m.max_speed = mpi::allreduceMax(max_speed, comm_);
+  m.mean_speed = m.particles > 0 ? speed.value() / static_cast<double>(m.particles) : 0.0;
+  return m;
+}
+
+comm::StateHash Simulation::stateHash() const {
+  return comm::globalStateHash(storage_, history_, comm_);
+}
+
+}  // namespace polydem::sim

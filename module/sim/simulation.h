@@ -1,0 +1,159 @@
+// Simulation: one run of a scene on the ranks of a communicator, in waLBerla's manner. Every rank
+// holds the replicated tables (shapes, materials, drivers, block -> rank map), owns the free
+// particles whose centroids lie in its blocks, sees ghost copies of its neighbours' particles and
+// replicated fixed/driven bodies, and runs the same timeloop:
+//
+//   derived -> broadphase -> contacts -> integrate -> communicate -> monitors
+//
+// (see contact_phase.h for why the result is the same bits on any number of ranks).
+#pragma once
+
+#include <mpi.h>
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "broadphase/broad_phase.h"
+#include "comm/particle_exchange.h"
+#include "comm/state_hash.h"
+#include "contact/contact.h"
+#include "domain/block_forest.h"
+#include "dynamics/contact_law.h"
+#include "dynamics/monitors.h"
+#include "io/scene.h"
+#include "particles/contact_history.h"
+#include "particles/material.h"
+#include "particles/particle_storage.h"
+#include "sim/contact_phase.h"
+#include "timeloop/time_loop.h"
+
+namespace polydem::sim {
+
+/// The two stages of a run (Keissar section 3.3, after 3DEC): an optional initial-equilibrium
+/// stage with heavy damping and high friction, then the scene's own values.
+enum class Stage { kEquilibrium, kMain };
+
+/// Global values of the current state, the same on every rank.
+struct GlobalMonitors {
+  double kinetic_energy = 0.0;
+  double force_ratio = 0.0;
+  std::int64_t contacts = 0;  // touching pairs, each counted once
+  std::int64_t particles = 0;  // free particles
+  double max_speed = 0.0;
+  double mean_speed = 0.0;
+};
+
+class Simulation {
+ public:
+  Simulation(const io::Scene& scene, MPI_Comm comm);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  /// Runs the initial-equilibrium stage if the scene asks for it; returns its step count.
+  std::int64_t runEquilibrium();
+  /// Runs the main stage until the scene's end time or step count (or a stop callback).
+  timeloop::StopReason run();
+  /// Advances one step of the current stage.
+  void step();
+
+  // --- state, for monitors, checks, output and tests --------------------------------------
+  const io::Scene& scene() const { return scene_; }
+  MPI_Comm comm() const { return comm_; }
+  Stage stage() const { return stage_; }
+  std::int64_t stepCount() const { return loop_.step(); }
+  double time() const { return loop_.time(); }
+  double dt() const { return scene_.dt; }
+  std::int64_t equilibriumSteps() const { return equilibrium_steps_; }
+  bool equilibriumReached() const { return equilibrium_reached_; }
+  /// Timing of the equilibrium stage (the main stage's is loop().timing()).
+  const TimingPool& equilibriumTiming() const { return equilibrium_timing_; }
+  const particles::ShapeTable& shapes() const { return shapes_; }
+  const particles::MaterialTable& materials() const { return materials_; }
+  const particles::ParticleStorage& particles() const { return storage_; }
+  const particles::ContactHistory& history() const { return history_; }
+  const domain::BlockForest& forest() const { return *forest_; }
+  const ContactPhase& contacts() const { return contact_phase_; }
+  const ContactPhaseStats& contactStats() const { return contact_stats_; }
+  const std::vector<dynamics::ForceAccumulator>& forces() const { return forces_; }
+  const comm::ExchangeStats& exchangeStats() const { return exchange_stats_; }
+  timeloop::TimeLoop& loop() { return loop_; }
+  const timeloop::TimeLoop& loop() const { return loop_; }
+  const contact::Kernel& kernel() const { return *kernel_; }
+
+  /// Mass and principal inertia of local or ghost entry i.
+  dynamics::MassProperties massProperties(std::size_t i) const;
+  /// Global monitors (collective).
+  GlobalMonitors monitors();
+  /// Hash of the whole state, the same on any rank count (collective).
+  comm::StateHash stateHash() const;
+
+  /// Called after every step (all ranks), e.g. by checks and output.
+  void addObserver(std::function<void()> observer) { observers_.push_back(std::move(observer)); }
+
+  /// Recomputes the block -> rank map from the particle counts and moves particles (collective).
+  void rebalance();
+
+  /// The dt suggested from masses and stiffnesses (see dynamics/time_step.h).
+  double suggestedTimeStep() const { return suggested_dt_; }
+
+ private:
+  void buildTables();
+  void buildDomain();
+  void placeParticles();
+  void buildLaws();
+  void registerSteps();
+  void startLeapfrog();
+
+  void updateDerived();
+  void findCandidates();
+  void computeContacts();
+  void integrate();
+  void communicate();
+  void observe();
+
+  io::Scene scene_;
+  MPI_Comm comm_;
+  int rank_ = 0, ranks_ = 1;
+  Stage stage_ = Stage::kMain;
+  std::int64_t equilibrium_steps_ = 0;
+  bool equilibrium_reached_ = false;
+  TimingPool equilibrium_timing_;
+
+  struct ShapeFrame {
+    Quat rotation;  // body frame -> the frame the scene gave the shape in
+    Vec3 centroid;  // in that frame
+  };
+  particles::ShapeTable shapes_;
+  std::vector<ShapeFrame> shape_frames_;
+  particles::MaterialTable materials_;
+  std::vector<double> densities_;
+  std::vector<dynamics::LawCoefficients> law_main_, law_equilibrium_;
+  std::unique_ptr<contact::Kernel> kernel_;
+  std::unique_ptr<broadphase::BroadPhase> broadphase_;
+  std::unique_ptr<domain::BlockForest> forest_;
+  comm::ParticleExchange exchange_;
+  double ghost_range_ = 0.0;   // largest free circumradius + margin
+  double margin_ = 0.0;        // absolute contact margin
+  double suggested_dt_ = 0.0;
+
+  particles::ParticleStorage storage_;
+  particles::ContactHistory history_;
+  ContactPhase contact_phase_;
+  ContactPhaseStats contact_stats_;
+  comm::ExchangeStats exchange_stats_;
+  std::vector<dynamics::ForceAccumulator> forces_;
+  std::vector<broadphase::CandidatePair> candidates_;
+  std::vector<Vec3> centers_;
+  std::vector<double> radii_;
+  std::vector<Uid> uids_;
+  std::vector<std::uint8_t> active_;
+
+  timeloop::TimeLoop loop_;
+  std::vector<std::function<void()>> observers_;
+};
+
+}  // namespace polydem::sim

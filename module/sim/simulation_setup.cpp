@@ -1,0 +1,161 @@
+// Building a Simulation from a Scene: tables, domain, particles, contact laws.
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/logging.h"
+#include "core/mpi_env.h"
+#include "core/strings.h"
+#include "domain/rebalance.h"
+#include "dynamics/integrator.h"
+#include "dynamics/time_step.h"
+#include "geometry/body_shape.h"
+#include "sim/simulation.h"
+
+namespace polydem::sim {
+
+Simulation::Simulation(const io::Scene& scene, MPI_Comm comm)
+    : scene_(scene),
+      comm_(comm),
+      rank_(mpi::rank(comm)),
+      ranks_(mpi::size(comm)),
+      exchange_(comm),
+      loop_(comm) {
+  buildTables();
+  buildLaws();
+  buildDomain();
+  placeParticles();
+  registerSteps();
+  exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  startLeapfrog();
+}
+
+Simulation::~Simulation() = default;
+
+void Simulation::buildTables() {
+  for (const auto& spec : scene_.shapes) {
+    geometry::BuildReport report;
+    const auto poly = geometry::ConvexPolyhedron::fromPoints(spec.vertices, &report);
+    auto frame = geometry::toBodyFrame(poly, spec.name);
+    shapes_.push_back(std::move(frame.shape));
+    shape_frames_.push_back({frame.rotation, frame.centroid});
+  }
+  for (const auto& m : scene_.materials) materials_.add(m);
+  for (const auto& i : scene_.interactions) materials_.setInteraction(i.a, i.b, i.properties);
+  materials_.finalize();
+  densities_ = materials_.densities();
+  kernel_ = contact::makeKernel(scene_.kernel, scene_.kernel_params);
+  broadphase_ = broadphase::makeBroadPhase(scene_.broadphase);
+}
+
+void Simulation::buildLaws() {
+  const int n = static_cast<int>(materials_.size());
+  const bool potential = scene_.kernel == "distance-potential" || scene_.kernel == "fdem";
+  law_main_.resize(n * n);
+  law_equilibrium_.resize(n * n);
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) {
+      const auto& props = materials_.pair(a, b);
+      const bool stiff = potential ? props.penalty > 0 : props.kn > 0;
+      if (!stiff) {
+        // Only an error if some particles of these materials can meet (checked lazily below).
+        law_main_[a * n + b] = dynamics::lawCoefficients(props);
+        law_equilibrium_[a * n + b] = law_main_[a * n + b];
+        continue;
+      }
+      law_main_[a * n + b] = dynamics::lawCoefficients(props);
+      law_equilibrium_[a * n + b] =
+          dynamics::lawCoefficients(props, scene_.equilibrium.friction_angle);
+    }
+  }
+  // Every material a particle uses must have the stiffness the kernel needs.
+  for (const auto& p : scene_.particles) {
+    const auto& m = materials_[p.material];
+    const double k = potential ? m.penalty : m.kn;
+    if (!(k > 0)) {
+      throw InputError(scene_.file, p.line,
+                       cat("material '", m.name, "' has no ", potential ? "penalty" : "kn",
+                           ", which kernel '", scene_.kernel, "' needs"));
+    }
+  }
+}
+
+void Simulation::buildDomain() {
+  // Particle extents: the domain defaults to their bounding box, grown by half its largest edge
+  // on every side so that falling and sliding particles stay inside.
+  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+  double r_free = 0.0, r_all = 0.0;
+  for (const auto& p : scene_.particles) {
+    const auto& s = shapes_[p.shape];
+    const Vec3 c = p.position + p.orientation * shape_frames_[p.shape].centroid;
+    lo = lo.cwiseMin(c - Vec3::Constant(s.circumradius));
+    hi = hi.cwiseMax(c + Vec3::Constant(s.circumradius));
+    r_all = std::max(r_all, s.circumradius);
+    if (!p.fixed && p.driver < 0) r_free = std::max(r_free, s.circumradius);
+  }
+  margin_ = scene_.contact_margin * r_free;
+  // The broad phase and the ghost radius need a superset of the canonical-frame pair test.
+  const double slack = 1e-9 * 2.0 * r_all;
+  ghost_range_ = r_free + margin_ + slack;
+  domain::Aabb box;
+  if (scene_.domain.min && scene_.domain.max) {
+    box = {*scene_.domain.min, *scene_.domain.max};
+  } else {
+    const double grow = 0.5 * (hi - lo).maxCoeff();
+    box = {lo - Vec3::Constant(grow), hi + Vec3::Constant(grow)};
+  }
+  const auto counts = scene_.domain.blocks ? *scene_.domain.blocks
+                                           : domain::chooseBlockCounts(box, ranks_, 8);
+  forest_ = std::make_unique<domain::BlockForest>(box, counts, scene_.domain.periodic);
+  std::vector<double> weights(forest_->numBlocks(), 0.0);
+  if (rank_ == 0) {
+    for (const auto& p : scene_.particles) {
+      if (p.fixed || p.driver >= 0) continue;
+      const int b = forest_->blockOf(p.position + p.orientation * shape_frames_[p.shape].centroid);
+      if (b < 0) {
+        throw InputError(scene_.file, p.line,
+                         cat("particle ", p.uid, (p.label.empty() ? "" : " '" + p.label + "'"),
+                             " lies outside the [domain] box"));
+      }
+      weights[b] += 1.0;
+    }
+  }
+  const auto method = scene_.domain.balancer == "sfc" ? domain::PartitionMethod::kSfc
+                                                      : domain::PartitionMethod::kMetis;
+  forest_->setRankMap(domain::computeRankMap(*forest_, weights, comm_, method), ranks_);
+}
+
+void Simulation::placeParticles() {
+  std::vector<dynamics::TimeStepParticle> dt_particles;
+  for (const auto& spec : scene_.particles) {
+    // The spec places the shape's own frame; the body frame sits at the shape's centroid, turned
+    // by its principal axes.
+    const ShapeFrame& frame = shape_frames_[spec.shape];
+    particles::Particle p;
+    p.uid = spec.uid;
+    p.shape = spec.shape;
+    p.material = spec.material;
+    p.flags = spec.fixed ? particles::kFixed : (spec.driver >= 0 ? particles::kDriven : 0u);
+    p.driver = spec.driver;
+    p.position = spec.position + spec.orientation * frame.centroid;
+    p.orientation = (spec.orientation * frame.rotation).normalized();
+    p.velocity = spec.fixed ? Vec3::Zero() : spec.velocity;
+    const auto& s = shapes_[spec.shape];
+    const double density = densities_[spec.material];
+    if (p.isFree()) {
+      p.angular_momentum = dynamics::angularMomentum(p.orientation, spec.angular_velocity,
+                                                     density * s.principal_moments);
+      const auto& props = materials_.pair(spec.material, spec.material);
+      dt_particles.push_back({p.uid, density * s.volume, density * s.principal_moments,
+                              s.circumradius, std::max(props.kn, props.ks),
+                              props.normal_damping});
+    }
+    if (p.isGlobal() || forest_->ownerOf(p.position) == rank_) storage_.addLocal(p);
+  }
+  const auto suggestion = dynamics::suggestTimeStep(dt_particles);
+  suggested_dt_ = suggestion.dt;
+  const std::string warning = dynamics::timeStepWarning(scene_.dt, suggestion);
+  if (!warning.empty()) log::warning(warning);
+}
+
+}  // namespace polydem::sim
