@@ -246,9 +246,8 @@ ConvexPolyhedron ConvexPolyhedron::fromPoints(std::span<const Vec3> points, Buil
   const double size_tol = absTol(frame.size, RelTol::kPlane);
   double width = std::numeric_limits<double>::infinity();
   for (const Face& face : poly.faces_) {
-    double depth = 0.0;
-    for (const Vec3& v : poly.vertices_) depth = std::max(depth, -face.normal.dot(v) + face.offset);
-    width = std::min(width, depth);
+    const Vec3& deepest = poly.vertices_[poly.supportIndex(-face.normal, face.vertices[0])];
+    width = std::min(width, face.offset - face.normal.dot(deepest));
   }
   if (width <= size_tol) {
     throw GeometryError("flat point cloud: the hull of " + std::to_string(points.size()) +

@@ -121,5 +121,51 @@ TEST(Split, PlanesMissingOrGrazingLeaveOnePart) {
   EXPECT_NEAR(volumeOf(slab.above), 1e-8, 1e-14);
 }
 
+/// Cuts every block by every plane, as a rock mass is cut by joint sets.
+std::vector<ConvexPolyhedron> cutByJoints(const ConvexPolyhedron& mass,
+                                          const std::vector<Plane>& joints) {
+  std::vector<ConvexPolyhedron> blocks{mass};
+  for (const Plane& joint : joints) {
+    std::vector<ConvexPolyhedron> next;
+    for (const auto& block : blocks) {
+      const auto parts = block.split(joint);
+      for (const auto* part : {&parts.below, &parts.above}) {
+        if (!part->empty()) next.push_back(ConvexPolyhedron::fromPoints(*part));
+      }
+    }
+    blocks = std::move(next);
+  }
+  return blocks;
+}
+
+TEST(Split, RockMassCutByJointSetsKeepsItsVolume) {
+  // Three joint sets, the first two through existing vertices of the grid they make (exactly
+  // on the plane), the third dipping and crossing everything.
+  const auto mass = ConvexPolyhedron::fromPoints(shapes::box(Vec3(0, 0, 0), Vec3(4, 3, 2)));
+  std::vector<Plane> joints;
+  for (int i = 1; i < 4; ++i) joints.push_back({Vec3::UnitX(), double(i)});
+  for (int j = 1; j < 3; ++j) joints.push_back({Vec3::UnitY(), double(j)});
+  const Vec3 dip = Vec3(0.3, -0.2, 1.0).normalized();
+  for (int k = 0; k < 4; ++k) joints.push_back({dip, 0.2 + 0.5 * k});
+  const auto blocks = cutByJoints(mass, joints);
+  EXPECT_GE(blocks.size(), 12u);
+  double total = 0.0;
+  for (const auto& block : blocks) {
+    total += block.volume();
+    testing::expectValidPolyhedron(block);
+  }
+  EXPECT_NEAR(total, mass.volume(), 1e-12 * mass.volume());
+  // The same cut in millimetres gives the same blocks, scaled.
+  std::vector<Plane> joints_mm = joints;
+  for (Plane& j : joints_mm) j.offset *= 1e-3;
+  const auto blocks_mm = cutByJoints(mass.scaled(1e-3), joints_mm);
+  ASSERT_EQ(blocks_mm.size(), blocks.size());
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    EXPECT_EQ(blocks_mm[b].faces().size(), blocks[b].faces().size());
+    EXPECT_NEAR(blocks_mm[b].volume(), 1e-9 * blocks[b].volume(),
+                1e-12 * 1e-9 * blocks[b].volume());
+  }
+}
+
 }  // namespace
 }  // namespace polydem::geometry
