@@ -23,6 +23,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/strings.h"
 #include "core/tolerance.h"
 #include "geometry/convex_polyhedron.h"
 #include "geometry/point_cloud_checks.h"
@@ -250,9 +251,9 @@ ConvexPolyhedron ConvexPolyhedron::fromPoints(std::span<const Vec3> points, Buil
     width = std::min(width, face.offset - face.normal.dot(deepest));
   }
   if (width <= size_tol) {
-    throw GeometryError("flat point cloud: the hull of " + std::to_string(points.size()) +
-                        " points is only " + std::to_string(width) +
-                        " thick, less than 1e-10 of the cloud size " + std::to_string(frame.size));
+    throw GeometryError(cat("flat point cloud: the hull of ", points.size(), " points is only ",
+                            width, " thick, less than ", RelTol::kPlane, " of the cloud size ",
+                            frame.size));
   }
   poly.computeMassProperties();
   poly.computeRadii();

@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "core/strings.h"
 
 namespace polydem::geometry {
 
@@ -189,7 +190,7 @@ ConvexPolyhedron ConvexPolyhedron::transformed(const Mat3& rotation,
     throw GeometryError(
         "transformed() needs a proper rotation and a finite translation "
         "(|R^T R - I| = " +
-        std::to_string(orthogonality) + ")");
+        cat(orthogonality) + ")");
   }
   ConvexPolyhedron out = *this;
   for (Vec3& v : out.vertices_) v = rotation * v + translation;
@@ -206,7 +207,7 @@ ConvexPolyhedron ConvexPolyhedron::transformed(const Mat3& rotation,
 
 ConvexPolyhedron ConvexPolyhedron::scaled(double factor) const {
   if (!(factor > 0.0) || !std::isfinite(factor)) {
-    throw GeometryError("scaled() needs a finite factor > 0, got " + std::to_string(factor));
+    throw GeometryError(cat("scaled() needs a finite factor > 0, got ", factor));
   }
   ConvexPolyhedron out = *this;
   for (Vec3& v : out.vertices_) v *= factor;

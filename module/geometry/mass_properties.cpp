@@ -18,6 +18,7 @@
 
 #include "core/error.h"
 #include "core/exact_sum.h"
+#include "core/strings.h"
 #include "geometry/convex_polyhedron.h"
 #include "geometry/small_lp.h"
 
@@ -57,7 +58,7 @@ void ConvexPolyhedron::computeMassProperties() {
   });
   const double six_v = six_volume.value();
   if (!(six_v > 0.0)) {
-    throw GeometryError("polyhedron has no positive volume (6V = " + std::to_string(six_v) + ")");
+    throw GeometryError(cat("polyhedron has no positive volume (6V = ", six_v, ")"));
   }
   volume_ = six_v / 6.0;
   for (int i = 0; i < 3; ++i) centroid_[i] = ref[i] + twentyfour_moment[i].value() / (4.0 * six_v);

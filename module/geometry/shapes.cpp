@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/strings.h"
 
 namespace polydem::geometry::shapes {
 
@@ -15,7 +16,7 @@ const double kPhi = 0.5 * (1.0 + std::sqrt(5.0));
 void requirePositive(double value, const char* what) {
   if (!(value > 0.0) || !std::isfinite(value)) {
     throw GeometryError(std::string("shape parameter '") + what + "' must be finite and > 0, got " +
-                        std::to_string(value));
+                        cat(value));
   }
 }
 
@@ -86,7 +87,7 @@ std::vector<Vec3> ridgePrism(const Vec3& ridge_a, const Vec3& ridge_b, double ba
   requirePositive(along.norm(), "ridge length");
   if (ridge_a.z() != ridge_b.z()) {
     throw GeometryError("ridge prism: the ridge must be horizontal (ridge ends at z = " +
-                        std::to_string(ridge_a.z()) + " and " + std::to_string(ridge_b.z()) + ")");
+                        cat(ridge_a.z(), " and ", ridge_b.z(), ")"));
   }
   const Vec3 side = Vec3(-along.y(), along.x(), 0.0).normalized() * base_half_width;
   const Vec3 down(0.0, 0.0, height);
@@ -182,8 +183,7 @@ std::vector<Vec3> randomConvex(int n, std::uint64_t seed, const Vec3& semi_axes,
   if (n < 4) throw GeometryError("randomConvex needs n >= 4, got " + std::to_string(n));
   for (int k = 0; k < 3; ++k) requirePositive(semi_axes[k], "ellipsoid semi-axis");
   if (!(perturbation >= 0.0 && perturbation < 1.0)) {
-    throw GeometryError("randomConvex: perturbation must be in [0, 1), got " +
-                        std::to_string(perturbation));
+    throw GeometryError("randomConvex: perturbation must be in [0, 1), got " + cat(perturbation));
   }
   std::mt19937_64 rng(seed);
   Vec3 axes = semi_axes;
