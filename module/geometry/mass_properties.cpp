@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "core/error.h"
@@ -104,12 +105,29 @@ void ConvexPolyhedron::computeRadii() {
     b[i] = (face.offset - face.normal.dot(centroid_)) / length;
   }
   const SmallLpResult lp = solveSmallLp(rows, b, Vec4(0.0, 0.0, 0.0, -1.0));
-  if (lp.status != SmallLpResult::Status::kOptimal || !(lp.z[3] > 0.0)) {
-    throw GeometryError("inscribed sphere: the LP over " + std::to_string(faces_.size()) +
-                        " face planes found no interior point");
+  // The radius is measured at the centre found rather than read off the LP, so the sphere is
+  // inscribed to round-off whatever the LP's tolerances did. On extremely thin shapes (thickness
+  // below ~1e-9 of the size) the LP loses accuracy or gives up; the centroid, always at least a
+  // quarter of the thickness from every face, is then the fallback centre.
+  const auto clearance = [&](const Vec3& x) {
+    double r = std::numeric_limits<double>::infinity();
+    for (const Face& face : faces_) r = std::min(r, face.offset - face.normal.dot(x));
+    return r;
+  };
+  incenter_ = centroid_;
+  inradius_ = clearance(centroid_);
+  if (lp.status == SmallLpResult::Status::kOptimal) {
+    const Vec3 centre = centroid_ + length * lp.z.head<3>();
+    const double r = clearance(centre);
+    if (r > inradius_) {
+      incenter_ = centre;
+      inradius_ = r;
+    }
   }
-  incenter_ = centroid_ + length * lp.z.head<3>();
-  inradius_ = length * lp.z[3];
+  if (!(inradius_ > 0.0)) {
+    throw GeometryError(cat("inscribed sphere: the centroid is not inside the ", faces_.size(),
+                            " face planes (clearance ", inradius_, ")"));
+  }
 }
 
 }  // namespace polydem::geometry

@@ -138,6 +138,9 @@ TEST(HullBuilding, ThinnerThanTheToleranceIsFlatThickerIsASliver) {
     const auto p = ConvexPolyhedron::fromPoints(sliver);
     EXPECT_EQ(faceSizes(p), std::vector<int>(4, 3));
     EXPECT_NEAR(p.volume(), height / 6.0, 1e-12 * height);
+    double surface = 0.0;
+    for (const Face& f : p.faces()) surface += f.area;
+    EXPECT_NEAR(p.inradius(), 3.0 * p.volume() / surface, 1e-12 * p.inradius());  // tetrahedron
     expectValidPolyhedron(p);
   }
 }
