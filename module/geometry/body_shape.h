@@ -24,8 +24,8 @@ struct BodyShape {
 /// given axis-aligned keep their exact coordinates.
 struct BodyFrameResult {
   BodyShape shape;
-  Quat rotation;   // R above
-  Vec3 centroid;   // c above
+  Quat rotation;  // R above
+  Vec3 centroid;  // c above
 };
 BodyFrameResult toBodyFrame(const ConvexPolyhedron& input, std::string name = {});
 

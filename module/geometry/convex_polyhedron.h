@@ -31,7 +31,8 @@ struct Face {
 
 struct Edge {
   int v0 = -1, v1 = -1;  // v0 < v1
-  int f0 = -1, f1 = -1;  // the two faces sharing the edge
+  int f0 = -1, f1 = -1;  // the two faces sharing the edge; the edge runs v0 -> v1 in f0's
+                         // counter-clockwise order (and v1 -> v0 in f1's)
 };
 
 /// What fromPoints() found besides the hull: input points that are not vertices of the hull.
@@ -48,13 +49,18 @@ class ConvexPolyhedron {
   /// The convex hull of `points`. Throws GeometryError for fewer than 4 points, NaN or infinite
   /// coordinates, duplicate points (closer than 1e-10 of the cloud's size) and clouds that are
   /// flat (all points within 1e-10 of the cloud's size from one plane). Points that are not hull
-  /// vertices are dropped and listed in `report`.
+  /// vertices are dropped and listed in `report`. Facets coplanar within 1e-10 of the cloud's size
+  /// are merged into one face. Vertices keep the order of their input points; each face starts
+  /// at its lowest vertex index and the faces are sorted by their vertex lists, so the topology
+  /// does not depend on qhull's internal order (nor on a rigid motion or change of unit).
   static ConvexPolyhedron fromPoints(std::span<const Vec3> points, BuildReport* report = nullptr);
 
   const std::vector<Vec3>& vertices() const { return vertices_; }
   const std::vector<Face>& faces() const { return faces_; }
   const std::vector<Edge>& edges() const { return edges_; }
-  /// Edges, faces and neighbouring vertices of each vertex.
+  /// Edges, faces and neighbouring vertices of each vertex, counter-clockwise around the vertex
+  /// seen from outside, starting at the lowest-index neighbour: vertexEdges()[v][k] joins v and
+  /// vertexNeighbours()[v][k]; vertexFaces()[v][k] lies between edges k and k + 1.
   const std::vector<std::vector<int>>& vertexEdges() const { return vertex_edges_; }
   const std::vector<std::vector<int>>& vertexFaces() const { return vertex_faces_; }
   const std::vector<std::vector<int>>& vertexNeighbours() const { return vertex_neighbours_; }
@@ -74,7 +80,8 @@ class ConvexPolyhedron {
   double lengthScale() const { return 2.0 * circumradius_; }
 
   /// Index of a vertex maximising direction . v (ties broken towards the lowest index).
-  /// `hint` is a vertex to start a hill climb from on large polyhedra.
+  /// `hint` is a vertex to start a hill climb from on large polyhedra (more than 32 vertices; the
+  /// previous answer for a nearby direction makes it a few steps). No allocation.
   int supportIndex(const Vec3& direction, int hint = 0) const;
   const Vec3& support(const Vec3& direction) const { return vertices_[supportIndex(direction)]; }
 
@@ -94,7 +101,11 @@ class ConvexPolyhedron {
   Split split(const Plane& plane) const;
 
  private:
+  /// Up to this many vertices supportIndex() scans them all; above, it climbs the vertex graph.
+  static constexpr int kBruteForceSupport = 32;
+
   void buildTopology(const std::vector<Vec3>& points, const std::vector<std::vector<int>>& faces);
+  void buildVertexAdjacency();
   void computeMassProperties();
   void computeRadii();
 
