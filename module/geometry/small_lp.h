@@ -24,7 +24,18 @@ struct SmallLpResult {
 };
 
 /// Minimises c.z subject to rows[i].z <= b[i] for all i. Deterministic (no randomisation).
-/// Scale the problem so that |rows| ~ 1 and |b| ~ 1 for best accuracy.
+/// Rows are scaled to unit length internally and tolerances are relative to the problem's size,
+/// so the same problem in other units gives the same answer in those units. No heap allocation
+/// up to 64 rows.
 SmallLpResult solveSmallLp(std::span<const Vec4> rows, std::span<const double> b, const Vec4& c);
+
+/// The solver's anti-cycling and refactoring rules. The defaults suit every use in polydem; tests
+/// change them to drive each path on every instance.
+struct SmallLpOptions {
+  int bland_after = 8;  // consecutive degenerate pivots before Bland's rule takes over (0: always)
+  int refactor_every = 16;  // pivots between recomputations of the basis inverse from its rows
+};
+SmallLpResult solveSmallLp(std::span<const Vec4> rows, std::span<const double> b, const Vec4& c,
+                           const SmallLpOptions& options);
 
 }  // namespace polydem::geometry
