@@ -15,7 +15,7 @@
 #include "scene_test_support.h"
 
 #ifndef POLYDEM_HAVE_CONTACT
-// Stand-in until the contact module is linked: the names contact.h documents.
+// Test-only kernel list until the contact module is linked (the names contact.h documents).
 namespace polydem::contact {
 std::vector<std::string> kernelNames() {
   return {"gjk-epa", "gjk-epa-ipm", "fcp", "fcp-ipm", "lp", "distance-potential", "fdem"};
