@@ -27,22 +27,23 @@ struct ShapeSpec {
 /// Prescribed motion of a driven particle (a tilting platform, a shaken base). The velocity of a
 /// material point x of the body is v(t) + w(t) x (x - pivot(t)), where the pivot moves with v(t).
 struct DriverSpec {
+  std::string name;                      // as referenced by [[particle]] driver = "..."
   Vec3 velocity = Vec3::Zero();          // constant part of v
   Vec3 angular_velocity = Vec3::Zero();  // w, rad/s (scene files give deg/s or rad/s: see reader)
   Vec3 pivot = Vec3::Zero();             // at t = start_time
-  Vec3 oscillation = Vec3::Zero();       // v += oscillation * sin(2 pi frequency (t - start) + phase)
-  double frequency = 0.0;                // Hz
-  double phase = 0.0;                    // rad
-  double start_time = 0.0;               // no motion before
-  double end_time = 1e300;               // no motion after
+  Vec3 oscillation = Vec3::Zero();  // v += oscillation * sin(2 pi frequency (t - start) + phase)
+  double frequency = 0.0;           // Hz
+  double phase = 0.0;               // rad
+  double start_time = 0.0;          // no motion before
+  double end_time = 1e300;          // no motion after
   int line = 0;
 };
 
 struct ParticleSpec {
-  Uid uid = 0;                 // assigned by the reader in file order, starting at 1
-  std::string label;           // optional name, used by checks and monitors
-  int shape = -1;              // index into Scene::shapes
-  int material = -1;           // index into Scene::materials
+  Uid uid = 0;        // assigned by the reader in file order, starting at 1
+  std::string label;  // optional name, used by checks and monitors
+  int shape = -1;     // index into Scene::shapes
+  int material = -1;  // index into Scene::materials
   // The particle occupies { position + orientation * v : v in the shape's vertices }. Built-in
   // shapes (box, prisms, regular polyhedra...) are centred on their centroid, so `position` is the
   // centroid; a vertex-list shape stays where its vertices are when position = 0.
@@ -56,7 +57,7 @@ struct ParticleSpec {
 };
 
 struct DomainSpec {
-  std::optional<Vec3> min, max;           // default: particles' bounding box, inflated
+  std::optional<Vec3> min, max;              // default: particles' bounding box, inflated
   std::optional<std::array<int, 3>> blocks;  // default: chosen from the rank count
   std::array<bool, 3> periodic{false, false, false};
   std::int64_t rebalance_every = 0;  // steps; 0 = never
@@ -75,16 +76,16 @@ struct EquilibriumSpec {
 };
 
 struct OutputSpec {
-  std::int64_t series_every = 10;      // steps between rows of series.csv
-  std::int64_t snapshot_every = 0;     // steps between VTK snapshots (0 = first and last only)
-  std::int64_t progress_every = 0;     // steps between progress lines (0 = automatic)
-  std::vector<std::string> monitor;    // particle labels whose state goes into series.csv
+  std::int64_t series_every = 10;    // steps between rows of series.csv
+  std::int64_t snapshot_every = 0;   // steps between VTK snapshots (0 = first and last only)
+  std::int64_t progress_every = 0;   // steps between progress lines (0 = automatic)
+  std::vector<std::string> monitor;  // particle labels whose state goes into series.csv
 };
 
 struct CheckpointSpec {
-  std::int64_t every_steps = 0;   // 0 = never
-  double every_seconds = 0.0;     // wall clock; 0 = never
-  int keep = 2;                   // keep the last K checkpoints
+  std::int64_t every_steps = 0;  // 0 = never
+  double every_seconds = 0.0;    // wall clock; 0 = never
+  int keep = 2;                  // keep the last K checkpoints
 };
 
 /// One expected result of the scene, computed from the run by the check of that `kind`
@@ -92,8 +93,8 @@ struct CheckpointSpec {
 struct CheckSpec {
   std::string name;
   std::string kind;
-  std::map<std::string, std::vector<double>> numbers;   // scalars are one-element vectors
-  std::map<std::string, std::string> strings;           // e.g. particle labels
+  std::map<std::string, std::vector<double>> numbers;  // scalars are one-element vectors
+  std::map<std::string, std::string> strings;          // e.g. particle labels
   double expected = 0.0;
   double tolerance = 0.0;
   std::string compare = "abs";  // "abs": |v-e| <= tol; "rel": |v-e| <= tol |e|; "max": v <= e;

@@ -1,0 +1,380 @@
+// The run settings of a scene file: [scene], [simulation], [kernel_params], [[material]],
+// [[interaction]], [[driver]], [domain], [equilibrium], [output], [checkpoint], [[check]].
+// Shapes and particles are in scene_bodies.cpp.
+#include "io/scene_reader.h"
+
+#include <algorithm>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "contact/contact.h"
+#include "core/error.h"
+#include "core/strings.h"
+#include "io/scene_sections.h"
+#include "particles/material.h"
+
+namespace polydem::io {
+
+namespace {
+
+using detail::Context;
+using detail::Range;
+using detail::Section;
+
+std::optional<Section> tableSection(const Context& ctx, const toml::table& root,
+                                    std::string_view key) {
+  const toml::node* n = root.get(key);
+  if (!n) return std::nullopt;
+  const toml::table* t = n->as_table();
+  if (!t) {
+    ctx.fail(detail::lineOf(*n), "'" + std::string(key) + "' must be a table: write [" +
+                                     std::string(key) + "], got " + detail::typeName(*n));
+  }
+  return Section(ctx, *t, cat("[", key, "]"));
+}
+
+void readSceneTable(const Context& ctx, const toml::table& root, Scene& scene) {
+  const std::optional<Section> s = tableSection(ctx, root, "scene");
+  if (!s) ctx.fail(0, "missing the [scene] table (it needs at least id = \"...\")");
+  s->allowOnly({"id", "title", "source", "description"});
+  scene.id = s->requiredString("id");
+  scene.title = s->string("title").value_or("");
+  scene.source = s->string("source").value_or("");
+  scene.description = s->string("description").value_or("");
+}
+
+void readSimulation(const Context& ctx, const toml::table& root, Scene& scene) {
+  const std::optional<Section> s = tableSection(ctx, root, "simulation");
+  if (!s)
+    ctx.fail(0, "missing the [simulation] table (it needs at least dt and end_time or steps)");
+  s->allowOnly({"kernel", "broadphase", "dt", "end_time", "steps", "gravity", "contact_margin"});
+  scene.kernel = s->choice("kernel", contact::kernelNames(), scene.kernel);
+  scene.broadphase = s->choice("broadphase", {"multilevel", "nbs", "all-pairs"}, scene.broadphase);
+  scene.dt = s->requiredNumber("dt", Quantity::kTime, Range::kPositive);
+  if (const auto t = s->number("end_time", Quantity::kTime, Range::kPositive)) scene.end_time = *t;
+  if (const auto n = s->integer("steps", Range::kPositive)) scene.steps = *n;
+  if (!scene.end_time && !scene.steps) s->failHere("give end_time or steps (or both)");
+  scene.gravity = s->vec3("gravity", Quantity::kAcceleration).value_or(scene.gravity);
+  scene.contact_margin =
+      s->number("contact_margin", Quantity::kDimensionless, 0.0, Range::kNonNegative);
+}
+
+void readKernelParams(const Context& ctx, const toml::table& root, Scene& scene) {
+  const std::optional<Section> s = tableSection(ctx, root, "kernel_params");
+  if (!s) return;
+  s->allowOnly({"lp_rounding"});
+  // A fraction of the inradius: at 1 the core left inside the rounding would be a point.
+  double& r = scene.kernel_params.lp_rounding;
+  r = s->bounded("lp_rounding", Quantity::kDimensionless, r, 0.0, 1.0, false);
+  if (!(r > 0.0)) s->fail("lp_rounding", "must be > 0");
+}
+
+// The contact keys shared by [[material]] and [[interaction]], with their ranges.
+void readContactKeys(const Section& s, double& kn, double& ks, double& friction_angle,
+                     double& cohesion, double& normal_damping, double& penalty) {
+  kn = s.number("kn", Quantity::kStiffness, kn, Range::kNonNegative);
+  ks = s.number("ks", Quantity::kStiffness, ks, Range::kNonNegative);
+  friction_angle = s.bounded("friction_angle", Quantity::kAngle, friction_angle, 0.0, 90.0, false);
+  cohesion = s.number("cohesion", Quantity::kForce, cohesion, Range::kNonNegative);
+  normal_damping =
+      s.number("normal_damping", Quantity::kDimensionless, normal_damping, Range::kNonNegative);
+  penalty = s.number("penalty", Quantity::kPressure, penalty, Range::kNonNegative);
+}
+
+void readMaterials(const Context& ctx, const toml::table& root, Scene& scene) {
+  std::map<std::string, int> lines;
+  for (const Section& s : detail::entries(ctx, root, "material", "name")) {
+    s.allowOnly({"name", "density", "kn", "ks", "friction_angle", "cohesion", "normal_damping",
+                 "local_damping", "penalty"});
+    particles::Material m;
+    m.name = s.requiredString("name");
+    if (const auto it = lines.find(m.name); it != lines.end()) {
+      s.fail("name",
+             "material '" + m.name + "' is already defined at line " + std::to_string(it->second));
+    }
+    lines[m.name] = s.line();
+    m.density = s.requiredNumber("density", Quantity::kDensity, Range::kPositive);
+    readContactKeys(s, m.kn, m.ks, m.friction_angle, m.cohesion, m.normal_damping, m.penalty);
+    m.local_damping = s.bounded("local_damping", Quantity::kDimensionless, 0.0, 0.0, 1.0, false);
+    // Which of the two a kernel needs is the simulation's business; a material with neither
+    // cannot push back at all.
+    if (!(m.kn > 0.0) && !(m.penalty > 0.0)) {
+      s.failHere("needs kn > 0 (penalty kernels) or penalty > 0 (potential kernels)");
+    }
+    scene.materials.push_back(m);
+  }
+  if (scene.materials.empty()) ctx.fail(0, "no [[material]] is defined");
+}
+
+int materialReference(const Section& s, const toml::node& node, const std::string& what,
+                      const Scene& scene) {
+  const auto* name = node.as_string();
+  if (!name) {
+    s.context().fail(detail::lineOf(node),
+                     what + ": expected a material name, got " + detail::typeName(node));
+  }
+  const int index = detail::indexByName(scene.materials, name->get());
+  if (index < 0) {
+    s.context().fail(detail::lineOf(node),
+                     what + ": no [[material]] is named '" + name->get() + "'");
+  }
+  return index;
+}
+
+void readInteractions(const Context& ctx, const toml::table& root, Scene& scene) {
+  // Keys not given keep the value the material table would use for this pair.
+  particles::MaterialTable table;
+  for (const auto& m : scene.materials) table.add(m);
+  table.finalize();
+  std::map<std::pair<int, int>, int> seen;  // pair -> line
+  for (const Section& s : detail::entries(ctx, root, "interaction", "")) {
+    s.allowOnly(
+        {"materials", "kn", "ks", "friction_angle", "cohesion", "normal_damping", "penalty"});
+    if (!s.has("materials")) s.missing("materials");
+    const toml::array* names = s.find("materials")->as_array();
+    if (!names || names->size() != 2) {
+      s.fail("materials", "expected two material names, as in [\"rock\", \"steel\"]");
+    }
+    Scene::Interaction in;
+    in.a = materialReference(s, (*names)[0], s.where("materials") + "[0]", scene);
+    in.b = materialReference(s, (*names)[1], s.where("materials") + "[1]", scene);
+    const std::pair key{std::min(in.a, in.b), std::max(in.a, in.b)};
+    if (const auto it = seen.find(key); it != seen.end()) {
+      s.fail("materials", "the pair is already given at line " + std::to_string(it->second));
+    }
+    seen[key] = s.line();
+    in.properties = table.pair(in.a, in.b);
+    auto& p = in.properties;
+    readContactKeys(s, p.kn, p.ks, p.friction_angle, p.cohesion, p.normal_damping, p.penalty);
+    scene.interactions.push_back(in);
+  }
+}
+
+void readDrivers(const Context& ctx, const toml::table& root, Scene& scene) {
+  for (const Section& s : detail::entries(ctx, root, "driver", "name")) {
+    s.allowOnly({"name", "velocity", "angular_velocity", "pivot", "oscillation", "frequency",
+                 "phase", "start_time", "end_time"});
+    DriverSpec d;
+    d.name = s.requiredString("name");
+    if (const int other = detail::indexByName(scene.drivers, d.name); other >= 0) {
+      s.fail("name", "driver '" + d.name + "' is already defined at line " +
+                         std::to_string(scene.drivers[other].line));
+    }
+    d.velocity = s.vec3("velocity", Quantity::kVelocity).value_or(d.velocity);
+    d.angular_velocity =
+        s.vec3("angular_velocity", Quantity::kAngularVelocity).value_or(d.angular_velocity);
+    d.pivot = s.vec3("pivot", Quantity::kLength).value_or(d.pivot);
+    d.oscillation = s.vec3("oscillation", Quantity::kVelocity).value_or(d.oscillation);
+    d.frequency = s.number("frequency", Quantity::kFrequency, 0.0, Range::kNonNegative);
+    d.phase = s.number("phase", Quantity::kPhase, 0.0);
+    d.start_time = s.number("start_time", Quantity::kTime, 0.0, Range::kNonNegative);
+    d.end_time = s.number("end_time", Quantity::kTime, d.end_time);
+    if (!(d.end_time > d.start_time)) s.fail("end_time", "must be later than start_time");
+    if (!d.oscillation.isZero() && !(d.frequency > 0.0)) {
+      s.fail("oscillation", "needs frequency > 0");
+    }
+    d.line = s.line();
+    scene.drivers.push_back(d);
+  }
+}
+
+void readDomain(const Context& ctx, const toml::table& root, Scene& scene) {
+  const std::optional<Section> s = tableSection(ctx, root, "domain");
+  if (!s) return;
+  s->allowOnly({"min", "max", "blocks", "periodic", "rebalance_every", "balancer"});
+  DomainSpec& d = scene.domain;
+  d.min = s->vec3("min", Quantity::kLength);
+  d.max = s->vec3("max", Quantity::kLength);
+  if (d.min && d.max && !((*d.max - *d.min).array() > 0.0).all()) {
+    s->fail("max", "must exceed min in every coordinate");
+  }
+  if (const auto b = s->int3("blocks", Range::kPositive)) {
+    if (std::max({(*b)[0], (*b)[1], (*b)[2]}) > std::numeric_limits<int>::max()) {
+      s->fail("blocks", "is too large");
+    }
+    d.blocks = {static_cast<int>((*b)[0]), static_cast<int>((*b)[1]), static_cast<int>((*b)[2])};
+  }
+  d.periodic = s->bool3("periodic").value_or(d.periodic);
+  if ((d.periodic[0] || d.periodic[1] || d.periodic[2]) && !(d.min && d.max)) {
+    s->fail("periodic", "a periodic axis needs the domain's min and max");
+  }
+  d.rebalance_every = s->integer("rebalance_every", 0, Range::kNonNegative);
+  d.balancer = s->choice("balancer", {"metis", "sfc"}, d.balancer);
+}
+
+void readEquilibrium(const Context& ctx, const toml::table& root, Scene& scene) {
+  const std::optional<Section> s = tableSection(ctx, root, "equilibrium");
+  if (!s) return;
+  s->allowOnly({"enabled", "local_damping", "friction_angle", "force_ratio", "max_steps",
+                "reset_velocities"});
+  EquilibriumSpec& e = scene.equilibrium;
+  e.enabled = s->boolean("enabled").value_or(true);
+  e.local_damping =
+      s->bounded("local_damping", Quantity::kDimensionless, e.local_damping, 0.0, 1.0, false);
+  e.friction_angle =
+      s->bounded("friction_angle", Quantity::kAngle, e.friction_angle, 0.0, 90.0, false);
+  e.force_ratio =
+      s->number("force_ratio", Quantity::kDimensionless, e.force_ratio, Range::kPositive);
+  e.max_steps = s->integer("max_steps", e.max_steps, Range::kPositive);
+  e.reset_velocities = s->boolean("reset_velocities").value_or(e.reset_velocities);
+}
+
+void readOutput(const Context& ctx, const toml::table& root, Scene& scene) {
+  const std::optional<Section> s = tableSection(ctx, root, "output");
+  if (!s) return;
+  s->allowOnly({"series_every", "snapshot_every", "progress_every", "monitor"});
+  OutputSpec& o = scene.output;
+  o.series_every = s->integer("series_every", o.series_every, Range::kPositive);
+  o.snapshot_every = s->integer("snapshot_every", o.snapshot_every, Range::kNonNegative);
+  o.progress_every = s->integer("progress_every", o.progress_every, Range::kNonNegative);
+  o.monitor = s->strings("monitor").value_or(o.monitor);
+  for (std::size_t i = 0; i < o.monitor.size(); ++i) {
+    const std::string& label = o.monitor[i];
+    const bool found = std::any_of(scene.particles.begin(), scene.particles.end(),
+                                   [&](const ParticleSpec& p) { return p.label == label; });
+    if (!found) s->fail("monitor", "no particle is labelled '" + label + "'");
+  }
+}
+
+void readCheckpoint(const Context& ctx, const toml::table& root, Scene& scene) {
+  const std::optional<Section> s = tableSection(ctx, root, "checkpoint");
+  if (!s) return;
+  s->allowOnly({"every_steps", "every_seconds", "keep"});
+  CheckpointSpec& c = scene.checkpoint;
+  c.every_steps = s->integer("every_steps", c.every_steps, Range::kNonNegative);
+  c.every_seconds =
+      s->number("every_seconds", Quantity::kTime, c.every_seconds, Range::kNonNegative);
+  const std::int64_t keep = s->integer("keep", c.keep, Range::kPositive);
+  if (keep > std::numeric_limits<int>::max()) s->fail("keep", "is too large");
+  c.keep = static_cast<int>(keep);
+}
+
+// A check parameter string that starts with a number is a quantity ("2 mm"); anything else
+// ("block-1") is a label or a word.
+bool looksLikeQuantity(const std::string& s) {
+  std::size_t i = 0;
+  while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
+  if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+  if (i < s.size() && s[i] == '.') ++i;
+  return i < s.size() && s[i] >= '0' && s[i] <= '9';
+}
+
+// One number of a check: a plain number, or a quantity string converted to SI (angles to degrees).
+double checkNumber(const Context& ctx, const toml::node& node, const std::string& what) {
+  if (const auto* s = node.as_string()) {
+    ParsedQuantity p;
+    try {
+      p = parseQuantity(s->get());
+    } catch (const std::invalid_argument& e) {
+      ctx.fail(detail::lineOf(node), what + ": cannot read '" + s->get() + "' (" + e.what() + ")");
+    }
+    return toNaturalUnit(p);
+  }
+  return detail::toNumber(ctx, node, what, Quantity::kDimensionless);
+}
+
+void readCheckParameter(const Section& s, std::string_view key, const toml::node& node,
+                        CheckSpec& c) {
+  const std::string what = s.where(key);
+  const Context& ctx = s.context();
+  if (const auto* str = node.as_string(); str && !looksLikeQuantity(str->get())) {
+    c.strings[std::string(key)] = str->get();
+  } else if (node.is_number() || node.is_string()) {
+    c.numbers[std::string(key)] = {checkNumber(ctx, node, what)};
+  } else if (const toml::array* a = node.as_array()) {
+    std::vector<double> values;
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      const toml::node& e = (*a)[i];
+      const std::string item = detail::element(what, i);
+      if (!e.is_number() && !(e.is_string() && looksLikeQuantity(e.as_string()->get()))) {
+        ctx.fail(detail::lineOf(e), item + ": expected a number, got " + detail::typeName(e));
+      }
+      values.push_back(checkNumber(ctx, e, item));
+    }
+    c.numbers[std::string(key)] = std::move(values);
+  } else {
+    s.fail(key,
+           "expected a number, an array of numbers or a string, got " + detail::typeName(node));
+  }
+}
+
+void readChecks(const Context& ctx, const toml::table& root, Scene& scene) {
+  const std::vector<std::string_view> fixed = {"name",      "kind",    "expected",
+                                               "tolerance", "compare", "reference"};
+  for (const Section& s : detail::entries(ctx, root, "check", "name")) {
+    CheckSpec c;
+    c.name = s.requiredString("name");
+    for (const CheckSpec& other : scene.checks) {
+      if (other.name == c.name) {
+        s.fail("name",
+               "check '" + c.name + "' is already defined at line " + std::to_string(other.line));
+      }
+    }
+    c.kind = s.requiredString("kind");
+    c.compare = s.choice("compare", {"abs", "rel", "max", "min", "report"}, c.compare);
+    if (const toml::node* e = s.find("expected")) {
+      c.expected = checkNumber(ctx, *e, s.where("expected"));
+    } else if (c.compare != "report") {
+      s.missing("expected");
+    }
+    if (const toml::node* t = s.find("tolerance")) {
+      c.tolerance = checkNumber(ctx, *t, s.where("tolerance"));
+      if (!(c.tolerance >= 0.0)) s.fail("tolerance", "must be >= 0");
+    }
+    c.reference = s.string("reference").value_or("");
+    for (auto&& [key, value] : s.table()) {
+      if (std::find(fixed.begin(), fixed.end(), key.str()) == fixed.end()) {
+        readCheckParameter(s, key.str(), value, c);
+      }
+    }
+    c.line = s.line();
+    scene.checks.push_back(std::move(c));
+  }
+}
+
+}  // namespace
+
+Scene parseScene(std::string_view text, const std::string& name_for_messages) {
+  const Context ctx(name_for_messages);
+  toml::table root;
+  try {
+    root = toml::parse(text, name_for_messages);
+  } catch (const toml::parse_error& e) {
+    ctx.fail(static_cast<int>(e.source().begin.line), "TOML syntax error at column " +
+                                                          std::to_string(e.source().begin.column) +
+                                                          ": " + std::string(e.description()));
+  }
+  Section(ctx, root, "top level")
+      .allowOnly({"scene", "simulation", "kernel_params", "material", "interaction", "shape",
+                  "driver", "particle", "particle_grid", "domain", "equilibrium", "output",
+                  "checkpoint", "check"});
+  Scene scene;
+  scene.file = name_for_messages;
+  // Sections that others refer to come first, whatever their order in the file.
+  readSceneTable(ctx, root, scene);
+  readSimulation(ctx, root, scene);
+  readKernelParams(ctx, root, scene);
+  readMaterials(ctx, root, scene);
+  readInteractions(ctx, root, scene);
+  detail::readShapes(ctx, root, scene);
+  readDrivers(ctx, root, scene);
+  detail::readParticles(ctx, root, scene);
+  readDomain(ctx, root, scene);
+  readEquilibrium(ctx, root, scene);
+  readOutput(ctx, root, scene);
+  readCheckpoint(ctx, root, scene);
+  readChecks(ctx, root, scene);
+  return scene;
+}
+
+Scene readScene(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "cannot open the scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(path, 0, "cannot read the scene file");
+  return parseScene(text.str(), path);
+}
+
+}  // namespace polydem::io

@@ -1,0 +1,22 @@
+// Reads a scene file (TOML, format in docs/scene-format.md) into an io::Scene.
+//
+// Every value may carry a unit ("1.5e8 N/m", "30 deg"); the reader checks structure, types,
+// units, references between sections and value ranges, and throws an InputError "file:line:
+// message" for the first problem it finds. Checks that need the kernel or the physics (a kernel
+// that needs a penalty, a time step too large for the stiffness) are left to the simulation.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "io/scene.h"
+
+namespace polydem::io {
+
+/// Reads and checks the scene file at `path`.
+Scene readScene(const std::string& path);
+
+/// Parses scene text; `name_for_messages` is the file name errors and Scene::file carry.
+Scene parseScene(std::string_view text, const std::string& name_for_messages);
+
+}  // namespace polydem::io
