@@ -69,14 +69,24 @@ void CellGrid::build(const SphereSet& spheres, std::span<const std::int32_t> mem
   const CellKey top = keyOf(bounds.hi.x(), bounds.hi.y(), bounds.hi.z());
   nx_ = top.x + 3;
   ny_ = top.y + 3;
-  const double volume = double(nx_) * double(ny_) * double(top.z + 3);
-  key_bits_ = volume < 0x1.0p62 ? std::bit_width(static_cast<std::uint64_t>(volume)) : 0;
+  nz_ = top.z + 3;
+  box_cells_ = double(nx_) * double(ny_) * double(nz_);
+  key_bits_ = box_cells_ < 0x1.0p62 ? std::bit_width(static_cast<std::uint64_t>(box_cells_)) : 0;
 
   sortMembers(spheres, members);
   if (lookup) buildLookup();
 }
 
 void CellGrid::buildLookup() {
+  dense_ = key_bits_ > 0 &&
+           box_cells_ <= kDenseFactor * std::max<double>(64.0, static_cast<double>(cells_.size()));
+  if (dense_) {
+    table_.assign(static_cast<std::size_t>(box_cells_), -1);
+    for (std::size_t c = 0; c < cells_.size(); ++c) {
+      table_[static_cast<std::size_t>(packed(cells_[c].key))] = static_cast<std::int32_t>(c);
+    }
+    return;
+  }
   const std::uint64_t capacity =
       std::bit_ceil(std::max<std::uint64_t>(16, 2 * static_cast<std::uint64_t>(cells_.size())));
   table_.assign(capacity, -1);
@@ -113,14 +123,14 @@ void CellGrid::sortMembers(const SphereSet& spheres, std::span<const std::int32_
     for (std::size_t k = 0; k < n; ++k) {
       const Vec3& c = spheres.centers[order_[k]];
       const CellKey key = keyOf(c.x(), c.y(), c.z());
-      keys_[k] = static_cast<std::uint64_t>((key.x + 1) + nx_ * ((key.y + 1) + ny_ * (key.z + 1)));
+      keys_[k] = static_cast<std::uint64_t>(packed(key));
     }
     radixSort(keys_, order_, keys_tmp_, order_tmp_, key_bits_);
     CellKey key{0, 0, 0};
     for (std::size_t p = 0; p < n; ++p) {
       if (p == 0 || keys_[p] != keys_[p - 1]) {  // decode only where a new cell starts
-        const auto packed = static_cast<std::int64_t>(keys_[p]);
-        key = {packed % nx_ - 1, (packed / nx_) % ny_ - 1, packed / (nx_ * ny_) - 1};
+        const auto linear = static_cast<std::int64_t>(keys_[p]);
+        key = {linear % nx_ - 1, (linear / nx_) % ny_ - 1, linear / (nx_ * ny_) - 1};
       }
       add(p, key);
     }

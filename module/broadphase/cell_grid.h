@@ -8,8 +8,10 @@
 // scene spread over a huge, mostly empty region (millimetre grains at 1e6 m, a far ghost) costs
 // memory and time in proportion to the particles, never to the volume, and the members of
 // neighbouring cells of a row lie next to each other in memory. Within a grid, neighbour cells
-// are found by sweeping (grid_search.cpp); a grid that smaller particles search also gets a hash
-// table from cell key to cell (find()), sized by its cells, not by the volume.
+// are found by sweeping (grid_search.cpp); a grid that smaller particles search also gets a table
+// from cell key to cell (find()): a plain array over the scene's box of cells when that box has
+// at most kDenseFactor cells per occupied cell (large particles packed in a compact region: the
+// usual case), else a hash table sized by the occupied cells, never by the volume.
 //
 // Rounding. Cell coordinates are computed in floating point, so two centres at exactly the reach
 // could land two cells apart. The edge is therefore enlarged by a relative slack that bounds the
@@ -65,6 +67,9 @@ inline bool cellBefore(const CellKey& a, const CellKey& b) {
   return a.x < b.x;
 }
 
+/// A dense lookup array may have this many entries per occupied cell.
+inline constexpr double kDenseFactor = 8.0;
+
 /// Cells of one edge over the bounds of a whole SphereSet.
 class CellGrid {
  public:
@@ -90,11 +95,21 @@ class CellGrid {
 
   /// The cell with this key, or -1 if it is empty. Needs build(..., lookup = true).
   std::int32_t find(const CellKey& key) const {
+    if (dense_) {
+      if (key.x < -1 || key.x > nx_ - 2 || key.y < -1 || key.y > ny_ - 2 || key.z < -1 ||
+          key.z > nz_ - 2) {
+        return -1;
+      }
+      return table_[static_cast<std::size_t>(packed(key))];
+    }
     for (std::uint64_t slot = hash(key) & mask_;; slot = (slot + 1) & mask_) {
       const std::int32_t cell = table_[slot];
       if (cell < 0 || cells_[cell].key == key) return cell;
     }
   }
+
+  /// Whether find() uses the array over the box of cells (else the hash table).
+  bool denseLookup() const { return dense_; }
 
   /// The key of the cell a centre falls in.
   CellKey keyOf(double x, double y, double z) const {
@@ -124,6 +139,10 @@ class CellGrid {
     return h ^ (h >> 32);
   }
   std::int64_t coord(double offset) const { return floorToInt(offset * inv_edge_); }
+  /// The cell's index in the padded box of cells, in (z, y, x) order.
+  std::int64_t packed(const CellKey& key) const {
+    return (key.x + 1) + nx_ * ((key.y + 1) + ny_ * (key.z + 1));
+  }
   void sortMembers(const SphereSet& spheres, std::span<const std::int32_t> members);
   void buildLookup();
 
@@ -134,12 +153,14 @@ class CellGrid {
   double max_radius_ = 0.0;
   double min_radius_ = 0.0;
   // The scene's box of cells, padded by one cell on each side, for the packed sort key.
-  std::int64_t nx_ = 0, ny_ = 0;
+  std::int64_t nx_ = 0, ny_ = 0, nz_ = 0;
+  double box_cells_ = 0.0;
   int key_bits_ = 0;  // 0: the box is too large to pack; sort by comparing keys instead
   std::vector<Item> items_;
   std::vector<Meta> meta_;
   std::vector<Cell> cells_;
-  std::vector<std::int32_t> table_;  // hash slot -> cell, -1 empty
+  bool dense_ = false;               // table_ is indexed by packed(key), else by hash slot
+  std::vector<std::int32_t> table_;  // -> cell, -1 empty
   std::uint64_t mask_ = 0;
   // Sort scratch.
   std::vector<std::uint64_t> keys_, keys_tmp_;

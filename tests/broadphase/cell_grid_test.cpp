@@ -123,12 +123,33 @@ TEST(CellGrid, MembersAreSortedByCell) {
                                                    .seed = 4});
     std::vector<std::int32_t> even;
     for (std::int32_t i = 0; i < 3000; i += 2) even.push_back(i);
-    CellGrid grid;
-    grid.build(s.view(), even, 1.0, boundsOf(s), true);
-    expectSortedByCell(grid, s, even, true);
-    EXPECT_EQ(grid.find({-5, -5, -5}), -1);
-    EXPECT_EQ(grid.find({1000000, 0, 0}), -1);
+    // Small cells in a large box: hashed look-up; cells of the spheres' size: an array.
+    for (const double reach : {1.0, 20.0}) {
+      CellGrid grid;
+      grid.build(s.view(), even, reach, boundsOf(s), true);
+      EXPECT_EQ(grid.denseLookup(), reach > 1.0);
+      expectSortedByCell(grid, s, even, true);
+      EXPECT_EQ(grid.find({-5, -5, -5}), -1);
+      EXPECT_EQ(grid.find({1000000, 0, 0}), -1);
+      EXPECT_EQ(grid.find({0, 1000000, -1}), -1);
+    }
   }
+}
+
+// Two clusters 1e4 cells apart: the lookup is a hash table, not an array over the empty box.
+TEST(CellGrid, ClustersFarApart) {
+  testing::Scene s = testing::randomScene({.n = 500, .solid_fraction = 0.3, .seed = 6});
+  testing::Scene far = testing::randomScene(
+      {.n = 500, .solid_fraction = 0.3, .offset = Vec3::Constant(2e4), .seed = 7});
+  for (std::size_t i = 0; i < far.centers.size(); ++i) s.add(far.centers[i], far.radii[i]);
+  s.finish(8);
+  std::vector<std::int32_t> all(s.centers.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::int32_t>(i);
+  CellGrid grid;
+  grid.build(s.view(), all, 2.0, boundsOf(s), true);
+  EXPECT_FALSE(grid.denseLookup());
+  expectSortedByCell(grid, s, all, true);
+  EXPECT_EQ(grid.find({5000, 5000, 5000}), -1);
 }
 
 // A scene spanning more than 2^62 cells is sorted by comparing keys instead of packing them.
