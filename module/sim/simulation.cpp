@@ -124,8 +124,8 @@ void Simulation::rebalance() {
                                                       : domain::PartitionMethod::kMetis;
   const auto report = domain::rebalance(*forest_, weights, comm_, method);
   const auto moved = exchange_.migrate(*forest_, storage_, history_, loop_.step());
-  log::info(cat("rebalanced at step ", loop_.step(), ": imbalance ", report.imbalance_before,
-                " -> ", report.imbalance_after, ", ", report.blocks_moved, " blocks and ",
+  log::info(cat("rebalanced at step ", loop_.step(), ": imbalance ", num(report.imbalance_before),
+                " -> ", num(report.imbalance_after), ", ", report.blocks_moved, " blocks and ",
                 mpi::allreduceSum(moved.particles_sent, comm_), " particles moved"));
 }
 
