@@ -119,9 +119,22 @@ void Simulation::buildDomain() {
     }
     if (rank_ == 0) weights[b] += 1.0;
   }
+  forest_->setRankMap(rankMap(weights), ranks_);
+}
+
+std::vector<int> Simulation::rankMap(std::span<const double> weights) const {
+  if (scene_.domain.balancer == "cyclic") {
+    if (forest_->numBlocks() < ranks_) {
+      throw InputError(scene_.file, 0, cat("[domain] has ", forest_->numBlocks(),
+                                           " blocks for ", ranks_, " ranks"));
+    }
+    std::vector<int> map(forest_->numBlocks());
+    for (int b = 0; b < forest_->numBlocks(); ++b) map[b] = b % ranks_;
+    return map;
+  }
   const auto method = scene_.domain.balancer == "sfc" ? domain::PartitionMethod::kSfc
                                                       : domain::PartitionMethod::kMetis;
-  forest_->setRankMap(domain::computeRankMap(*forest_, weights, comm_, method), ranks_);
+  return domain::computeRankMap(*forest_, weights, comm_, method);
 }
 
 void Simulation::placeParticles() {

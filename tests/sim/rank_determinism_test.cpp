@@ -14,17 +14,24 @@ namespace {
 
 io::Scene crossingScene(bool periodic) {
   PileOptions o;
-  o.particles = 80;
-  o.layers = 2;
-  o.gap = 0.3;
-  o.initial_speed = 6.0;  // fast particles: many border crossings and collisions, then a heap
+  o.particles = 120;
+  o.layers = 3;
+  o.gap = 0.15;
+  o.initial_speed = 3.0;  // particles collide at once and stay in contact as a sliding heap
   o.seed = 11;
-  o.steps = 3000;
+  o.steps = 4000;
   io::Scene s = makePileScene(o);
   s.dt = 1e-4;
   s.materials[0].friction_angle = 25;
   s.materials[0].normal_damping = 0.1;
   s.materials[0].local_damping = 0.2;
+  // Small blocks: rank borders run everywhere, so particles in contact cross them together and
+  // their pair histories must travel with them.
+  s.domain.blocks = std::array<int, 3>{16, 16, 4};
+  s.domain.balancer = "cyclic";
+  // Gravity tilted towards +x and +y: the heap keeps sliding into a corner, so pairs in contact
+  // cross rank borders together, taking their histories with them.
+  s.gravity = Vec3(4.0, 2.5, -9.81);
   if (periodic) {
     // Keep the floor, drop the four walls, and wrap x and y around the footprint.
     std::vector<io::ParticleSpec> kept;
@@ -44,13 +51,15 @@ io::Scene crossingScene(bool periodic) {
 struct Outcome {
   std::uint64_t hash = 0;
   std::int64_t conflicts = 0, pairs = 0;
+  std::int64_t migrated_histories = 0;  // over all ranks
 };
 
 Outcome run(const io::Scene& scene, MPI_Comm comm) {
   Simulation sim(scene, comm);
   sim.run();
   const auto h = sim.stateHash();
-  return {h.combined, h.history_conflicts, h.pair_count};
+  return {h.combined, h.history_conflicts, h.pair_count,
+          mpi::allreduceSum(sim.migratedHistories(), comm)};
 }
 
 // The same scene on rank 0 alone (the reference) and on all ranks.
@@ -66,6 +75,10 @@ void expectSameBits(const io::Scene& scene) {
   MPI_Bcast(&reference, sizeof reference, MPI_BYTE, 0, MPI_COMM_WORLD);
   const Outcome all = run(scene, MPI_COMM_WORLD);
   EXPECT_GT(reference.pairs, 10) << "the scene should have many contact histories";
+  if (mpi::size() > 1) {
+    // (Checked by mutation: with history migration switched off, the hashes differ.)
+    EXPECT_GT(all.migrated_histories, 0) << "pairs in contact should cross rank borders";
+  }
   EXPECT_EQ(all.conflicts, 0) << "two ranks hold different bits for the same pair";
   EXPECT_EQ(all.hash, reference.hash) << "state differs between 1 and " << mpi::size() << " ranks";
 }
