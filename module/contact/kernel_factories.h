@@ -5,4 +5,6 @@
 
 #include "contact/contact.h"
 
-namespace polydem::contact {}  // namespace polydem::contact
+namespace polydem::contact {
+std::unique_ptr<Kernel> makeLp(const KernelParams& params);  // lp.cpp
+}  // namespace polydem::contact
