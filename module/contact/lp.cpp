@@ -1,18 +1,24 @@
 // Kernel "lp" (see lp.h and docs/kernels/lp.md).
 //
+// Order of work in collide(), cheapest first: bounding spheres apart -> not touching; the last
+// separating direction (PairState) still separates the vertices -> not touching; planes of both
+// blocks in A's frame; a point strictly inside both (which proves s* < 0 without the LP): the last
+// contact point, else the middle of the overlap's chord along the line of centres; if the chord
+// is empty, the line of centres may separate the vertices -> not touching; else the LP decides
+// and gives the point. Newton's method then finds the analytic centre, the two potential
+// particles the normal, the planes the chord.
+//
 // Scratch: the planes of a pair, the LP rows and the slacks at the contact point live in
 // thread_local buffers (polydem runs one thread per MPI rank) that keep their capacity, so
 // collide() allocates nothing once warm.
 //
-// Warm start (PairState): the last contact point is kept in both bodies' frames, warm_point in
-// A's and warm_direction in B's; the guess is the mean of the two, which moves with the overlap
-// (to first order, a mid-plane between faces of A and B moves by the mean of their motions). If
-// the guess lies strictly inside both blocks the pair overlaps (that point proves s* < 0) and
-// Newton starts there, a step or two from the new centre: no LP is solved. Otherwise the LP is
-// solved, starting from its last optimal basis, packed into `reserved` (four 8-bit indices into
-// A's faces followed by B's; only pairs with at most 256 faces in all). A pair found apart keeps
-// the direction across the LP dual's separating slab in warm_direction (A's frame): while the
-// vertices of A and B stay apart along it, the next call returns after one pass over them.
+// PairState: the last contact point is kept in both bodies' frames, warm_point in A's and
+// warm_direction in B's; the guess is the mean of the two, which moves with the overlap (to first
+// order, a mid-plane between faces of A and B moves by the mean of their motions). The LP's last
+// optimal basis is packed into `reserved` (four 8-bit indices into A's faces followed by B's; only
+// pairs with at most 256 faces in all). A pair found apart keeps a separating direction (the
+// line of centres, or the LP dual's) in warm_direction, in A's frame. warm_valid says which of
+// these hold (kWarmPoint, kWarmBasis, kWarmAxis).
 #include "contact/lp.h"
 
 #include <algorithm>
@@ -198,9 +204,10 @@ std::optional<Vec3> overlapLp(Scratch& s, int na, double touch, PairState* state
 // Boon et al. (2012): the contact point is the analytic centre of the overlap, by Newton's method
 // from a point strictly inside both blocks: the last centre if it still is, else the middle of
 // the overlap's chord along the line of centres if there is one, else the LP's point. Returns
-// start_rejected when the LP finds the blocks apart.
-geometry::AnalyticCentreResult contactCentre(const PairFrame& frame, Scratch& s, int na,
-                                             double touch, PairState* state) {
+// start_rejected when the blocks are apart: the line of centres separates their vertices (tried
+// when it misses the overlap, before the LP) or the LP says so.
+geometry::AnalyticCentreResult contactCentre(const Body& a, const Body& b, const PairFrame& frame,
+                                             Scratch& s, int na, double touch, PairState* state) {
   LpKernel::Trace& tr = trace();
   geometry::AnalyticCentreOptions newton;
   newton.start_margin = touch;
@@ -217,6 +224,13 @@ geometry::AnalyticCentreResult contactCentre(const PairFrame& frame, Scratch& s,
     if (chord.t_max > chord.t_min) {
       centre = geometry::analyticCentre(s.faces, 0.5 * (chord.t_min + chord.t_max) * line, newton);
       tr.centre_line = !centre.start_rejected;
+    } else if (separatedAlong(a, b, a.rotation * -line, touch)) {
+      tr.centre_line_apart = true;
+      if (state != nullptr) {
+        state->warm_direction = -line;
+        state->warm_valid = (state->warm_valid & ~kWarmPoint) | kWarmAxis;
+      }
+      return centre;
     }
   }
   if (centre.start_rejected) {
@@ -295,7 +309,7 @@ Contact LpKernel::collide(const Body& a, const Body& b, PairState* state) const 
   const int n = na + static_cast<int>(b.shape->faces().size());
   s.faces.resize(n);
   placeFaces(a, b, frame, s.faces);
-  const geometry::AnalyticCentreResult centre = contactCentre(frame, s, na, touch, state);
+  const geometry::AnalyticCentreResult centre = contactCentre(a, b, frame, s, na, touch, state);
   if (centre.start_rejected) return out;  // apart
   const Vec3 x = centre.x;
 

@@ -46,10 +46,11 @@ class LpKernel final : public Kernel {
 
   /// What the last collide() on this thread did (read by tests and benchmarks).
   struct Trace {
-    bool spheres_apart = false;  // rejected by the bounding spheres
-    bool warm_axis = false;      // rejected by the last separating direction
-    bool warm_point = false;     // the stored contact point was inside both: no LP solved
-    bool centre_line = false;    // the chord of the line of centres gave the start: no LP
+    bool spheres_apart = false;      // rejected by the bounding spheres
+    bool warm_axis = false;          // rejected by the last separating direction
+    bool warm_point = false;         // the stored contact point was inside both: no LP solved
+    bool centre_line = false;        // the chord of the line of centres gave the start: no LP
+    bool centre_line_apart = false;  // the line of centres separates the vertices: no LP
     bool lp_solved = false;
     bool lp_warm_basis = false;  // the LP was offered the stored basis
     int lp_pivots = 0;

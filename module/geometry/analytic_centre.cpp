@@ -13,7 +13,7 @@
 // search is skipped there.
 //
 // Thin sets make H ill-conditioned (eigenvalues ~ 1/width^2 across, ~ 1/extent^2 along). The
-// closed-form Cholesky factorisation is accurate while its pivots keep more than 1e-12 of the
+// closed-form L D L^T factorisation is accurate while its pivots keep more than 1e-12 of the
 // diagonal; below, the step is taken from a QR factorisation of the m x 3 matrix J with rows u_i
 // (H = J^T J, g = J^T 1: D solves min |J D + 1|), whose condition number is only the square root
 // of H's. Once lambda is small, a decrement that stops halving shows that round-off, not the
@@ -28,7 +28,7 @@
 namespace polydem::geometry {
 namespace {
 
-/// Cholesky pivots must keep this fraction of their diagonal entry (else QR takes over).
+/// L D L^T pivots must keep this fraction of their diagonal entry (else QR takes over).
 constexpr double kPivotKeep = 1e-12;
 /// Below this decrement a decrement that does not halve is taken as the round-off floor.
 constexpr double kNoiseDecrement = 1e-3;
@@ -52,28 +52,29 @@ Scratch& scratch() {
   return s;
 }
 
-/// H = L L^T with L lower triangular, stored by rows; D = -H^-1 g and lambda^2 = |L^-1 g|^2.
-/// Returns false when a pivot loses more than all but kPivotKeep of its diagonal entry.
-bool choleskyStep(const double h[6], const Vec3& g, Vec3& step, double& lambda2) {
+/// H = L D L^T with L unit lower triangular (no square roots: the dependency chain per Newton
+/// step is three reciprocals); D = -H^-1 g and lambda^2 = g^T H^-1 g = sum_k y_k^2 / d_k with
+/// y = L^-1 g. Returns false when a pivot d_k keeps less than kPivotKeep of its diagonal entry.
+bool ldltStep(const double h[6], const Vec3& g, Vec3& step, double& lambda2) {
   // h = {h00, h10, h11, h20, h21, h22}
   if (!(h[0] > 0.0)) return false;
-  const double l00 = std::sqrt(h[0]);
-  const double l10 = h[1] / l00;
-  const double l20 = h[3] / l00;
-  const double p1 = h[2] - l10 * l10;
-  if (!(p1 > kPivotKeep * h[2])) return false;
-  const double l11 = std::sqrt(p1);
-  const double l21 = (h[4] - l20 * l10) / l11;
-  const double p2 = h[5] - l20 * l20 - l21 * l21;
-  if (!(p2 > kPivotKeep * h[5])) return false;
-  const double l22 = std::sqrt(p2);
-  const double y0 = -g.x() / l00;
-  const double y1 = (-g.y() - l10 * y0) / l11;
-  const double y2 = (-g.z() - l20 * y0 - l21 * y1) / l22;
-  lambda2 = y0 * y0 + y1 * y1 + y2 * y2;
-  step.z() = y2 / l22;
-  step.y() = (y1 - l21 * step.z()) / l11;
-  step.x() = (y0 - l10 * step.y() - l20 * step.z()) / l00;
+  const double inv0 = 1.0 / h[0];
+  const double l10 = h[1] * inv0;
+  const double l20 = h[3] * inv0;
+  const double d1 = h[2] - l10 * h[1];
+  if (!(d1 > kPivotKeep * h[2])) return false;
+  const double inv1 = 1.0 / d1;
+  const double l21 = (h[4] - l20 * h[1]) * inv1;
+  const double d2 = h[5] - l20 * h[3] - l21 * l21 * d1;
+  if (!(d2 > kPivotKeep * h[5])) return false;
+  const double inv2 = 1.0 / d2;
+  const double y0 = -g.x();
+  const double y1 = -g.y() - l10 * y0;
+  const double y2 = -g.z() - l20 * y0 - l21 * y1;
+  lambda2 = y0 * y0 * inv0 + y1 * y1 * inv1 + y2 * y2 * inv2;
+  step.z() = y2 * inv2;
+  step.y() = y1 * inv1 - l21 * step.z();
+  step.x() = y0 * inv0 - l10 * step.y() - l20 * step.z();
   return std::isfinite(lambda2) && step.allFinite();
 }
 
@@ -152,20 +153,23 @@ double logProduct(const std::vector<double>& w, int m, double t) {
   return std::log(mantissa) + exponent * std::log(2.0);
 }
 
-/// w_i = q_i a_i . D and the chord lo < t < hi of the set along D (1 - t w_i > 0 for all i).
+/// w_i = q_i a_i . D and the chord lo < t < hi of the set along D (1 - t w_i > 0 for all i):
+/// hi = 1 / max w_i over w_i > 0, lo = 1 / min w_i over w_i < 0.
 void slopes(const Halfspaces& h, const std::vector<double>& q, const Vec3& step,
             std::vector<double>& w, double& lo, double& hi) {
   const double* ax = h.ax();
   const double* ay = h.ay();
   const double* az = h.az();
-  lo = -std::numeric_limits<double>::infinity();
-  hi = std::numeric_limits<double>::infinity();
+  double largest = 0.0, smallest = 0.0;
   for (int i = 0; i < h.size(); ++i) {
     const double wi = q[i] * (ax[i] * step.x() + ay[i] * step.y() + az[i] * step.z());
     w[i] = wi;
-    if (wi > 0.0) hi = std::min(hi, 1.0 / wi);
-    if (wi < 0.0) lo = std::max(lo, 1.0 / wi);
+    largest = std::max(largest, wi);
+    smallest = std::min(smallest, wi);
   }
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  hi = largest > 0.0 ? 1.0 / largest : kInf;
+  lo = smallest < 0.0 ? 1.0 / smallest : -kInf;
 }
 
 /// The Armijo step (B&V algorithm 9.2): the largest t = beta^k with
@@ -263,7 +267,7 @@ AnalyticCentreResult analyticCentre(const Halfspaces& h, const Vec3& start,
     const Vec3 g(g0, g1, g2);
     Vec3 step;
     double lambda2 = 0.0;
-    if (!choleskyStep(hessian, g, step, lambda2) && !qrStep(h, q, step, lambda2)) return result;
+    if (!ldltStep(hessian, g, step, lambda2) && !qrStep(h, q, step, lambda2)) return result;
     const double lambda = std::sqrt(lambda2);
     result.decrement = lambda;
     const bool last =

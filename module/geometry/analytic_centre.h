@@ -9,8 +9,8 @@
 // The barrier is self-concordant and Newton's method is affine invariant: the iteration count
 // and the stopping test (on the Newton decrement lambda, which has no unit) do not depend on the
 // unit of length, on the pose, or on how thin the set is. Cost per iteration: one pass over the
-// planes for the gradient and the 3x3 Hessian, a closed-form 3x3 Cholesky factorisation, and, in
-// the damped phase only, a second pass for the line search. No heap allocation once warm.
+// planes for the gradient and the 3x3 Hessian, a closed-form 3x3 L D L^T factorisation, and, in
+// the damped phase only, a few more passes for the line search. No heap allocation once warm.
 #pragma once
 
 #include "core/types.h"

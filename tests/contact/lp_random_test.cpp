@@ -212,6 +212,41 @@ TEST(LpKernelRandom, SeparatedAndTouchingPairs) {
   EXPECT_FALSE(e.touching);
 }
 
+TEST(LpKernelRandom, SeparatedPairsRememberASeparatingDirection) {
+  const LpKernel kernel;
+  const std::vector<Vec3> cube = geometry::shapes::cube(1.0);
+  const Placed b(cube);
+  // Apart along x by 1e-6, but the line of centres (1, 0.9, 0) does not separate them: the LP
+  // decides, and its dual's direction is kept; the next call needs only that direction.
+  const Placed a(cube, Mat3::Identity(), Vec3(1.0 + 1e-6, 0.9, 0.0));
+  PairState state;
+  EXPECT_FALSE(kernel.collide(a.body, b.body, &state).touching);
+  EXPECT_TRUE(LpKernel::lastTrace().lp_solved);
+  EXPECT_FALSE(LpKernel::lastTrace().centre_line_apart);
+  EXPECT_NEAR(LpKernel::lastTrace().lp_objective, 0.5e-6, 1e-12);  // half the gap
+  EXPECT_FALSE(kernel.collide(a.body, b.body, &state).touching);
+  EXPECT_TRUE(LpKernel::lastTrace().warm_axis);
+  EXPECT_FALSE(LpKernel::lastTrace().lp_solved);
+  // Moved into contact: the direction no longer separates, the LP (from its last basis) and
+  // Newton take over, and the answer is the cold one.
+  const Placed in(cube, Mat3::Identity(), Vec3(1.0 - 1e-6, 0.9, 0.0));
+  const Contact warm = kernel.collide(in.body, b.body, &state);
+  EXPECT_TRUE(LpKernel::lastTrace().lp_warm_basis || LpKernel::lastTrace().centre_line);
+  const Contact cold = kernel.collide(in.body, b.body, nullptr);
+  ASSERT_TRUE(warm.touching && cold.touching);
+  EXPECT_LE(angleBetween(warm.normal, cold.normal), 1e-12);
+  EXPECT_LE(angleBetween(warm.normal, Vec3::UnitX()), 1e-12);
+  EXPECT_NEAR(warm.depth, 1e-6, 1e-12);
+  // Face to face 1e-9 apart along the line of centres: that line separates them, no LP.
+  const Placed above(cube, Mat3::Identity(), Vec3(0.0, 0.0, 1.0 + 1e-9));
+  PairState fresh;
+  EXPECT_FALSE(kernel.collide(above.body, b.body, &fresh).touching);
+  EXPECT_TRUE(LpKernel::lastTrace().centre_line_apart);
+  EXPECT_FALSE(LpKernel::lastTrace().lp_solved);
+  EXPECT_FALSE(kernel.collide(above.body, b.body, &fresh).touching);
+  EXPECT_TRUE(LpKernel::lastTrace().warm_axis);
+}
+
 TEST(LpKernelRandom, DeepAndDegenerateOverlaps) {
   const LpKernel kernel;
   const std::vector<Vec3> cube = geometry::shapes::cube(1.0);
