@@ -1,7 +1,8 @@
-// The lp kernel on random polyhedron pairs against independent references (brute-force
-// separating axes for overlap, the Newton decrement computed afresh for the analytic centre, the
-// line clipped by the face triangles for the depth), on separated, touching, deep and degenerate
-// pairs, and with warm starts along a trajectory (same answers as cold, no allocation).
+// The lp kernel on random polyhedron pairs (plates and rods among them) against independent
+// references (brute-force separating axes for overlap, the Newton decrement computed afresh for
+// the analytic centre, the line clipped by the face triangles for the depth), on separated,
+// touching, deep and degenerate pairs, and with warm starts along a trajectory (same answers as
+// cold, no allocation).
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -140,11 +141,17 @@ double newtonDecrement(const Body& a, const Body& b, const Vec3& x) {
   return std::sqrt(std::max(0.0, g.dot(h.ldlt().solve(g))));
 }
 
-std::vector<Vec3> randomShape(std::mt19937_64& rng, std::uint64_t seed) {
-  std::uniform_real_distribution<double> axis(0.3, 1.0);
+// 8-40 vertices on a perturbed ellipsoid; `thin`: a plate (one semi-axis 1e-3..1e-2 of the
+// others) or a rod (two).
+std::vector<Vec3> randomShape(std::mt19937_64& rng, std::uint64_t seed, bool thin = false) {
+  std::uniform_real_distribution<double> axis(0.3, 1.0), flat(1e-3, 1e-2);
   std::uniform_int_distribution<int> count(8, 40);
-  return geometry::shapes::randomConvex(count(rng), seed, Vec3(axis(rng), axis(rng), axis(rng)),
-                                        0.2);
+  Vec3 axes(axis(rng), axis(rng), axis(rng));
+  if (thin) {
+    axes[seed % 3] *= flat(rng);
+    if (seed % 2 == 0) axes[(seed + 1) % 3] *= flat(rng);
+  }
+  return geometry::shapes::randomConvex(count(rng), seed, axes, 0.2);
 }
 
 TEST(LpKernelRandom, OverlapPointAndDepthAgainstIndependentReferences) {
@@ -154,8 +161,9 @@ TEST(LpKernelRandom, OverlapPointAndDepthAgainstIndependentReferences) {
   int overlapping = 0, apart = 0;
   double shortest = std::numeric_limits<double>::infinity(), longest = 0.0;
   for (int n = 0; n < 400; ++n) {
-    const Placed a(randomShape(rng, 100 + n), randomRotation(rng), Vec3::Zero());
-    const std::vector<Vec3> b_points = randomShape(rng, 700 + n);
+    // A quarter of the pairs involve a plate or a rod.
+    const Placed a(randomShape(rng, 100 + n, n % 8 == 1), randomRotation(rng), Vec3::Zero());
+    const std::vector<Vec3> b_points = randomShape(rng, 700 + n, n % 8 == 5);
     const double reach = 0.8 * (a.shape.circumradius() + 1.0);
     const Placed b(b_points, randomRotation(rng), randomUnit(rng) * reach * unit(rng));
     const double size = a.body.circumradius() + b.body.circumradius();
