@@ -8,4 +8,5 @@
 namespace polydem::contact {
 std::unique_ptr<Kernel> makeGjkEpa(const KernelParams& params);     // gjk_epa.cpp
 std::unique_ptr<Kernel> makeGjkEpaIpm(const KernelParams& params);  // gjk_epa.cpp
+std::unique_ptr<Kernel> makeLp(const KernelParams& params);  // lp.cpp
 }  // namespace polydem::contact
