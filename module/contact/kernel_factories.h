@@ -5,4 +5,7 @@
 
 #include "contact/contact.h"
 
-namespace polydem::contact {}  // namespace polydem::contact
+namespace polydem::contact {
+std::unique_ptr<Kernel> makeDistancePotentialKernel(const KernelParams& params);
+std::unique_ptr<Kernel> makeFdemKernel(const KernelParams& params);
+}  // namespace polydem::contact
