@@ -36,7 +36,6 @@ struct Tet {
 struct Scratch {
   potential::OverlapIntegrator integrator;
   std::vector<Tet> tets_a, tets_b;
-  std::vector<int> near_a, near_b;
   std::vector<Vec3> overlap_corners;
 };
 
@@ -62,46 +61,47 @@ void finishTet(Tet& t, int surface_faces) {
     t.faces[k] = {k, 3 * k, 3 * k + 3};
   }
   t.surface_faces = surface_faces;
-  t.lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]).cwiseMin(t.p[3]);
-  t.hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]).cwiseMax(t.p[3]);
-}
-
-// The body's tetrahedra in a frame centred on `origin`: one element for a tetrahedron; else one
-// per face triangle from the centroid, polygonal faces fanned from their centroid (which keeps
-// each face's symmetry). Face 0 of each tetrahedron is on the surface.
-void buildTets(const Body& body, const Vec3& origin, std::vector<Tet>& out) {
-  out.clear();
-  const auto& faces = body.shape->faces();
-  auto corner = [&](int i) -> Vec3 { return body.vertices[i] - origin; };
-  if (body.vertices.size() == 4) {
-    Tet t;
-    for (int i = 0; i < 4; ++i) t.p[i] = corner(i);
-    finishTet(t, 4);
-    out.push_back(t);
-    return;
-  }
-  const Vec3 centre = body.centroid() - origin;
-  for (const auto& face : faces) {
-    const std::size_t n = face.vertices.size();
-    if (n == 3) {
-      Tet t;
-      t.p = {centre, corner(face.vertices[0]), corner(face.vertices[1]), corner(face.vertices[2])};
-      finishTet(t, 1);
-      out.push_back(t);
-      continue;
-    }
-    const Vec3 face_centre = body.toWorld(face.centroid) - origin;
-    for (std::size_t i = 0; i < n; ++i) {
-      Tet t;
-      t.p = {centre, face_centre, corner(face.vertices[i]), corner(face.vertices[(i + 1) % n])};
-      finishTet(t, 1);
-      out.push_back(t);
-    }
-  }
 }
 
 bool boxesOverlap(const Vec3& lo_a, const Vec3& hi_a, const Vec3& lo_b, const Vec3& hi_b) {
   return (lo_a.array() < hi_b.array()).all() && (lo_b.array() < hi_a.array()).all();
+}
+
+// The body's tetrahedra that reach into the box [lo, hi], in a frame centred on `origin`: one
+// element for a tetrahedron; else one per face triangle from the centroid, polygonal faces
+// fanned from their centroid (which keeps each face's symmetry). Face 0 of each tetrahedron is on
+// the surface.
+void buildTets(const Body& body, const Vec3& origin, const Vec3& lo, const Vec3& hi,
+               std::vector<Tet>& out) {
+  out.clear();
+  auto corner = [&](int i) -> Vec3 { return body.vertices[i] - origin; };
+  auto keep = [&](Tet& t, int surface_faces) {
+    t.lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]).cwiseMin(t.p[3]);
+    t.hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]).cwiseMax(t.p[3]);
+    if (!boxesOverlap(t.lo, t.hi, lo, hi)) return;
+    finishTet(t, surface_faces);
+    out.push_back(t);
+  };
+  Tet t;
+  if (body.vertices.size() == 4) {
+    for (int i = 0; i < 4; ++i) t.p[i] = corner(i);
+    keep(t, 4);
+    return;
+  }
+  const Vec3 centre = body.centroid() - origin;
+  for (const auto& face : body.shape->faces()) {
+    const std::size_t n = face.vertices.size();
+    if (n == 3) {
+      t.p = {centre, corner(face.vertices[0]), corner(face.vertices[1]), corner(face.vertices[2])};
+      keep(t, 1);
+      continue;
+    }
+    const Vec3 face_centre = body.toWorld(face.centroid) - origin;
+    for (std::size_t i = 0; i < n; ++i) {
+      t.p = {centre, face_centre, corner(face.vertices[i]), corner(face.vertices[(i + 1) % n])};
+      keep(t, 1);
+    }
+  }
 }
 
 }  // namespace
@@ -118,24 +118,14 @@ potential::PotentialResult FdemKernel::evaluate(const Body& a, const Body& b) co
   Scratch& s = scratch();
   const Vec3 origin = 0.5 * (lo + hi);
   const Vec3 box_lo = lo - origin, box_hi = hi - origin;
-  buildTets(a, origin, s.tets_a);
-  buildTets(b, origin, s.tets_b);
-  auto near = [&](const std::vector<Tet>& tets, std::vector<int>& out) {
-    out.clear();
-    for (std::size_t i = 0; i < tets.size(); ++i) {
-      if (boxesOverlap(tets[i].lo, tets[i].hi, box_lo, box_hi)) out.push_back(static_cast<int>(i));
-    }
-  };
-  near(s.tets_a, s.near_a);
-  near(s.tets_b, s.near_b);
+  buildTets(a, origin, box_lo, box_hi, s.tets_a);
+  buildTets(b, origin, box_lo, box_hi, s.tets_b);
 
   potential::OverlapSums sums;
   s.overlap_corners.clear();
   bool found = false;
-  for (int i : s.near_a) {
-    const Tet& ta = s.tets_a[i];
-    for (int j : s.near_b) {
-      const Tet& tb = s.tets_b[j];
+  for (const Tet& ta : s.tets_a) {
+    for (const Tet& tb : s.tets_b) {
       if (!boxesOverlap(ta.lo, ta.hi, tb.lo, tb.hi)) continue;
       const Vec3 pair_lo = ta.lo.cwiseMax(tb.lo).cwiseMax(box_lo);
       const Vec3 pair_hi = ta.hi.cwiseMin(tb.hi).cwiseMin(box_hi);

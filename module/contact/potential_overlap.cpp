@@ -45,19 +45,66 @@ void integrateLinear(std::span<const Vec3> corners, std::span<const double> valu
   }
 }
 
-void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other, bool on_a, const Vec3& lo,
+bool OverlapIntegrator::activePlanes(const Cell& cell, const Vec3& lo, const Vec3& hi,
+                                     std::vector<int>& active) {
+  // A plane that holds the whole box cannot cut anything in it; one that excludes the whole box
+  // leaves nothing (no overlap).
+  const Vec3 centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  active.clear();
+  for (std::size_t j = 0; j < cell.planes.size(); ++j) {
+    const CellPlane& p = cell.planes[j];
+    const double mid = p.normal.dot(centre) - p.offset;
+    const double reach = p.normal.cwiseAbs().dot(half);
+    if (mid - reach > 0.0) return false;
+    if (mid + reach > 0.0) active.push_back(static_cast<int>(j));
+  }
+  return true;
+}
+
+void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other,
+                                  const std::vector<int>& other_active, bool on_a, const Vec3& lo,
                                   const Vec3& hi) {
+  // Signed distances of own's corners to the other's active planes, each computed once: a face
+  // with all corners outside one plane is skipped, and only planes that separate its corners
+  // are clipped by (a plane holding all corners of a face holds the face).
+  const std::size_t n_active = other_active.size();
+  distance_.resize(own.corners.size() * n_active);
+  known_.assign(own.corners.size(), 0);
   for (const CellFace& face : own.faces) {
     const std::span<const int> loop = own.loops.subspan(face.begin, face.end - face.begin);
     if (outsideBox(own.corners, loop, lo, hi)) continue;
-    // Zhao steps 1-2 (eqs. 6-7): the part of this face inside the other cell.
+    for (int v : loop) {
+      if (known_[v]) continue;
+      known_[v] = 1;
+      for (std::size_t k = 0; k < n_active; ++k) {
+        const CellPlane& p = other.planes[other_active[k]];
+        distance_[v * n_active + k] = p.normal.dot(own.corners[v]) - p.offset;
+      }
+    }
+    cut_.clear();
+    bool outside = false;
+    for (std::size_t k = 0; k < n_active && !outside; ++k) {
+      bool all_out = true, any_out = false;
+      for (int v : loop) {
+        const bool out = distance_[v * n_active + k] > 0.0;
+        all_out = all_out && out;
+        any_out = any_out || out;
+      }
+      outside = all_out;
+      if (any_out) cut_.push_back(other_active[k]);
+    }
+    if (outside) continue;
+    // Zhao steps 1-2 (eqs. 6-7): the part of this face inside the other cell. The overlap lies in
+    // the box, so clipping by it first changes nothing but drops far parts early.
     clipper_.assign(own.corners, loop);
     bool inside = true;
-    for (const CellPlane& p : other.planes) {
-      if (!clipper_.clip(p.normal, -p.offset)) {
-        inside = false;
-        break;
-      }
+    for (int axis = 0; axis < 3 && inside; ++axis) {
+      inside =
+          clipper_.clip(Vec3::Unit(axis), -hi[axis]) && clipper_.clip(-Vec3::Unit(axis), lo[axis]);
+    }
+    for (std::size_t k = 0; k < cut_.size() && inside; ++k) {
+      const CellPlane& p = other.planes[cut_[k]];
+      inside = clipper_.clip(p.normal, -p.offset);
     }
     const auto& poly = clipper_.polygon();
     if (!inside || poly.size() < 3) continue;
@@ -72,24 +119,35 @@ void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other, bool on_a,
 }
 
 double OverlapIntegrator::selectCandidates(const Cell& cell, std::vector<int>& candidates) {
-  // phi = min_j term_j. Over the overlap (whose corners are all in pool_), term_j lies in
-  // [lo_j, hi_j] (linear: extremes at corners), so phi <= min_j hi_j =: bound, and plane j can
-  // be the minimum somewhere only if lo_j <= bound. Shallow contacts keep one or two planes.
-  const std::size_t m = cell.planes.size();
-  lo_term_.assign(m, std::numeric_limits<double>::infinity());
-  hi_term_.assign(m, -std::numeric_limits<double>::infinity());
-  for (std::size_t j = 0; j < m; ++j) {
-    const CellPlane& p = cell.planes[j];
-    for (const Vec3& x : pool_) {
-      const double t = p.term(x);
-      lo_term_[j] = std::min(lo_term_[j], t);
-      hi_term_[j] = std::max(hi_term_[j], t);
-    }
+  // phi = min_j term_j, each term linear, so over the overlap (whose corners are all in pool_)
+  // phi <= max over pool_ of term_k for any k =: bound; plane j can be the minimum somewhere only
+  // if its smallest term over pool_ is <= bound. k is the smallest term at the pool's mean; the
+  // pool's box gives a cheap lower bound of each plane's smallest term first. Shallow contacts
+  // keep one or two planes.
+  Vec3 mean = Vec3::Zero(), lo = pool_.front(), hi = pool_.front();
+  for (const Vec3& x : pool_) {
+    mean += x;
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
   }
-  const double bound = *std::min_element(hi_term_.begin(), hi_term_.end());
+  mean /= static_cast<double>(pool_.size());
+  const std::size_t m = cell.planes.size();
+  std::size_t best = 0;
+  for (std::size_t j = 1; j < m; ++j) {
+    if (cell.planes[j].term(mean) < cell.planes[best].term(mean)) best = j;
+  }
+  double bound = -std::numeric_limits<double>::infinity();
+  for (const Vec3& x : pool_) bound = std::max(bound, cell.planes[best].term(x));
+  const Vec3 centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
   candidates.clear();
   for (std::size_t j = 0; j < m; ++j) {
-    if (lo_term_[j] <= bound) candidates.push_back(static_cast<int>(j));
+    const CellPlane& p = cell.planes[j];
+    const double box_low =
+        (p.offset - p.normal.dot(centre) - p.normal.cwiseAbs().dot(half)) * p.inv_scale;
+    if (box_low > bound) continue;
+    double low = std::numeric_limits<double>::infinity();
+    for (const Vec3& x : pool_) low = std::min(low, p.term(x));
+    if (low <= bound) candidates.push_back(static_cast<int>(j));
   }
   return bound;
 }
@@ -148,9 +206,10 @@ PairInfo OverlapIntegrator::add(const Cell& a, const Cell& b, const Vec3& lo, co
                                 OverlapSums& sums, std::vector<Vec3>& corners) {
   pool_.clear();
   pieces_.clear();
-  clipFaces(a, b, true, lo, hi);
-  clipFaces(b, a, false, lo, hi);
   PairInfo info;
+  if (!activePlanes(a, lo, hi, active_a_) || !activePlanes(b, lo, hi, active_b_)) return info;
+  clipFaces(a, b, active_b_, true, lo, hi);
+  clipFaces(b, a, active_a_, false, lo, hi);
   if (pieces_.empty()) return info;
   info.found = true;
   info.bound_a = selectCandidates(a, candidates_a_);

@@ -77,7 +77,7 @@ class OverlapIntegrator {
  public:
   /// Adds the overlap of `a` and `b` (the force is on A) to `sums`, appends the corners of its
   /// boundary pieces to `corners`. Faces of either cell lying wholly outside the box [lo, hi]
-  /// (which must contain the overlap) are skipped without clipping.
+  /// (which must contain the overlap) are skipped, the others clipped by it first.
   PairInfo add(const Cell& a, const Cell& b, const Vec3& lo, const Vec3& hi, OverlapSums& sums,
                std::vector<Vec3>& corners);
 
@@ -87,7 +87,11 @@ class OverlapIntegrator {
     int plane = 0;           // the plane of its own cell it lies on
     bool on_a = true;
   };
-  void clipFaces(const Cell& own, const Cell& other, bool on_a, const Vec3& lo, const Vec3& hi);
+  // The planes of `cell` that cut the box [lo, hi]; false if one excludes the whole box.
+  static bool activePlanes(const Cell& cell, const Vec3& lo, const Vec3& hi,
+                           std::vector<int>& active);
+  void clipFaces(const Cell& own, const Cell& other, const std::vector<int>& other_active,
+                 bool on_a, const Vec3& lo, const Vec3& hi);
   // Candidates of `cell`: planes whose term can be the minimum somewhere in the overlap.
   double selectCandidates(const Cell& cell, std::vector<int>& candidates);
   // Integral of phi_cell over the piece and its first moment.
@@ -98,8 +102,9 @@ class OverlapIntegrator {
   geometry::ConvexPolygonClipper clipper_;
   std::vector<Vec3> pool_;
   std::vector<Piece> pieces_;
-  std::vector<int> candidates_a_, candidates_b_;
-  std::vector<double> lo_term_, hi_term_, values_;
+  std::vector<int> candidates_a_, candidates_b_, active_a_, active_b_, cut_;
+  std::vector<double> values_, distance_;
+  std::vector<char> known_;
 };
 
 /// The integral of a linear function over a convex polygon (corners in order, counter-clockwise
