@@ -68,7 +68,7 @@ struct OverlapSums {
 /// What one cell pair gave besides the sums.
 struct PairInfo {
   bool found = false;    // some boundary piece with positive area
-  double bound_a = 0.0;  // upper bound of phi_A over the overlap: min_i max over its corners
+  double bound_a = 0.0;  // an upper bound of phi_A over the overlap
   double bound_b = 0.0;  // the same for phi_B
 };
 
