@@ -54,18 +54,24 @@ def hex_rod():
 
 def tetra_impact():
     h = 0.5 / math.sqrt(2.0)  # regular tetrahedron of edge 1: corners (+-1/2, 0, -h), (0, +-1/2, h)
-    pts = [(0.5, 0, -h), (-0.5, 0, -h), (0, 0.5, h), (0, -0.5, h)]
+    block = [(0.5, 0, -h), (-0.5, 0, -h), (0, 0.5, h), (0, -0.5, h)]
+    # The fixed base: its top ridge runs along y at z = 0 and both faces at the ridge slope at 45
+    # deg (mirror images under x -> -x), but its other two corners lie at different distances from
+    # the ridge, so the base as a whole is irregular.
+    base = [(0, -0.6, 0), (0, 0.6, 0), (-0.5, 0.0, -0.5), (0.9, 0.2, -0.9)]
     drop = 0.5
     return "\n".join([
         "# D-TETRA-IMPACT (Zhao section 5.1, figs. 23-27): a regular tetrahedron (edge 1 m) falls from",
-        "# rest and hits, with its lowest edge, the top ridge of a fixed regular tetrahedron crossing it",
-        "# at right angles (g = 10, density 2000, no friction, no damping). The set-up is symmetric",
-        "# under x -> -x and y -> -y, so the force must stay vertical: no sideways drift, no rotation,",
-        "# and the block must rebound with the kinetic energy it had before the contact (Zhao fig. 27).",
-        "# A small penalty lets the overlap grow large enough to see (Zhao: 'large embedding is",
-        "# allowed'). For regular tetrahedra the FDEM potential equals the distance potential",
-        "# (4 V_i / V = d_i / (H/4) and H/4 is the inradius), so fdem and distance-potential agree here;",
-        "# their difference on irregular shapes is tested in tests/contact.",
+        "# rest and hits, with its lowest edge, the top ridge of a fixed tetrahedron, crossing it at",
+        "# right angles (g = 10, density 2000, no friction, no damping). Both faces at the ridge slope",
+        "# at 45 deg, so near the contact the set-up is mirror-symmetric (x -> -x, y -> -y): the force",
+        "# must stay vertical, the block must not drift sideways nor turn, and it must rebound with the",
+        "# kinetic energy it had before the contact (Zhao fig. 27). The fixed tetrahedron is irregular",
+        "# away from the ridge: its two ridge faces have different heights H over them. The FDEM",
+        "# potential scales each face by H/4 (Zhao eq. 1, section 2.2), the distance potential by the",
+        "# inscribed radius r of the whole body (eq. 5): FDEM pushes the block sideways (Zhao fig. 24),",
+        "# the distance potential does not (fig. 25). A small penalty lets the overlap grow large",
+        "# enough to see (Zhao: 'large embedding is allowed').",
         "#", "# Written by tools/make_rod_tetra_scenes.py; edit that, not this.", "",
         "[scene]", 'id = "D-TETRA-IMPACT"', 'title = "Tetrahedron dropped onto a tetrahedron\'s ridge"',
         'source = "Zhao section 5.1, figs. 23-27; BENCHMARKS.md D-TETRA-IMPACT"', "",
@@ -75,12 +81,13 @@ def tetra_impact():
         "[[material]]", 'name = "rock"', 'density = "2000 kg/m^3"', 'penalty = "0.1 GPa"',
         'kn = "20 MN/m"   # for the penalty kernels (gjk-epa, fcp, ...) run on this scene',
         "ks = 0", "friction_angle = 0", "",
-        "[[shape]]", 'name = "tetra"', 'type = "vertices"',
-        "vertices = [" + ", ".join(vec(p) for p in pts) + "]", "",
-        "[[particle]]", 'label = "base"', 'shape = "tetra"', 'material = "rock"', "fixed = true",
-        f"position = [0, 0, {-h:.12g}]   # ridge along y at z = 0", "",
-        "[[particle]]", 'label = "block"', 'shape = "tetra"', 'material = "rock"',
-        "# the same tetrahedron: its lowest edge runs along x, across the base's ridge along y",
+        "[[shape]]", 'name = "block"', 'type = "vertices"',
+        "vertices = [" + ", ".join(vec(p) for p in block) + "]", "",
+        "[[shape]]", 'name = "base"', 'type = "vertices"',
+        "vertices = [" + ", ".join(vec(p) for p in base) + "]", "",
+        "[[particle]]", 'label = "base"', 'shape = "base"', 'material = "rock"', "fixed = true", "",
+        "[[particle]]", 'label = "block"', 'shape = "block"', 'material = "rock"',
+        "# its lowest edge runs along x, across the base's ridge along y",
         f"position = [0, 0, {h + drop:.12g}]   # lowest edge {drop} m above the ridge", "",
         "[output]", "series_every = 10", 'monitor = ["block"]', "",
         "[[check]]", 'name = "energy after rebound"', 'kind = "kinetic_energy_ratio"', 'particle = "block"',
@@ -93,7 +100,7 @@ def tetra_impact():
         "direction = [0, 1, 0]", 'expected = "1e-6 m"', 'compare = "max"',
         'reference = "Zhao figs. 24-25: no sideways deflection"', "",
         "[[check]]", 'name = "rotation"', 'kind = "rotation"', 'particle = "block"', "expected = 1e-6",
-        'compare = "max"', 'reference = "symmetry"', ""])
+        'compare = "max"', 'reference = "symmetry of the set-up near the contact"', ""])
 
 
 with open("D-HEX-ROD.toml", "w") as f:
