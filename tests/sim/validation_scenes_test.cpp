@@ -1,0 +1,61 @@
+// Shortened runs of the validation scenes of benchmark_scenes/, asserting their analytical
+// answers (BENCHMARKS.md sections S and D) for the kernels that must get them right. The full
+// runs, for every kernel, are in the README's results table (scripts/validation-table).
+#include <gtest/gtest.h>
+
+#include "core/logging.h"
+#include "io/scene_reader.h"
+#include "sim/run.h"
+
+namespace polydem::sim {
+namespace {
+
+struct Case {
+  const char* scene;
+  const char* kernel;
+  double end_time;  // shortened; 0 = the scene's own
+};
+
+std::ostream& operator<<(std::ostream& out, const Case& c) {
+  return out << c.scene << " with " << c.kernel;
+}
+
+class ValidationScene : public ::testing::TestWithParam<Case> {};
+
+TEST_P(ValidationScene, ChecksPass) {
+  const Case& c = GetParam();
+  log::setLevel(log::Level::kWarning);
+  const io::Scene scene = io::readScene(std::string(POLYDEM_SCENES_DIR) + "/" + c.scene + ".toml");
+  RunOptions options;
+  options.kernel = c.kernel;
+  if (c.end_time > 0) options.end_time = c.end_time;
+  const RunResult result = runScene(scene, options, MPI_COMM_WORLD);
+  ASSERT_FALSE(result.checks.empty());
+  for (const auto& check : result.checks) {
+    EXPECT_TRUE(check.pass) << c << ": " << check.name << " = " << check.value << " ("
+                            << check.compare << " " << check.expected << ") " << check.note;
+  }
+  EXPECT_EQ(result.hash.history_conflicts, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, ValidationScene,
+    ::testing::Values(
+        // Zhao eqs. 41-42, within 1 %: mu = 0.2 and 0.4 slide back, mu = 0.6 stops (t1 < 0.72 s).
+        Case{"D-SLIDING-BLOCK", "fcp-ipm", 1.2}, Case{"D-SLIDING-BLOCK", "gjk-epa-ipm", 1.2},
+        Case{"D-SLIDING-BLOCK-KN", "fcp-ipm", 1.2},
+        // Zhao eq. 45, within 1 %.
+        Case{"D-WEDGE-SLIDE", "fcp-ipm", 0.6}, Case{"D-WEDGE-SLIDE", "gjk-epa-ipm", 0.6},
+        // Keissar figs. 2.9-2.10: no drift, no rotation with IPM / FCP.
+        Case{"S-BLOCK-ON-PLANE", "gjk-epa-ipm", 1.0}, Case{"S-BLOCK-ON-PLANE", "fcp-ipm", 1.0},
+        Case{"D-BOUNCING-CUBES", "gjk-epa-ipm", 1.5}, Case{"D-BOUNCING-CUBES", "fcp-ipm", 1.5},
+        // Zhao section 5.1: rebound without drift and energy loss.
+        Case{"D-TETRA-IMPACT", "distance-potential", 0.0}),
+    [](const ::testing::TestParamInfo<Case>& info) {
+      std::string name = std::string(info.param.scene) + "_" + info.param.kernel;
+      for (char& ch : name) ch = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+      return name;
+    });
+
+}  // namespace
+}  // namespace polydem::sim
