@@ -46,19 +46,15 @@ class Polytope {
     for (int m = 0; m < 4; ++m) vertex[m] = s.p[m];
     if (positive) std::swap(vertex[1], vertex[2]);  // now (0,1,2) faces away from vertex 3
     num_vertices = 4;
+    // Faces and, for each edge i of each face, the neighbouring face and the edge's index there.
     static constexpr int kTet[4][3] = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
-    for (const auto& t : kTet) newFace(t[0], t[1], t[2]);
+    static constexpr int kAdj[4][3] = {{1, 3, 2}, {2, 3, 0}, {0, 3, 1}, {1, 2, 0}};
+    static constexpr int kAdjEdge[4][3] = {{2, 2, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 1}};
     for (int f = 0; f < 4; ++f) {
+      newFace(kTet[f][0], kTet[f][1], kTet[f][2]);
       for (int i = 0; i < 3; ++i) {
-        const int from = face[f].v[i], to = face[f].v[(i + 1) % 3];
-        for (int g = 0; g < 4; ++g) {
-          for (int j = 0; j < 3; ++j) {
-            if (face[g].v[j] == to && face[g].v[(j + 1) % 3] == from) {
-              face[f].adj[i] = g;
-              face[f].adj_edge[i] = static_cast<std::uint8_t>(j);
-            }
-          }
-        }
+        face[f].adj[i] = kAdj[f][i];
+        face[f].adj_edge[i] = static_cast<std::uint8_t>(kAdjEdge[f][i]);
       }
     }
   }
@@ -247,6 +243,8 @@ EpaResult epaPenetration(MinkowskiSupport& support, const Simplex& simplex, doub
     best = f;
     const Face& F = P.face[f];
     const SupportPoint w = support(F.n);
+    r.lowest_a = w.ia;  // along -normal = F.n for A, along normal = -F.n for B
+    r.highest_b = w.ib;
     if (F.n.dot(w.w) - F.dist <= tolerance) break;
     bool known = false;
     for (int i = 0; i < 3; ++i) {
