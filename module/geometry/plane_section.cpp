@@ -54,28 +54,30 @@ bool sectionHalfPlanes(const ConvexPolyhedron& shape, std::span<const Vec3> worl
                        const Mat3& rotation, const PlaneFrame& frame,
                        std::span<const double> heights, std::vector<HalfPlane>& half_planes) {
   half_planes.clear();
-  bool cut = false;
-  for (const Face& face : shape.faces()) {
-    // Cut: some vertex strictly on one side and another on the other side or on the plane.
-    bool below = false, above = false, on = false;
-    for (int v : face.vertices) {
-      const double h = heights[v];
-      below = below || h < 0.0;
-      above = above || h > 0.0;
-      on = on || h == 0.0;
-      if (below && above) break;
-    }
-    cut = cut || (below && above);
-    if (!((below && above) || (on && (below || above)))) continue;
+  bool below = false, above = false;
+  for (double h : heights) {
+    below = below || h < 0.0;
+    above = above || h > 0.0;
+  }
+  if (!(below && above)) return false;
+  const auto& faces = shape.faces();
+  auto add = [&](int f) {
     // The face's plane n . (x - x_f) <= 0 restricted to the plane: with x = origin + y1 u + y2 v,
     // (n.u, n.v) . y <= n . (x_f - origin).
-    const Vec3 n = rotation * face.normal;
+    const Vec3 n = rotation * faces[f].normal;
     const Vec2 g(n.dot(frame.u), n.dot(frame.v));
-    if (!(g.squaredNorm() > 0.0)) continue;
-    half_planes.push_back({g, n.dot(world_vertices[face.vertices[0]] - frame.origin)});
+    if (!(g.squaredNorm() > 0.0)) return;
+    half_planes.push_back({g, n.dot(world_vertices[faces[f].vertices[0]] - frame.origin)});
+  };
+  // Going round a face counter-clockwise, the heights pass from negative to non-negative exactly
+  // once if the face has vertices of both kinds: the face is taken at that edge, so each face
+  // meeting the plane comes once, and faces wholly above or below never.
+  for (const Edge& e : shape.edges()) {
+    const double h0 = heights[e.v0], h1 = heights[e.v1];
+    if (h0 < 0.0 && h1 >= 0.0) add(e.f0);  // e runs v0 -> v1 in f0
+    if (h1 < 0.0 && h0 >= 0.0) add(e.f1);  // and v1 -> v0 in f1
   }
-  // Some face has vertices strictly on both sides exactly when the plane cuts the polyhedron.
-  return cut;
+  return true;
 }
 
 }  // namespace polydem::geometry

@@ -88,6 +88,23 @@ HalfPlane leftOf(const Vec2& a, const Vec2& b) {
 
 namespace {
 
+/// Sutherland-Hodgman step with the half-plane's values at the corners already computed.
+std::size_t clipWithValues(std::span<const Vec2> polygon, const double* value, Vec2* out) {
+  const std::size_t n = polygon.size();
+  std::size_t count = 0;
+  std::size_t previous = n - 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool inside = value[i] <= 0.0;
+    if (inside != (value[previous] <= 0.0)) {
+      const double t = value[previous] / (value[previous] - value[i]);
+      out[count++] = polygon[previous] + t * (polygon[i] - polygon[previous]);
+    }
+    if (inside) out[count++] = polygon[i];
+    previous = i;
+  }
+  return count;
+}
+
 /// Clips `subject` by half-planes produced one at a time by next(h) (false when there are no
 /// more), alternating between `out` and `scratch` (each sized for the largest possible result:
 /// every half-plane adds at most one corner), and leaves the result in `out`.
@@ -101,8 +118,21 @@ void clipSequence(std::span<const Vec2> subject, std::size_t max_planes, Next ne
   Vec2* target = out.data();
   HalfPlane h;
   std::size_t count = subject.size();
+  constexpr std::size_t kSmall = 64;
+  double value[kSmall];
   while (count > 0 && next(h)) {
-    count = clipByHalfPlane(current, h, target);
+    if (count <= kSmall) {
+      // Most half-planes of a contact leave the polygon whole: then nothing is written.
+      bool inside = true;
+      for (std::size_t i = 0; i < count; ++i) {
+        value[i] = h.value(current[i]);
+        inside = inside && value[i] <= 0.0;
+      }
+      if (inside) continue;
+      count = clipWithValues(current, value, target);
+    } else {
+      count = clipByHalfPlane(current, h, target);
+    }
     current = {target, count};
     target = (target == out.data()) ? scratch.data() : out.data();
   }
