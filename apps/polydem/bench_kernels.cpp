@@ -125,30 +125,24 @@ double pass(const Resolver& resolve, std::size_t n) {
   return t1 - t0;
 }
 
-/// Median over `passes` timed passes of resolutions per second; each pass repeats the whole set
-/// often enough to last about seconds / passes. One untimed pass warms caches and pair states.
-double throughput(const Resolver& resolve, std::size_t n, double seconds, int passes) {
-  const double once = std::max(pass(resolve, n), 1e-9);
-  const int repeats = std::max(1, static_cast<int>(seconds / passes / once));
-  std::vector<double> rates;
-  for (int p = 0; p < passes; ++p) {
-    double t = 0.0;
-    for (int r = 0; r < repeats; ++r) t += pass(resolve, n);
-    rates.push_back(static_cast<double>(n) * repeats / t);
-  }
-  std::sort(rates.begin(), rates.end());
-  return rates[rates.size() / 2];
-}
-
-Row measureRow(const std::string& name, const PairSet& set, const Resolver& resolve, double seconds,
-               int passes) {
+/// One row under measurement: its resolver, pair states and timed passes.
+struct Measurement {
   Row row;
-  row.name = name;
-  row.set = set.name;
+  const PairSet* set = nullptr;
+  std::unique_ptr<std::vector<contact::PairState>> states;
+  Resolver resolve;
+  int repeats = 1;
+  std::vector<double> rates;
+};
+
+/// The untimed pass: misses and face-face point errors, and pair states warmed.
+void checkRow(Measurement& m) {
+  const PairSet& set = *m.set;
+  Row& row = m.row;
   Vec3 point;
   double depth = 0.0, sum = 0.0, worst = 0.0;
   for (std::size_t i = 0; i < set.size(); ++i) {
-    const bool touching = resolve(i, point, depth);
+    const bool touching = m.resolve(i, point, depth);
     row.missed += !touching;
     if (!set.exact_point.empty() && touching) {
       const double e = (point - set.exact_point[i]).norm();  // unit cubes: relative to the size
@@ -160,8 +154,26 @@ Row measureRow(const std::string& name, const PairSet& set, const Resolver& reso
     row.point_error = sum / static_cast<double>(set.size() - row.missed);
     row.point_error_max = worst;
   }
-  row.per_second = throughput(resolve, set.size(), seconds, passes);
-  return row;
+}
+
+/// Each row gets `passes` timed passes of about seconds / passes each, taken round-robin over the
+/// rows so that a slow spell of the machine hits every row alike; its figure is the median.
+void measureAll(std::vector<Measurement>& all, double seconds, int passes) {
+  for (Measurement& m : all) {
+    const double once = std::max(pass(m.resolve, m.set->size()), 1e-9);
+    m.repeats = std::max(1, static_cast<int>(seconds / passes / once));
+  }
+  for (int p = 0; p < passes; ++p) {
+    for (Measurement& m : all) {
+      double t = 0.0;
+      for (int r = 0; r < m.repeats; ++r) t += pass(m.resolve, m.set->size());
+      m.rates.push_back(static_cast<double>(m.set->size()) * m.repeats / t);
+    }
+  }
+  for (Measurement& m : all) {
+    std::sort(m.rates.begin(), m.rates.end());
+    m.row.per_second = m.rates[m.rates.size() / 2];
+  }
 }
 
 std::vector<std::string> split(const std::string& text) {
@@ -280,18 +292,27 @@ int benchKernels(int argc, char** argv) {
   std::vector<std::string> set_names;
   for (const auto& s : sets) set_names.push_back(s.name);
 
-  std::vector<Row> rows;
+  std::vector<std::unique_ptr<contact::Kernel>> kernels;
+  std::vector<Measurement> all;
   for (const auto& name : names) {
-    std::unique_ptr<contact::Kernel> kernel;
-    if (name != kCcdGjkEpa && name != kCcdMpr) kernel = contact::makeKernel(name);
+    if (name != kCcdGjkEpa && name != kCcdMpr) kernels.push_back(contact::makeKernel(name));
+    const contact::Kernel* kernel =
+        (name != kCcdGjkEpa && name != kCcdMpr) ? kernels.back().get() : nullptr;
     for (const PairSet& set : sets) {
-      std::vector<contact::PairState> states(set.size());
-      const Resolver resolve =
-          kernel ? kernelResolver(*kernel, set, states, cold) : ccdResolver(name == kCcdMpr, set);
-      rows.push_back(measureRow(name, set, resolve, seconds, passes));
-      std::fflush(stdout);
+      Measurement m;
+      m.row.name = name;
+      m.row.set = set.name;
+      m.set = &set;
+      m.states = std::make_unique<std::vector<contact::PairState>>(set.size());
+      m.resolve = kernel ? kernelResolver(*kernel, set, *m.states, cold)
+                         : ccdResolver(name == kCcdMpr, set);
+      checkRow(m);
+      all.push_back(std::move(m));
     }
   }
+  measureAll(all, seconds, passes);
+  std::vector<Row> rows;
+  for (const Measurement& m : all) rows.push_back(m.row);
   printTable(rows, set_names);
   std::printf(
       "(ratios: throughput / %s on the same set; 'miss': overlapping pairs reported "
