@@ -5,4 +5,7 @@
 
 #include "contact/contact.h"
 
-namespace polydem::contact {}  // namespace polydem::contact
+namespace polydem::contact {
+std::unique_ptr<Kernel> makeGjkEpa(const KernelParams& params);     // gjk_epa.cpp
+std::unique_ptr<Kernel> makeGjkEpaIpm(const KernelParams& params);  // gjk_epa.cpp
+}  // namespace polydem::contact

@@ -126,6 +126,7 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
     rec.touching = contact.touching;
     rec.status = contact.status;
     rec.a_is_local = static_cast<std::size_t>(c.a) < storage.localCount();
+    rec.both_free = pa.isFree() && pb.isFree();
     const Placed a = placed(c.a, xa), b = placed(c.b, xb);
     const double ma = storage.mass(c.a), mb = storage.mass(c.b);
     const double m_eff = pa.isFree() && pb.isFree() ? ma * mb / (ma + mb) : (pa.isFree() ? ma : mb);

@@ -50,6 +50,7 @@ struct ContactRecord {
   double normal_force = 0.0, shear_force = 0.0;
   contact::Status status = contact::Status::kOk;
   bool a_is_local = false;  // A is stored on this rank as a local particle
+  bool both_free = false;   // neither A nor B is fixed or driven
 };
 
 struct ContactPhaseStats {

@@ -80,8 +80,11 @@ void Simulation::computeContacts() {
   setup.dt = dt();
   setup.time = stage_ == Stage::kEquilibrium ? 0.0 : time();
   contact_stats_ = contact_phase_.run(setup, storage_, candidates_, history_, forces_);
+  ratio_local_.clear();
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    if (storage_[i].isFree()) forces_[i].addBodyForce(storage_.mass(i) * scene_.gravity);
+    if (!storage_[i].isFree()) continue;
+    forces_[i].addBodyForce(storage_.mass(i) * scene_.gravity);
+    ratio_local_.add(forces_[i]);
   }
 }
 
@@ -189,7 +192,7 @@ timeloop::StopReason Simulation::run() {
 
 GlobalMonitors Simulation::monitors() {
   ExactSum kinetic, speed;
-  dynamics::ForceRatio ratio;
+  dynamics::ForceRatio ratio = ratio_local_;
   std::int64_t contacts = 0, free_particles = 0;
   double max_speed = 0.0;
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
@@ -200,7 +203,6 @@ GlobalMonitors Simulation::monitors() {
     const double v = p.velocity.norm();
     speed += v;
     max_speed = std::max(max_speed, v);
-    if (i < forces_.size()) ratio.add(forces_[i]);
   }
   for (const auto& r : contact_phase_.records()) contacts += r.touching && r.a_is_local;
   kinetic.allreduce(comm_);

@@ -78,7 +78,6 @@ class Simulation {
   const domain::BlockForest& forest() const { return *forest_; }
   const ContactPhase& contacts() const { return contact_phase_; }
   const ContactPhaseStats& contactStats() const { return contact_stats_; }
-  const std::vector<dynamics::ForceAccumulator>& forces() const { return forces_; }
   const comm::ExchangeStats& exchangeStats() const { return exchange_stats_; }
   timeloop::TimeLoop& loop() { return loop_; }
   const timeloop::TimeLoop& loop() const { return loop_; }
@@ -145,7 +144,8 @@ class Simulation {
   ContactPhase contact_phase_;
   ContactPhaseStats contact_stats_;
   comm::ExchangeStats exchange_stats_;
-  std::vector<dynamics::ForceAccumulator> forces_;
+  std::vector<dynamics::ForceAccumulator> forces_;  // parallel to storage_ during a step only
+  dynamics::ForceRatio ratio_local_;  // this rank's share of Keissar eq. 3.2, last contact phase
   std::vector<broadphase::CandidatePair> candidates_;
   std::vector<Vec3> centers_;
   std::vector<double> radii_;

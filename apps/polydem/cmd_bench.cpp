@@ -1,0 +1,29 @@
+// polydem bench kernels | scaling: the benchmarks of the README.
+#include <cstdio>
+#include <string>
+
+#include "commands.h"
+
+namespace polydem::app {
+
+#ifdef POLYDEM_WITH_BENCHMARKS
+int benchKernels(int argc, char** argv);
+int benchScaling(int argc, char** argv);
+#endif
+
+int benchCommand(int argc, char** argv) {
+  const std::string which = argc > 0 ? argv[0] : "";
+#ifdef POLYDEM_WITH_BENCHMARKS
+  if (which == "kernels") return benchKernels(argc - 1, argv + 1);
+  if (which == "scaling") return benchScaling(argc - 1, argv + 1);
+  std::printf(
+      "usage: polydem bench kernels [--help]   contact kernels vs libccd (P-KERNELS)\n"
+      "       mpirun -n P polydem bench scaling [--help]   strong scaling of P-PILE\n");
+  return which == "--help" ? 0 : 2;
+#else
+  std::fprintf(stderr, "polydem was built without benchmarks (POLYDEM_BUILD_BENCHMARKS=OFF)\n");
+  return 2;
+#endif
+}
+
+}  // namespace polydem::app

@@ -1,0 +1,25 @@
+#include "broadphase/all_pairs.h"
+
+#include "broadphase/overlap.h"
+#include "broadphase/scene_bounds.h"
+
+namespace polydem::broadphase {
+
+void AllPairs::findPairs(const SphereSet& spheres, double margin, std::vector<CandidatePair>& out) {
+  out.clear();
+  detail::checkAndBound(spheres, margin);
+  const auto n = static_cast<std::int32_t>(spheres.centers.size());
+  for (std::int32_t a = 0; a < n; ++a) {
+    const Vec3& ca = spheres.centers[a];
+    const double ra = spheres.radii[a];
+    for (std::int32_t b = a + 1; b < n; ++b) {
+      const Vec3& cb = spheres.centers[b];
+      if (withinReach(ca.x(), ca.y(), ca.z(), ra, cb.x(), cb.y(), cb.z(), spheres.radii[b],
+                      margin)) {
+        detail::emitPair(spheres, a, b, out);
+      }
+    }
+  }
+}
+
+}  // namespace polydem::broadphase

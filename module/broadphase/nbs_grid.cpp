@@ -1,0 +1,22 @@
+#include "broadphase/nbs_grid.h"
+
+#include <numeric>
+
+#include "broadphase/grid_search.h"
+
+namespace polydem::broadphase {
+
+NbsGrid::NbsGrid(const BroadPhaseParams& params) : params_(params) {
+  detail::checkParams(params_);
+}
+
+void NbsGrid::findPairs(const SphereSet& spheres, double margin, std::vector<CandidatePair>& out) {
+  out.clear();
+  const detail::SceneBounds bounds = detail::checkAndBound(spheres, margin);
+  all_.resize(spheres.centers.size());
+  std::iota(all_.begin(), all_.end(), 0);
+  grid_.build(spheres, all_, params_.cell_factor * (2.0 * bounds.max_radius + margin), bounds);
+  detail::searchWithin(grid_, spheres, margin, out);
+}
+
+}  // namespace polydem::broadphase

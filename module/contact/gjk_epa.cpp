@@ -1,0 +1,65 @@
+#include "contact/gjk_epa.h"
+
+#include "contact/epa.h"
+#include "contact/gjk.h"
+#include "contact/ipm.h"
+#include "contact/kernel_factories.h"
+#include "contact/support.h"
+#include "core/tolerance.h"
+
+namespace polydem::contact {
+
+Contact gjkEpaContact(const Body& a, const Body& b, PairState* state) {
+  const double tolerance = absTol(pairLengthScale(a, b), RelTol::kIteration);
+  const bool warm =
+      state != nullptr && state->warm_valid != 0 && state->warm_direction.squaredNorm() > 0.0;
+  const Vec3 axis = warm ? state->warm_direction : Vec3(a.centroid() - b.centroid());
+  MinkowskiSupport support(a, b);
+  const GjkResult gjk = gjkIntersect(support, axis, tolerance);
+  Contact c;
+  if (gjk.separated) {
+    if (state != nullptr) {
+      state->warm_direction = gjk.axis;
+      state->warm_valid = 1;
+    }
+    return c;
+  }
+  const EpaResult epa = epaPenetration(support, gjk.simplex, tolerance);
+  if (!epa.touching) return c;  // touching without depth; the warm start is kept as it was
+  c.touching = true;
+  c.normal = epa.normal;
+  c.depth = epa.depth;
+  c.point = epa.point;
+  c.status = (gjk.converged && epa.converged) ? Status::kOk : Status::kNotConverged;
+  if (state != nullptr) {
+    state->warm_direction = epa.normal;
+    state->warm_valid = 1;
+  }
+  return c;
+}
+
+Contact GjkEpaKernel::collide(const Body& a, const Body& b, PairState* state) const {
+  return gjkEpaContact(a, b, state);
+}
+
+Contact GjkEpaIpmKernel::collide(const Body& a, const Body& b, PairState* state) const {
+  Contact c = gjkEpaContact(a, b, state);
+  if (!c.touching) return c;
+  const auto polygon = ipmContact(a, b, c.normal, c.point);
+  if (polygon) {
+    c.point = polygon->centroid;
+  } else if (c.status == Status::kOk) {
+    c.status = Status::kDegenerate;
+  }
+  return c;
+}
+
+std::unique_ptr<Kernel> makeGjkEpa(const KernelParams&) {
+  return std::make_unique<GjkEpaKernel>();
+}
+
+std::unique_ptr<Kernel> makeGjkEpaIpm(const KernelParams&) {
+  return std::make_unique<GjkEpaIpmKernel>();
+}
+
+}  // namespace polydem::contact

@@ -1,0 +1,36 @@
+// Kernels `gjk-epa` and `gjk-epa-ipm` (Keissar chapters 2-3).
+//
+// gjk-epa: GJK decides overlap on A - B (gjk.h), EPA finds the minimum penetration depth and its
+// direction (epa.h); the point is EPA's barycentric point (Keissar eqs. 2.1-2.2), off the centre of
+// the patch on face-face, edge-face and parallel-edge contacts, as the thesis reports.
+// gjk-epa-ipm: the same normal and depth, the point replaced by the Intersection Polygon Method
+// (ipm.h) on the plane half way through the overlap along EPA's normal (Keissar section 2.3).
+//
+// Both give the minimum translation direction: on vertex-vertex, vertex-edge and parallel-edge
+// contacts that is not the vertical of BENCHMARKS.md C (Keissar tables 3.1, 3.2, 3.4).
+// Warm start: PairState::warm_direction holds the last separating axis or contact normal.
+#pragma once
+
+#include "contact/contact.h"
+
+namespace polydem::contact {
+
+/// GJK + EPA on the pair; `state` (may be null) is read for and updated with the warm start.
+/// Tolerances are RelTol::kIteration times the sum of the circumradii.
+Contact gjkEpaContact(const Body& a, const Body& b, PairState* state);
+
+class GjkEpaKernel final : public Kernel {
+ public:
+  std::string_view name() const override { return "gjk-epa"; }
+  Contact collide(const Body& a, const Body& b, PairState* state) const override;
+};
+
+class GjkEpaIpmKernel final : public Kernel {
+ public:
+  std::string_view name() const override { return "gjk-epa-ipm"; }
+  /// EPA's contact with the point from the IPM; where the polygon of intersection has no area
+  /// (touching features), EPA's point with Status::kDegenerate.
+  Contact collide(const Body& a, const Body& b, PairState* state) const override;
+};
+
+}  // namespace polydem::contact

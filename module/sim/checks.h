@@ -1,0 +1,61 @@
+// Checks: the expected results of a scene (its [[check]] tables), computed from the run itself.
+//
+// Each check kind observes the run after every step (through the Tracker, which gathers the
+// labelled particles it needs onto every rank) and turns what it saw into one value at the end,
+// compared with the scene's expected value. Kinds (parameters in scene-format.md):
+//   displacement           max (or final) displacement of particle(s), optionally along a direction
+//   rotation               max rotation angle of particle(s), optionally about an axis only
+//   lateral_drift          drift across `lateral` relative to the travel along `direction`
+//   sliding_block          Zhao eqs. 41-42: a block launched along an incline, max error / travel
+//   wedge_slide            Zhao eq. 45: s = g t^2 sin(theta) / 2, max error / final travel
+//   kinetic_energy_ratio   kinetic energy after the first contact ends / just before it began
+//   separation_time        first time a particle that was in contact has none
+//   equilibrium_steps      steps of the initial-equilibrium stage (Keissar table 3.7)
+//   mean_speed, max_speed  of all free particles at the end
+//   max_contact_force      largest contact force between free particles across `axis`
+//                          (default: horizontal), relative to the mean particle weight
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/scene.h"
+#include "io/summary_json.h"
+#include "sim/tracker.h"
+
+namespace polydem::sim {
+
+class Simulation;
+
+class Check {
+ public:
+  virtual ~Check() = default;
+  /// Called after every step on every rank, with the tracker freshly gathered.
+  virtual void observe(const Simulation& sim, const Tracker& tracker) = 0;
+  /// The value at the end of the run (collective: may reduce over ranks).
+  virtual double value(Simulation& sim) = 0;
+  /// Extra series columns (name, value now) for series.csv, e.g. numerical vs analytical curves.
+  virtual std::vector<std::pair<std::string, double>> seriesColumns(const Simulation&) const {
+    return {};
+  }
+  const io::CheckSpec& spec() const { return spec_; }
+  std::string note;  // anything a reader needs to judge the value
+
+ protected:
+  explicit Check(io::CheckSpec spec) : spec_(std::move(spec)) {}
+  io::CheckSpec spec_;
+};
+
+/// Builds the checks of a scene and registers the particles they track. Throws InputError (with
+/// the check's line) for an unknown kind, a missing parameter or an unknown particle label.
+std::vector<std::unique_ptr<Check>> makeChecks(const io::Scene& scene, Tracker& tracker);
+
+/// Final results, with pass/fail by the spec's comparison (collective).
+std::vector<io::CheckResult> evaluateChecks(std::vector<std::unique_ptr<Check>>& checks,
+                                            Simulation& sim);
+
+/// Uid of the particle labelled `label`, or 0.
+Uid uidOfLabel(const io::Scene& scene, const std::string& label);
+
+}  // namespace polydem::sim

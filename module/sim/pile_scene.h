@@ -1,0 +1,27 @@
+// P-PILE (BENCHMARKS.md): a pile of convex polyhedra settling in a box, generated in code so that
+// benchmarks and tests can ask for any particle count. Particles start on a lattice slightly
+// apart, randomly turned, and fall onto a floor between four walls.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "io/scene.h"
+
+namespace polydem::sim {
+
+struct PileOptions {
+  std::int64_t particles = 20000;
+  std::string shapes = "mixed";  // "mixed": cubes, tetrahedra, octahedra, random polyhedra of
+                                 // 8, 16 and 40 vertices; "cubes": aligned unit cubes
+  std::string kernel = "gjk-epa-ipm";
+  std::int64_t layers = 10;      // lattice layers; the footprint is square
+  double gap = 0.05;             // lattice gap, relative to the particle size
+  std::uint64_t seed = 1;
+  std::int64_t steps = 200;
+  double initial_speed = 0.0;    // random initial velocities up to this (m/s)
+};
+
+io::Scene makePileScene(const PileOptions& options);
+
+}  // namespace polydem::sim

@@ -1,0 +1,123 @@
+#include "sim/run_output.h"
+
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/mpi_env.h"
+#include "dynamics/integrator.h"
+
+namespace polydem::sim {
+
+namespace {
+
+std::string sanitize(const std::string& name) {
+  std::string out;
+  for (char c : name) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  return out;
+}
+
+}  // namespace
+
+RunOutput::RunOutput(const std::string& dir, Simulation& sim, const Tracker& tracker,
+                     const std::vector<std::pair<Uid, std::string>>& monitored,
+                     const std::vector<std::unique_ptr<Check>>& checks, bool snapshots)
+    : monitored_(monitored) {
+  (void)tracker;
+  if (mpi::rank(sim.comm()) == 0) std::filesystem::create_directories(dir);
+  MPI_Barrier(sim.comm());
+  std::vector<std::string> columns = {"time", "step", "kinetic_energy", "force_ratio", "contacts"};
+  for (const auto& [uid, label] : monitored_) {
+    const std::string l = sanitize(label);
+    for (const char* q : {"_x", "_y", "_z", "_vx", "_vy", "_vz", "_rotation"}) {
+      columns.push_back(l + q);
+    }
+  }
+  for (const auto& c : checks) {
+    for (const auto& [name, value] : c->seriesColumns(sim)) columns.push_back(name);
+  }
+  series_ = std::make_unique<io::SeriesWriter>(dir + "/series.csv", columns, sim.comm());
+  if (snapshots) snapshots_ = std::make_unique<io::SnapshotWriter>(dir, sim.comm());
+
+  // Initial centroids of all free particles (indexed by uid) for the displacement field.
+  struct Start {
+    Uid uid;
+    double x, y, z;
+  };
+  std::vector<Start> mine;
+  const auto& storage = sim.particles();
+  for (std::size_t i = 0; i < storage.localCount(); ++i) {
+    const auto& p = storage[i];
+    mine.push_back({p.uid, p.position.x(), p.position.y(), p.position.z()});
+  }
+  const auto all = mpi::allgatherv(mine, sim.comm());
+  for (const auto& s : all) {
+    if (s.uid >= initial_positions_.size()) initial_positions_.resize(s.uid + 1, Vec3::Zero());
+    initial_positions_[s.uid] = {s.x, s.y, s.z};
+  }
+}
+
+void RunOutput::writeSeries(Simulation& sim, const Tracker& tracker,
+                            const std::vector<std::unique_ptr<Check>>& checks) {
+  const auto m = sim.monitors();
+  row_ = {sim.time(), static_cast<double>(sim.stepCount()), m.kinetic_energy, m.force_ratio,
+          static_cast<double>(m.contacts)};
+  for (const auto& [uid, label] : monitored_) {
+    const auto& s = tracker.states()[tracker.slot(uid)];
+    const auto& s0 = tracker.initial()[tracker.slot(uid)];
+    row_.insert(row_.end(), {s.position.x(), s.position.y(), s.position.z(), s.velocity.x(),
+                             s.velocity.y(), s.velocity.z(),
+                             rotationAngle(s0.orientation, s.orientation)});
+  }
+  for (const auto& c : checks) {
+    for (const auto& [name, value] : c->seriesColumns(sim)) row_.push_back(value);
+  }
+  series_->write(row_);
+}
+
+void RunOutput::writeSnapshot(const Simulation& sim) {
+  if (!snapshots_) return;
+  const auto& storage = sim.particles();
+  const bool root = mpi::rank(sim.comm()) == 0;
+  batch_.clear();
+  for (std::size_t i = 0; i < storage.localCount(); ++i) {
+    const auto& p = storage[i];
+    if (p.isGlobal() && !root) continue;  // replicated bodies appear once
+    const auto& shape = sim.shapes()[p.shape].polyhedron;
+    const Mat3 r = p.orientation.toRotationMatrix();
+    vertices_.clear();
+    for (const Vec3& v : shape.vertices()) vertices_.push_back(p.position + r * v);
+    io::ParticleFields fields;
+    fields.uid = p.uid;
+    fields.velocity = p.velocity;
+    fields.fixed = p.isFixed();
+    if (p.isFree()) {
+      const auto mass = sim.massProperties(i);
+      fields.angular_velocity =
+          dynamics::angularVelocity(p.orientation, p.angular_momentum, mass.principal_inertia);
+    }
+    if (p.uid < initial_positions_.size()) {
+      fields.displacement = p.position - initial_positions_[p.uid];
+    }
+    batch_.addParticle(fields, vertices_);
+    for (const auto& f : shape.faces()) batch_.addFace(f.vertices);
+  }
+  contacts_.contacts.clear();
+  for (const auto& r : sim.contacts().records()) {
+    if (!r.touching || !r.a_is_local) continue;
+    io::ContactRecord c;
+    c.uid_a = r.key.lo;
+    c.uid_b = r.key.hi;
+    c.point = r.point;
+    c.normal = r.normal;
+    c.normal_force = r.normal_force;
+    c.shear_force = r.force - r.force.dot(r.normal) * r.normal;
+    contacts_.contacts.push_back(c);
+  }
+  snapshots_->write(sim.time(), sim.stepCount(), batch_, &contacts_);
+}
+
+void RunOutput::close() {
+  if (series_) series_->close();
+}
+
+}  // namespace polydem::sim

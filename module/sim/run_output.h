@@ -1,0 +1,41 @@
+// Output of a run: the series.csv columns, ParaView snapshot batches and summary.json.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/series_writer.h"
+#include "io/vtk_writer.h"
+#include "sim/checks.h"
+#include "sim/simulation.h"
+
+namespace polydem::sim {
+
+class RunOutput {
+ public:
+  /// Creates `dir` and the writers (collective). `monitored` are the uids whose state goes into
+  /// series.csv, with their labels.
+  RunOutput(const std::string& dir, Simulation& sim, const Tracker& tracker,
+            const std::vector<std::pair<Uid, std::string>>& monitored,
+            const std::vector<std::unique_ptr<Check>>& checks, bool snapshots);
+
+  /// A row of series.csv (collective: computes global monitors).
+  void writeSeries(Simulation& sim, const Tracker& tracker,
+                   const std::vector<std::unique_ptr<Check>>& checks);
+  /// A snapshot of particles and contacts (collective).
+  void writeSnapshot(const Simulation& sim);
+  void close();
+
+ private:
+  std::vector<std::pair<Uid, std::string>> monitored_;
+  std::unique_ptr<io::SeriesWriter> series_;
+  std::unique_ptr<io::SnapshotWriter> snapshots_;
+  std::vector<Vec3> initial_positions_;  // by uid order of the scene, for displacement
+  std::vector<double> row_;
+  io::PolyhedraBatch batch_;
+  io::ContactBatch contacts_;
+  std::vector<Vec3> vertices_;
+};
+
+}  // namespace polydem::sim

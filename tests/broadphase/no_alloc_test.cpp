@@ -1,0 +1,53 @@
+// Once warm, a search allocates nothing: the broad phase runs every step on every rank.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "broadphase/broad_phase.h"
+#include "broadphase/scenes.h"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+// Counting replacements of the global allocation functions (this test binary only).
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+
+namespace polydem::broadphase {
+namespace {
+
+TEST(BroadPhaseAllocations, NoneOnceWarm) {
+  testing::Scene s = testing::randomScene(
+      {.n = 5000, .size_ratio = 30.0, .solid_fraction = 0.3, .inactive_fraction = 0.2});
+  s.add(Vec3(0, 0, -500.0), 500.0);  // a huge boundary body: a level of its own
+  s.finish(1);
+  for (const std::string name : {"multilevel", "nbs"}) {
+    auto bp = makeBroadPhase(name);
+    std::vector<CandidatePair> out;
+    bp->findPairs(s.view(), 0.01, out);  // warm up
+    const std::size_t pairs = out.size();
+    out.reserve(2 * pairs);  // the caller's buffer: room for a few more pairs
+    // Particles move a little: same buffers suffice.
+    for (auto& c : s.centers) c.x() += 1e-3;
+    const long before = g_allocations.load();
+    bp->findPairs(s.view(), 0.01, out);
+    bp->findPairs(s.view(), 0.01, out);
+    EXPECT_EQ(g_allocations.load() - before, 0) << name;
+    EXPECT_GT(pairs, 0u);
+  }
+}
+
+}  // namespace
+}  // namespace polydem::broadphase

@@ -1,0 +1,193 @@
+// Migration keeps every particle exactly once, with its pair histories; ghosts are exactly the
+// particles whose ghost sphere reaches a rank's blocks (checked against a brute-force answer).
+#include "comm/particle_exchange.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+
+#include "comm/state_hash.h"
+#include "core/mpi_env.h"
+#include "geometry/body_shape.h"
+#include "geometry/shapes.h"
+
+namespace polydem::comm {
+namespace {
+
+using particles::Particle;
+
+particles::ShapeTable cubeTable() {
+  const auto poly = geometry::ConvexPolyhedron::fromPoints(
+      geometry::shapes::box(Vec3(-0.1, -0.1, -0.1), Vec3(0.1, 0.1, 0.1)));
+  return {geometry::toBodyFrame(poly, "cube").shape};
+}
+
+// The same N random particles on every rank; each rank keeps the ones it owns.
+std::vector<Particle> randomParticles(int n, const domain::Aabb& box, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Particle> out;
+  for (int i = 0; i < n; ++i) {
+    Particle p;
+    p.uid = static_cast<Uid>(i + 1);
+    p.shape = 0;
+    p.material = 0;
+    p.position = box.lo + (box.hi - box.lo).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    p.velocity = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+    out.push_back(p);
+  }
+  return out;
+}
+
+domain::BlockForest forest(const domain::Aabb& box, std::array<bool, 3> periodic) {
+  domain::BlockForest f(box, {4, 3, 2}, periodic);
+  std::vector<int> map(f.numBlocks());
+  const int ranks = mpi::size();
+  for (int b = 0; b < f.numBlocks(); ++b) map[b] = (b * 7) % ranks;  // scattered on purpose
+  f.setRankMap(map, ranks);
+  return f;
+}
+
+std::vector<Uid> allLocalUids(const particles::ParticleStorage& s) {
+  std::vector<Uid> mine;
+  for (std::size_t i = 0; i < s.localCount(); ++i) mine.push_back(s[i].uid);
+  auto all = mpi::allgatherv(mine);
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
+TEST(ParticleExchange, MigrationKeepsEveryParticleOnceWithItsHistories) {
+  const domain::Aabb box{Vec3(0, 0, 0), Vec3(4, 3, 2)};
+  const auto f = forest(box, {false, false, false});
+  const auto shapes = cubeTable();
+  const auto all = randomParticles(500, box, 3);
+  particles::ParticleStorage storage;
+  // Start every particle on the WRONG rank (rank of uid), so that migration has work to do.
+  for (const auto& p : all) {
+    if (static_cast<int>(p.uid % mpi::size()) == mpi::rank()) storage.addLocal(p);
+  }
+  // A history entry per consecutive uid pair, held by the rank holding the lower uid.
+  particles::ContactHistory history;
+  for (const auto& p : all) {
+    if (static_cast<int>(p.uid % mpi::size()) != mpi::rank() || p.uid == all.size()) continue;
+    particles::PairHistory h;
+    h.shear_force = Vec3(static_cast<double>(p.uid), 1, 2);
+    history.appendSorted({p.uid, p.uid + 1}, h);
+  }
+  ParticleExchange exchange(MPI_COMM_WORLD);
+  const auto stats = exchange.migrate(f, storage, history, 0);
+  EXPECT_EQ(stats.history_conflicts, 0);
+
+  // Every particle exactly once, on the rank owning its block.
+  std::vector<Uid> expected;
+  for (const auto& p : all) expected.push_back(p.uid);
+  EXPECT_EQ(allLocalUids(storage), expected);
+  for (std::size_t i = 0; i < storage.localCount(); ++i) {
+    EXPECT_EQ(f.ownerOf(storage[i].position), mpi::rank());
+  }
+  // Each local particle's histories travelled with it.
+  for (std::size_t i = 0; i < storage.localCount(); ++i) {
+    const Uid uid = storage[i].uid;
+    if (uid == all.size()) continue;
+    const auto* h = history.find({uid, uid + 1});
+    ASSERT_NE(h, nullptr) << "history of pair " << uid << "," << uid + 1 << " lost";
+    EXPECT_EQ(h->shear_force.x(), static_cast<double>(uid));
+  }
+  // A particle leaving the domain is an error naming it.
+  if (storage.localCount() > 0) storage[0].position.x() = 99.0;
+  const bool mine = storage.localCount() > 0;
+  bool threw = false;
+  try {
+    exchange.migrate(f, storage, history, 5);
+  } catch (const SimulationError& e) {
+    threw = std::string(e.what()).find("left the domain") != std::string::npos;
+  }
+  EXPECT_EQ(threw, mine);
+}
+
+// Brute force: ranks that must receive a ghost of p (sphere of radius r + range reaches one of
+// their blocks, under any periodic image), with the image shifts.
+std::set<std::pair<int, std::array<double, 3>>> expectedGhostTargets(
+    const domain::BlockForest& f, const Particle& p, double radius) {
+  std::set<std::pair<int, std::array<double, 3>>> out;
+  const Vec3 len = f.domain().hi - f.domain().lo;
+  for (int ix = -1; ix <= 1; ++ix) {
+    for (int iy = -1; iy <= 1; ++iy) {
+      for (int iz = -1; iz <= 1; ++iz) {
+        const int image[3] = {ix, iy, iz};
+        bool ok = true;
+        for (int a = 0; a < 3; ++a) ok = ok && (image[a] == 0 || f.periodic(a));
+        if (!ok) continue;
+        const Vec3 shift(ix * len.x(), iy * len.y(), iz * len.z());
+        for (int b = 0; b < f.numBlocks(); ++b) {
+          if (f.blockBox(b).distance(p.position + shift) > radius) continue;
+          const int r = f.rankOfBlock(b);
+          if (r == f.ownerOf(p.position) && shift.isZero(0.0)) continue;
+          out.insert({r, {shift.x(), shift.y(), shift.z()}});
+        }
+      }
+    }
+  }
+  return out;
+}
+
+void checkGhosts(std::array<bool, 3> periodic) {
+  const domain::Aabb box{Vec3(0, 0, 0), Vec3(4, 3, 2)};
+  const auto f = forest(box, periodic);
+  const auto shapes = cubeTable();
+  const auto all = randomParticles(300, box, 11);
+  particles::ParticleStorage storage;
+  for (const auto& p : all) {
+    if (f.ownerOf(p.position) == mpi::rank()) storage.addLocal(p);
+  }
+  const double range = 0.35;
+  ParticleExchange exchange(MPI_COMM_WORLD);
+  exchange.refreshGhosts(f, storage, shapes, range);
+  // What this rank received, as (uid, shift).
+  std::set<std::pair<Uid, std::array<double, 3>>> got;
+  for (std::size_t i = storage.localCount(); i < storage.size(); ++i) {
+    const Vec3& s = storage.shift(i);
+    EXPECT_TRUE(got.insert({storage[i].uid, {s.x(), s.y(), s.z()}}).second) << "duplicate ghost";
+    EXPECT_TRUE(storage[i].isGhost());
+  }
+  std::set<std::pair<Uid, std::array<double, 3>>> want;
+  for (const auto& p : all) {
+    for (const auto& [rank, shift] :
+         expectedGhostTargets(f, p, shapes[0].circumradius + range)) {
+      if (rank == mpi::rank()) want.insert({p.uid, shift});
+    }
+  }
+  EXPECT_EQ(got, want);
+}
+
+TEST(ParticleExchange, GhostsAreExactlyTheParticlesInRange) { checkGhosts({false, false, false}); }
+
+TEST(ParticleExchange, PeriodicGhostsCarryTheirImageShift) { checkGhosts({true, false, true}); }
+
+TEST(StateHash, IndependentOfDistributionAndSensitiveToOneBit) {
+  const domain::Aabb box{Vec3(0, 0, 0), Vec3(4, 3, 2)};
+  const auto f = forest(box, {false, false, false});
+  const auto all = randomParticles(200, box, 5);
+  particles::ParticleStorage owned, spread;
+  for (const auto& p : all) {
+    if (f.ownerOf(p.position) == mpi::rank()) owned.addLocal(p);
+    if (static_cast<int>(p.uid % mpi::size()) == mpi::rank()) spread.addLocal(p);
+  }
+  particles::ContactHistory none;
+  const auto a = globalStateHash(owned, none, MPI_COMM_WORLD);
+  const auto b = globalStateHash(spread, none, MPI_COMM_WORLD);
+  EXPECT_EQ(a.combined, b.combined);
+  EXPECT_EQ(a.particle_count, 200);
+  // Flip the last bit of one coordinate of one particle: the hash changes.
+  for (std::size_t i = 0; i < spread.localCount(); ++i) {
+    if (spread[i].uid == 17) {
+      spread[i].position.x() = std::nextafter(spread[i].position.x(), 1e9);
+    }
+  }
+  EXPECT_NE(globalStateHash(spread, none, MPI_COMM_WORLD).combined, a.combined);
+}
+
+}  // namespace
+}  // namespace polydem::comm
