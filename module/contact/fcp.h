@@ -62,4 +62,33 @@ struct CommonPlane {
 CommonPlane findCommonPlane(const Body& a, const Body& b, const Vec3* warm_normal,
                             const FcpOptions& options = {}, FcpTrace* trace = nullptr);
 
+/// Contact point from the contact features of the plane (no IPM): the vertices of A within
+/// FcpTolerance::kBand of level_a and those of B within the band of level_b, each a vertex, an
+/// edge or a face; V-x: the vertex, E-E: the closest points of the two edges (parallel edges: the
+/// middle of their overlap), E-F: the middle of the edge clipped by the face, F-F: the area
+/// centroid of the intersection of the two faces projected on the plane. The point lies half way
+/// between level_a and level_b. Sets `status` to kDegenerate when the features do not overlap in
+/// the plane (the point then falls back to the middle of the two features).
+Vec3 fcpFeaturePoint(const Body& a, const Body& b, const CommonPlane& plane, Status* status);
+
+/// Kernel `fcp`: the common plane's normal, depth = -gap (touching only when gap < 0), the point
+/// from the contact features (fcpFeaturePoint). Exact on vertex-face, crossing-edge, edge-face and
+/// face-face contacts; on vertex-vertex, vertex-edge and parallel-edge contacts the plane of
+/// largest gap is tilted (Keissar tables 3.1, 3.2, 3.4). Warm start: PairState::warm_direction is
+/// the last common plane's normal, warm_point a point on it (the middle of the overlap).
+class FcpKernel final : public Kernel {
+ public:
+  std::string_view name() const override { return "fcp"; }
+  Contact collide(const Body& a, const Body& b, PairState* state) const override;
+};
+
+/// Kernel `fcp-ipm`: the common plane's normal and depth, the point from the Intersection Polygon
+/// Method (ipm.h) on the plane half way through the overlap (Keissar section 2.3). Where the
+/// polygon of intersection has no area, the feature point with Status::kDegenerate.
+class FcpIpmKernel final : public Kernel {
+ public:
+  std::string_view name() const override { return "fcp-ipm"; }
+  Contact collide(const Body& a, const Body& b, PairState* state) const override;
+};
+
 }  // namespace polydem::contact

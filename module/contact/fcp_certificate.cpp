@@ -125,12 +125,13 @@ void edgePiece(const Body& body, int v0, int v1, Piece& out) {
 
 /// Face feature (k >= 3 closest vertices): the pyramid from the polygon (ordered in the plane) to
 /// the body's centroid.
-void facePiece(const Body& body, std::span<const int> band, const PlaneBasis& basis, Piece& out) {
+void facePiece(const Body& body, std::span<const int> band, const geometry::PlaneFrame& frame,
+               Piece& out) {
   thread_local std::vector<Vec3> points;
   thread_local std::vector<int> order;
   points.clear();
   for (int v : band) points.push_back(body.vertices[v]);
-  const int k = convexOrder(points, basis, order);
+  const int k = convexOrder(points, frame, order);
   for (int i = 0; i < k; ++i) out.p[i] = points[order[i]];
   const Vec3 apex = body.centroid();
   out.p[k] = apex;
@@ -147,14 +148,15 @@ void facePiece(const Body& body, std::span<const int> band, const PlaneBasis& ba
 }
 
 /// The piece of `body` spanned by its contact feature (closest vertices `band`).
-bool makePiece(const Body& body, std::span<const int> band, const PlaneBasis& basis, Piece& out) {
+bool makePiece(const Body& body, std::span<const int> band, const geometry::PlaneFrame& frame,
+               Piece& out) {
   out.points = out.face_count = out.edge_count = 0;
   if (band.size() == 1) {
     vertexPiece(body, band[0], out);
   } else if (band.size() == 2) {
     edgePiece(body, band[0], band[1], out);
   } else if (static_cast<int>(band.size()) <= kMaxFeature) {
-    facePiece(body, band, basis, out);
+    facePiece(body, band, frame, out);
   } else {
     return false;
   }
@@ -212,9 +214,9 @@ bool certifyMinimumPenetration(const Body& a, const Body& b, const PlaneFeatures
     }
   }
   // 2. The pieces spanned by the two contact features.
-  const PlaneBasis basis = planeBasis(f.normal);
+  const auto frame = geometry::PlaneFrame::make(f.normal, a.vertices[f.band_a[0]]);
   thread_local Piece pa, pb;
-  if (!makePiece(a, f.band_a, basis, pa) || !makePiece(b, f.band_b, basis, pb)) return false;
+  if (!makePiece(a, f.band_a, frame, pa) || !makePiece(b, f.band_b, frame, pb)) return false;
   return penetrationAtLeast(pa, pb, target);
 }
 

@@ -1,5 +1,5 @@
-// Internals shared by the FCP files (fcp_search.cpp, fcp_certificate.cpp, fcp_point.cpp): support
-// walks on placed polyhedra, the closest-vertex band, a plane basis and the certificate.
+// Internals shared by the FCP files (fcp_search, fcp_support, fcp_certificate, fcp_point): support
+// walks on placed polyhedra, the closest-vertex band, convex ordering and the certificate.
 #pragma once
 
 #include <span>
@@ -7,6 +7,7 @@
 
 #include "contact/contact.h"
 #include "contact/fcp.h"
+#include "geometry/plane_section.h"
 
 namespace polydem::contact::fcp_detail {
 
@@ -29,21 +30,14 @@ Extreme supportMax(const Body& body, const Vec3& d);
 
 /// Appends to `out` (cleared first) the vertices x of `body` with d . x >= threshold, found by a
 /// walk from `seed`, which must satisfy it: on a convex polyhedron the vertices above any level
-/// form a connected subgraph containing the maximiser. Returns the largest d . x among them.
-double collectBand(const Body& body, const Vec3& d, int seed, double threshold,
-                   std::vector<int>& out);
-
-/// An orthonormal basis (t1, t2) of the plane with unit normal n, chosen deterministically.
-struct PlaneBasis {
-  Vec3 n, t1, t2;
-  Vec2 project(const Vec3& x) const { return {t1.dot(x), t2.dot(x)}; }
-  Vec3 lift(const Vec2& p, double level) const { return p.x() * t1 + p.y() * t2 + level * n; }
-};
-PlaneBasis planeBasis(const Vec3& n);
+/// form a connected subgraph containing the maximiser. Returns the maximiser and d . x there.
+Extreme collectBand(const Body& body, const Vec3& d, int seed, double threshold,
+                    std::vector<int>& out);
 
 /// Counter-clockwise (about n) convex hull of the points projected on the plane: writes indices
 /// into `points` to `order` and returns their count (collinear and coincident points dropped).
-int convexOrder(std::span<const Vec3> points, const PlaneBasis& basis, std::vector<int>& order);
+int convexOrder(std::span<const Vec3> points, const geometry::PlaneFrame& frame,
+                std::vector<int>& order);
 
 /// The closest-vertex sets of a plane and the penetration they carry.
 struct PlaneFeatures {

@@ -111,8 +111,12 @@ class Search {
   /// Collects the closest-vertex bands of the plane and its exact levels.
   void settle(Plane& s) {
     const Vec3 m = -s.n;
-    s.level_a = -collectBand(a_, m, s.ia, m.dot(a_.vertices[s.ia]) - band_, w_.band_a);
-    s.level_b = collectBand(b_, s.n, s.ib, s.n.dot(b_.vertices[s.ib]) - band_, w_.band_b);
+    const Extreme lo = collectBand(a_, m, s.ia, m.dot(a_.vertices[s.ia]) - band_, w_.band_a);
+    const Extreme hi = collectBand(b_, s.n, s.ib, s.n.dot(b_.vertices[s.ib]) - band_, w_.band_b);
+    s.ia = lo.index;
+    s.ib = hi.index;
+    s.level_a = -lo.value;
+    s.level_b = hi.value;
   }
 
   bool improves(const Candidate& c, const Plane& s) const { return c.gap > s.gap() + improve_; }

@@ -34,13 +34,13 @@ Extreme supportMax(const Body& body, const Vec3& d) {
   return best;
 }
 
-double collectBand(const Body& body, const Vec3& d, int seed, double threshold,
-                   std::vector<int>& out) {
+Extreme collectBand(const Body& body, const Vec3& d, int seed, double threshold,
+                    std::vector<int>& out) {
   const auto& neighbours = body.shape->vertexNeighbours();
   const Vec3* v = body.vertices.data();
   out.clear();
   out.push_back(seed);
-  double top = d.dot(v[seed]);
+  Extreme top{seed, d.dot(v[seed])};
   // `out` doubles as the work list: entries past `next` have not had their neighbours visited.
   for (std::size_t next = 0; next < out.size(); ++next) {
     for (int u : neighbours[out[next]]) {
@@ -48,32 +48,20 @@ double collectBand(const Body& body, const Vec3& d, int seed, double threshold,
       const double value = d.dot(v[u]);
       if (value >= threshold) {
         out.push_back(u);
-        top = std::max(top, value);
+        if (value > top.value) top = {u, value};
       }
     }
   }
   return top;
 }
 
-PlaneBasis planeBasis(const Vec3& n) {
-  // Cross with the coordinate axis least aligned with n: well conditioned and deterministic.
-  const Vec3 a = n.cwiseAbs();
-  const Vec3 axis = (a.x() <= a.y() && a.x() <= a.z()) ? Vec3::UnitX()
-                    : (a.y() <= a.z())                 ? Vec3::UnitY()
-                                                       : Vec3::UnitZ();
-  PlaneBasis basis;
-  basis.n = n;
-  basis.t1 = axis.cross(n).normalized();
-  basis.t2 = n.cross(basis.t1);
-  return basis;
-}
-
-int convexOrder(std::span<const Vec3> points, const PlaneBasis& basis, std::vector<int>& order) {
+int convexOrder(std::span<const Vec3> points, const geometry::PlaneFrame& frame,
+                std::vector<int>& order) {
   // Andrew's monotone chain on the projected points (a handful: the closest vertices).
   const int n = static_cast<int>(points.size());
   thread_local std::vector<std::pair<Vec2, int>> sorted;
   sorted.clear();
-  for (int i = 0; i < n; ++i) sorted.emplace_back(basis.project(points[i]), i);
+  for (int i = 0; i < n; ++i) sorted.emplace_back(frame.project(points[i]), i);
   std::sort(sorted.begin(), sorted.end(), [](const auto& p, const auto& q) {
     return p.first.x() < q.first.x() || (p.first.x() == q.first.x() && p.first.y() < q.first.y());
   });

@@ -8,4 +8,6 @@
 namespace polydem::contact {
 std::unique_ptr<Kernel> makeGjkEpa(const KernelParams& params);     // gjk_epa.cpp
 std::unique_ptr<Kernel> makeGjkEpaIpm(const KernelParams& params);  // gjk_epa.cpp
+std::unique_ptr<Kernel> makeFcp(const KernelParams& params);        // fcp.cpp
+std::unique_ptr<Kernel> makeFcpIpm(const KernelParams& params);     // fcp.cpp
 }  // namespace polydem::contact
