@@ -22,8 +22,9 @@ struct FcpTolerance {
   static constexpr double kBand = 1e-9;
   /// A move to another candidate must raise the gap by more than this.
   static constexpr double kImprove = 1e-12;
-  /// Slack of the certificate that proves a local optimum global.
-  static constexpr double kCertify = 1e-10;
+  /// Slack of the certificate that proves a local optimum global: the penetration found is within
+  /// this of the minimum. Equal to the band, within which vertices count as level anyway.
+  static constexpr double kCertify = 1e-9;
 };
 
 /// Two edges whose directions make an angle with sine below this are parallel: their cross product

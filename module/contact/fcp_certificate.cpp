@@ -8,7 +8,8 @@
 // h_X <= h_A and h_Y <= h_B, so pen(X, Y) <= pen(A, B). The pieces used here are cheap and tight
 // for ordinary contacts, where the overlap is shallow compared with the contact features:
 //   1. a closest vertex of one body and the whole other body: pen = the depth of the vertex
-//      inside the body, min over the body's faces (vertex-face, edge-face, face-face);
+//      inside the body, min over the body's faces (vertex-face, edge-face, face-face); for
+//      face-face also a ball in the middle of the overlap, inside both bodies: pen >= its diameter;
 //   2. a piece of each body around its contact feature: for a vertex, the hull of the vertex and
 //      its neighbours; for an edge, the tetrahedron
 //      of the edge and the farthest corner of each of its two faces (the wedge a crossing edge
@@ -91,9 +92,7 @@ void vertexPiece(const Body& body, int v, Piece& out) {
 /// corner farthest from the edge's line. Fatter than the edge alone: a crossing edge must clear
 /// both faces of the wedge, not just a line.
 void edgePiece(const Body& body, int v0, int v1, Piece& out) {
-  const auto& neighbours = body.shape->vertexNeighbours()[v0];
-  const auto k = std::find(neighbours.begin(), neighbours.end(), v1) - neighbours.begin();
-  const geometry::Edge& edge = body.shape->edges()[body.shape->vertexEdges()[v0][k]];
+  const geometry::Edge& edge = body.shape->edges()[edgeBetween(body, v0, v1)];
   const Vec3 a = body.vertices[v0], dir = (body.vertices[v1] - a).normalized();
   out.p[0] = a;
   out.p[1] = body.vertices[v1];
@@ -212,6 +211,17 @@ bool certifyMinimumPenetration(const Body& a, const Body& b, const PlaneFeatures
     for (int v : f.band_b) {
       if (deeperThan(a, b.vertices[v], target)) return true;
     }
+  }
+  // 1b. Face-face: a ball of diameter `target` about the middle of the two contact faces (at the
+  //     mid-plane), inside both bodies: no translation shorter than its diameter separates them.
+  if (na >= 3 && nb >= 3) {
+    Vec3 mean_a = Vec3::Zero(), mean_b = Vec3::Zero();
+    for (int v : f.band_a) mean_a += a.vertices[v];
+    for (int v : f.band_b) mean_b += b.vertices[v];
+    mean_a /= static_cast<double>(na);
+    mean_b /= static_cast<double>(nb);
+    const Vec3 middle = 0.5 * (mean_a + mean_b);
+    if (deeperThan(a, middle, 0.5 * target) && deeperThan(b, middle, 0.5 * target)) return true;
   }
   // 2. The pieces spanned by the two contact features.
   const auto frame = geometry::PlaneFrame::make(f.normal, a.vertices[f.band_a[0]]);

@@ -1,5 +1,5 @@
 // The FCP search (Nezami et al. 2004): local moves between candidate common planes, a certificate
-// of global optimality, and a scan of every candidate when the certificate fails.
+// of global optimality, and an exact scan of the candidates when the certificate fails.
 //
 // With D = B - A (Minkowski difference), gap(n) = min_A n.a - max_B n.b = -h_D(n). The candidates
 // that matter are the face normals of D: faces of A (normal -u, u outward), faces of B (normal u)
@@ -9,7 +9,13 @@
 // is at least as good as n (n lies in their normal cone). A move to the best one strictly raises
 // the gap, so the walk ends, at a local maximum of the gap. For separated pairs any positive gap
 // proves separation. For overlapping pairs the local maximum need not be global (one per face of
-// D whose foot point lies inside it); fcp_certificate.cpp proves it global or the full scan runs.
+// D whose foot point lies inside it); fcp_certificate.cpp proves it global or the scan runs.
+//
+// Order of work: (1) the plane the start plane rests on (the warm start's feature) and its
+// certificate: a persistent contact ends here; (2) local moves, unless the inscribed balls
+// overlap (deep overlaps, which the certificate cannot prove); (3) the certificate; (4) the exact
+// scan, pruned by bounds from the inscribed balls, its edge pairs found by walking the overlay
+// of the two Gauss maps instead of trying every pair.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -23,42 +29,15 @@ namespace {
 
 using fcp_detail::climbMax;
 using fcp_detail::collectBand;
+using fcp_detail::coneSide;
+using fcp_detail::EdgeCone;
+using fcp_detail::edgeCone;
 using fcp_detail::Extreme;
+using fcp_detail::maxOverArc;
+using fcp_detail::worldNormals;
 
 /// Local moves before the full scan takes over (a cold start on 40-vertex bodies needs < 10).
 constexpr int kMaxMoves = 64;
-/// Slack of the normal-cone test, as a sine: arcs touching at an end still count as crossing.
-constexpr double kConeSlack = 1e-12;
-
-/// An edge of a placed body prepared for the Minkowski-face test. A direction c lies in the cone
-/// of outward normals of the edge, {s u0 + t u1 : s, t >= 0}, iff c.p >= 0 and c.q >= 0 with
-/// w = u0 x u1, p = u1 x w, q = w x u0 (c = s u0 + t u1 gives c x u1 = s w, u0 x c = t w).
-struct EdgeCone {
-  Vec3 dir, point, p, q;
-  double scale = 0.0;  // |w|, the sine of the angle between the faces' normals
-  int v0 = 0;
-};
-
-EdgeCone edgeCone(const Body& body, int e) {
-  const geometry::Edge& edge = body.shape->edges()[e];
-  const Vec3 u0 = body.faceNormal(edge.f0), u1 = body.faceNormal(edge.f1);
-  const Vec3 w = u0.cross(u1);
-  return {body.vertices[edge.v1] - body.vertices[edge.v0],
-          body.vertices[edge.v0],
-          u1.cross(w),
-          w.cross(u0),
-          w.norm(),
-          edge.v0};
-}
-
-/// +1 if c lies in the edge's normal cone, -1 if -c does, 0 if neither.
-int coneSide(const EdgeCone& e, const Vec3& c, double c_norm) {
-  const double tol = kConeSlack * c_norm * e.scale;
-  const double s = c.dot(e.p), t = c.dot(e.q);
-  if (s >= -tol && t >= -tol) return 1;
-  if (s <= tol && t <= tol) return -1;
-  return 0;
-}
 
 /// A candidate normal with its gap and a closest vertex of each body (seeds for the bands).
 struct Candidate {
@@ -79,6 +58,8 @@ struct Scratch {
   std::vector<int> band_a, band_b, edges_a, edges_b;
   std::vector<std::pair<int, int>> faces_a, faces_b;  // (face, a vertex of it)
   std::vector<EdgeCone> cones_a, cones_b;
+  std::vector<Vec3> normals_a, normals_b;
+  std::vector<int> support_b;  // per face of A: B's support along its inward normal
 };
 
 /// Per-thread buffers (polydem runs one thread per rank): no allocation once they have grown.
@@ -95,7 +76,14 @@ class Search {
     band_ = FcpTolerance::kBand * scale;
     improve_ = FcpTolerance::kImprove * scale;
     slack_ = FcpTolerance::kCertify * scale;
+    ca_ = a.toWorld(a.shape->incenter());
+    cb_ = b.toWorld(b.shape->incenter());
+    ra_ = a.shape->inradius();
+    rb_ = b.shape->inradius();
   }
+
+  /// Whether the inscribed balls overlap: the pair overlaps by at least as much.
+  bool ballsOverlap() const { return (ca_ - cb_).norm() < ra_ + rb_; }
 
   Plane start(const Vec3& n) const {
     const Extreme lo = fcp_detail::supportMax(a_, -n), hi = fcp_detail::supportMax(b_, n);
@@ -130,58 +118,122 @@ class Search {
   Candidate bestLocal(const Plane& s) {
     gatherFeatures(a_, w_.band_a, w_.faces_a, w_.edges_a);
     gatherFeatures(b_, w_.band_b, w_.faces_b, w_.edges_b);
+    // Only candidates that could improve on s count; the bounds of bestOverall skip the others.
+    const double floor = s.gap() + improve_;
     Candidate best;
-    for (const auto& [f, v] : w_.faces_a) consider(faceOfA(f, v, s.ib), best);
-    for (const auto& [f, v] : w_.faces_b) consider(faceOfB(f, v, s.ia), best);
-    prepareCones(a_, w_.edges_a, w_.cones_a);
-    prepareCones(b_, w_.edges_b, w_.cones_b);
+    for (const auto& [f, v] : w_.faces_a) {
+      const Vec3 u = a_.faceNormal(f);
+      if (faceOfABound(u, v) > floor) consider(faceOfA(u, v, s.ib), best);
+    }
+    for (const auto& [f, v] : w_.faces_b) {
+      const Vec3 u = b_.faceNormal(f);
+      if (faceOfBBound(u, v) > floor) consider(faceOfB(u, v, s.ia), best);
+    }
+    w_.cones_a.clear();
+    for (int e : w_.edges_a) {
+      const geometry::Edge& edge = a_.shape->edges()[e];
+      const Vec3 u0 = a_.faceNormal(edge.f0), u1 = a_.faceNormal(edge.f1);
+      if (edgeOfABound(u0, u1, edge.v0) > floor) w_.cones_a.push_back(edgeCone(a_, e, u0, u1));
+    }
+    w_.cones_b.clear();
+    for (int e : w_.edges_b) {
+      const geometry::Edge& edge = b_.shape->edges()[e];
+      const Vec3 u0 = b_.faceNormal(edge.f0), u1 = b_.faceNormal(edge.f1);
+      if (edgeOfBBound(u0, u1, edge.v0) > floor) w_.cones_b.push_back(edgeCone(b_, e, u0, u1));
+    }
     edgePairs(best);
     return best;
   }
 
-  /// Best candidate of all: every face of A and B and every Minkowski-face edge pair.
-  Candidate bestOverall(const Plane& s) {
+  /// The candidates of the features the plane rests on: the face of A at its closest vertices
+  /// facing -n most squarely, the face of B facing n most squarely and, unless a face is closest,
+  /// the cross product of the flattest edges at the closest vertices. A warm start's plane, moved
+  /// a little with the bodies, is usually one of them.
+  Candidate bestNatural(const Plane& s) {
     Candidate best;
-    const int nfa = static_cast<int>(a_.shape->faces().size());
-    const int nfb = static_cast<int>(b_.shape->faces().size());
-    int hint_a = s.ia, hint_b = s.ib;
-    for (int f = 0; f < nfa; ++f) {
-      const Candidate c = faceOfA(f, a_.shape->faces()[f].vertices[0], hint_b);
-      hint_b = c.ib;
+    const auto [fa, va] = squarestFace(a_, w_.band_a, -s.n);
+    const auto [fb, vb] = squarestFace(b_, w_.band_b, s.n);
+    consider(faceOfA(a_.faceNormal(fa), va, s.ib), best);
+    consider(faceOfB(b_.faceNormal(fb), vb, s.ia), best);
+    if (w_.band_a.size() <= 2 && w_.band_b.size() <= 2) {
+      w_.cones_a.assign(1, edgeCone(a_, flattestEdge(a_, w_.band_a, s.n)));
+      w_.cones_b.assign(1, edgeCone(b_, flattestEdge(b_, w_.band_b, s.n)));
+      edgePairs(best);
+    }
+    return best;
+  }
+
+  /// Best candidate of all that can beat the plane `s`: the faces of D = B - A. Every face of A
+  /// (B's support along it climbed) and of B; then, for each edge of A, the edges of B whose
+  /// normal arcs its own arc crosses on the Gauss sphere (the overlay of the two Gauss maps),
+  /// found by walking B's support along the arc. Faces and edges that cannot beat the best gap
+  /// are skipped by a bound: with the inscribed balls (c_A, r_A), (c_B, r_B), the overlap along m,
+  /// h(m) = max_B m.b - min_A m.a, is at least m.c_B + r_B - min_A m.a and at least
+  /// max_B m.b - m.c_A + r_A; for a face the other term is exact, for an edge of A it is exact
+  /// over the edge's arc, where the bound's least value has a closed form (maxOverArc).
+  Candidate bestOverall(const Plane& s) {
+    Candidate best{s.n, s.gap(), s.ia, s.ib};
+    const auto& faces_a = a_.shape->faces();
+    const auto& faces_b = b_.shape->faces();
+    worldNormals(a_, w_.normals_a);
+    worldNormals(b_, w_.normals_b);
+    w_.support_b.assign(faces_a.size(), -1);
+    hint_b_ = s.ib;
+    for (std::size_t f = 0; f < faces_a.size(); ++f) {
+      const Vec3& u = w_.normals_a[f];
+      const int v = faces_a[f].vertices[0];
+      if (faceOfABound(u, v) <= best.gap) continue;
+      const Candidate c = faceOfA(u, v, hint_b_);
+      hint_b_ = w_.support_b[f] = c.ib;
       consider(c, best);
     }
-    for (int f = 0; f < nfb; ++f) {
-      const Candidate c = faceOfB(f, b_.shape->faces()[f].vertices[0], hint_a);
+    int hint_a = s.ia;
+    for (std::size_t f = 0; f < faces_b.size(); ++f) {
+      const Vec3& u = w_.normals_b[f];
+      const int v = faces_b[f].vertices[0];
+      if (faceOfBBound(u, v) <= best.gap) continue;
+      const Candidate c = faceOfB(u, v, hint_a);
       hint_a = c.ia;
       consider(c, best);
     }
-    allEdges(a_, w_.edges_a);
-    allEdges(b_, w_.edges_b);
-    prepareCones(a_, w_.edges_a, w_.cones_a);
-    prepareCones(b_, w_.edges_b, w_.cones_b);
-    edgePairs(best);
+    const auto& edges_a = a_.shape->edges();
+    for (std::size_t e = 0; e < edges_a.size(); ++e) {
+      const geometry::Edge& edge = edges_a[e];
+      if (edgeOfABound(w_.normals_a[edge.f0], w_.normals_a[edge.f1], edge.v0) <= best.gap) {
+        continue;
+      }
+      walkArc(static_cast<int>(e), best);
+    }
     return best;
   }
 
-  std::span<const int> bandA() const { return w_.band_a; }
-  std::span<const int> bandB() const { return w_.band_b; }
-
  private:
+  // Upper bounds on the gap of candidates, from the inscribed balls (see bestOverall): a face of
+  // A with outward normal u through vertex v, a face of B, an edge of A or B with face normals
+  // u0, u1 through vertex v (all its Minkowski-face normals).
+  double faceOfABound(const Vec3& u, int v) const { return -(u.dot(a_.vertices[v] - cb_) + rb_); }
+  double faceOfBBound(const Vec3& u, int v) const { return -(u.dot(b_.vertices[v] - ca_) + ra_); }
+  double edgeOfABound(const Vec3& u0, const Vec3& u1, int v) const {
+    return maxOverArc(u0, u1, cb_ - a_.vertices[v]) - rb_;
+  }
+  double edgeOfBBound(const Vec3& u0, const Vec3& u1, int v) const {
+    return maxOverArc(u0, u1, ca_ - b_.vertices[v]) - ra_;
+  }
+
   void consider(const Candidate& c, Candidate& best) {
     ++trace_.candidates;
     if (c.gap > best.gap) best = c;
   }
 
-  /// Normal -u of face f of A (u outward; v a vertex of f): min_A is on the face, max_B climbs.
-  Candidate faceOfA(int f, int v, int hint_b) const {
-    const Vec3 u = a_.faceNormal(f);
+  /// Normal -u of a face of A (u outward, world; v a vertex of it): min_A is on the face, max_B
+  /// climbs.
+  Candidate faceOfA(const Vec3& u, int v, int hint_b) const {
     const Extreme top_a = climbMax(a_, u, v), top_b = climbMax(b_, -u, hint_b);
     return {-u, -top_a.value - top_b.value, top_a.index, top_b.index};
   }
 
-  /// Normal u of face f of B: max_B is on the face, min_A climbs.
-  Candidate faceOfB(int f, int v, int hint_a) const {
-    const Vec3 u = b_.faceNormal(f);
+  /// Normal u of a face of B: max_B is on the face, min_A climbs.
+  Candidate faceOfB(const Vec3& u, int v, int hint_a) const {
     const Extreme top_b = climbMax(b_, u, v), low_a = climbMax(a_, -u, hint_a);
     return {u, -low_a.value - top_b.value, low_a.index, top_b.index};
   }
@@ -202,15 +254,95 @@ class Search {
     }
   }
 
-  static void allEdges(const Body& body, std::vector<int>& edges) {
-    edges.resize(body.shape->edges().size());
-    for (std::size_t e = 0; e < edges.size(); ++e) edges[e] = static_cast<int>(e);
+  /// The band's edge (two vertices) or, for one vertex, its edge most nearly perpendicular to n.
+  static int flattestEdge(const Body& body, std::span<const int> band, const Vec3& n) {
+    if (band.size() == 2) return fcp_detail::edgeBetween(body, band[0], band[1]);
+    const auto& neighbours = body.shape->vertexNeighbours()[band[0]];
+    const Vec3& v = body.vertices[band[0]];
+    std::size_t best = 0;
+    double flattest = 2.0;
+    for (std::size_t k = 0; k < neighbours.size(); ++k) {
+      const Vec3 e = body.vertices[neighbours[k]] - v;
+      const double slope = std::abs(e.dot(n)) / e.norm();
+      if (slope < flattest) {
+        flattest = slope;
+        best = k;
+      }
+    }
+    return body.shape->vertexEdges()[band[0]][best];
   }
 
-  static void prepareCones(const Body& body, std::span<const int> edges,
-                           std::vector<EdgeCone>& cones) {
-    cones.clear();
-    for (int e : edges) cones.push_back(edgeCone(body, e));
+  /// The face at the band's vertices whose outward normal is closest to d, and a vertex of it.
+  static std::pair<int, int> squarestFace(const Body& body, std::span<const int> band,
+                                          const Vec3& d) {
+    const Vec3 local = body.rotation.transpose() * d;
+    const auto& faces = body.shape->faces();
+    std::pair<int, int> best{body.shape->vertexFaces()[band[0]][0], band[0]};
+    double top = -2.0;
+    for (int v : band) {
+      for (int f : body.shape->vertexFaces()[v]) {
+        const double c = local.dot(faces[f].normal);
+        if (c > top) {
+          top = c;
+          best = {f, v};
+        }
+      }
+    }
+    return best;
+  }
+
+  /// B's support along the inward normal of face f of A (climbed once, from the last one).
+  int supportOfFaceOfA(int f) {
+    if (w_.support_b[f] < 0) w_.support_b[f] = climbMax(b_, -w_.normals_a[f], hint_b_).index;
+    return w_.support_b[f];
+  }
+
+  /// The edges of B crossed by the normal arc of edge e of A, as candidates. Along the arc
+  /// m(t) ~ (1 - t) m0 + t m1 (m0, m1 the inward normals of e's faces), B's support moves from
+  /// vertex b to a neighbour b' where m(t).(b' - b) turns positive; the earliest such crossing
+  /// is the next edge of B on the way.
+  void walkArc(int e, Candidate& best) {
+    const geometry::Edge& edge = a_.shape->edges()[e];
+    const Vec3 m0 = -w_.normals_a[edge.f0], m1 = -w_.normals_a[edge.f1];
+    const Vec3 dir_a = a_.vertices[edge.v1] - a_.vertices[edge.v0];
+    const Vec3& point_a = a_.vertices[edge.v0];
+    const auto& neighbours = b_.shape->vertexNeighbours();
+    const int limit = static_cast<int>(b_.vertices.size());
+    int b = supportOfFaceOfA(edge.f0);
+    for (int step = 0; step <= limit; ++step) {
+      int next = -1;
+      double first = 2.0, rise = 0.0;
+      const auto& around = neighbours[b];
+      for (std::size_t k = 0; k < around.size(); ++k) {
+        const Vec3 d = b_.vertices[around[k]] - b_.vertices[b];
+        const double x0 = m0.dot(d), x1 = m1.dot(d);
+        if (!(x1 > 0.0 && x1 > x0)) continue;  // never overtakes b before the arc's end
+        const double t = x0 / (x0 - x1);
+        if (t < first || (t == first && x1 > rise)) {
+          first = t;
+          rise = x1;
+          next = around[k];
+        }
+      }
+      if (next < 0) return;
+      const Vec3 dir_b = b_.vertices[next] - b_.vertices[b];
+      const Vec3 c = dir_a.cross(dir_b);
+      const double norm2 = c.squaredNorm();
+      const double parallel = kFcpParallelSine * dir_a.norm() * dir_b.norm();
+      if (norm2 > parallel * parallel) {
+        const Vec3 m = (c.dot(m0 + m1) >= 0.0 ? 1.0 : -1.0) / std::sqrt(norm2) * c;
+        consider({m, m.dot(point_a - b_.vertices[b]), edge.v0, b}, best);
+      }
+      b = next;
+      hint_b_ = b;
+    }
+    // A walk this long only happens on degenerate ties: test the edge against every edge of B.
+    w_.cones_a.assign(1, edgeCone(a_, e));
+    w_.cones_b.clear();
+    for (std::size_t k = 0; k < b_.shape->edges().size(); ++k) {
+      w_.cones_b.push_back(edgeCone(b_, static_cast<int>(k)));
+    }
+    edgePairs(best);
   }
 
   /// Edge pairs (A, B) whose cross product is a face normal of D = B - A: oriented c must lie in
@@ -218,14 +350,14 @@ class Search {
   /// edge, and the gap is c.(a - b) for any points a, b of the edges (no support query).
   void edgePairs(Candidate& best) {
     for (const EdgeCone& ea : w_.cones_a) {
-      const double la = ea.dir.norm();
       for (const EdgeCone& eb : w_.cones_b) {
         const Vec3 c = ea.dir.cross(eb.dir);
-        const double norm = c.norm();
-        if (norm <= kFcpParallelSine * la * eb.dir.norm()) continue;
-        const int side_b = coneSide(eb, c, norm);
-        if (side_b == 0 || coneSide(ea, c, norm) != -side_b) continue;
-        const Vec3 m = (side_b / norm) * c;
+        const double norm2 = c.squaredNorm();
+        const double parallel = kFcpParallelSine * ea.length * eb.length;
+        if (norm2 <= parallel * parallel) continue;
+        const int side_b = coneSide(eb, c, norm2);
+        if (side_b == 0 || coneSide(ea, c, norm2) != -side_b) continue;
+        const Vec3 m = (side_b / std::sqrt(norm2)) * c;
         consider({m, m.dot(ea.point - eb.point), ea.v0, eb.v0}, best);
       }
     }
@@ -236,6 +368,9 @@ class Search {
   FcpTrace& trace_;
   Scratch& w_;
   double band_ = 0.0, improve_ = 0.0, slack_ = 0.0;
+  int hint_b_ = 0;  // the last support of B found by the full scan
+  Vec3 ca_, cb_;    // world incentres
+  double ra_ = 0.0, rb_ = 0.0;
 };
 
 CommonPlane result(const Plane& s, bool separated_early) {
@@ -272,25 +407,33 @@ CommonPlane findCommonPlane(const Body& a, const Body& b, const Vec3* warm_norma
   Plane s = search.start(n);
   if (options.stop_when_separated && s.gap() > 0.0) return result(s, true);
   search.settle(s);
+  // Guess the plane of the features the start plane rests on (after a warm start, the last
+  // step's plane moved with the bodies): the certificate accepts it without a search.
+  s = search.fromCandidate(search.bestNatural(s));
+  ++t.moves;
+  if (options.stop_when_separated && s.gap() > 0.0) return result(s, true);
+  bool tried = s.gap() <= 0.0;
+  if (tried && search.certify(s)) {
+    t.certified = true;
+    return result(s, false);
+  }
+  // Local search: move to the best candidate at the closest vertices while it improves. Skipped
+  // when the inscribed balls overlap (a deep overlap): the certificate's pieces cannot prove such
+  // an optimum, and the exact scan costs about as much as a few local moves.
+  const bool deep = search.ballsOverlap();
   bool converged = false;
-  for (int move = 0; move < kMaxMoves; ++move) {
+  for (int move = 0; move < (deep ? 0 : kMaxMoves); ++move) {
     const Candidate c = search.bestLocal(s);
-    // The first move always goes to a candidate, so that the normal is a face or edge-pair normal
-    // and not the start direction; later ones only when they improve.
-    if (move > 0 && !search.improves(c, s)) {
+    if (!search.improves(c, s)) {
       converged = true;
       break;
     }
     s = search.fromCandidate(c);
     ++t.moves;
+    tried = false;
     if (options.stop_when_separated && s.gap() > 0.0) return result(s, true);
-    // A warm start is usually one move from the answer: try the certificate before confirming.
-    if (move == 0 && t.warm && s.gap() <= 0.0 && search.certify(s)) {
-      t.certified = true;
-      return result(s, false);
-    }
   }
-  if (converged && s.gap() <= 0.0 && search.certify(s)) {
+  if (converged && !tried && s.gap() <= 0.0 && search.certify(s)) {
     t.certified = true;
     return result(s, false);
   }

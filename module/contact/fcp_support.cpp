@@ -55,6 +55,62 @@ Extreme collectBand(const Body& body, const Vec3& d, int seed, double threshold,
   return top;
 }
 
+EdgeCone edgeCone(const Body& body, int e, const Vec3& u0, const Vec3& u1) {
+  const geometry::Edge& edge = body.shape->edges()[e];
+  EdgeCone c;
+  const Vec3 w = u0.cross(u1);
+  c.p = u1.cross(w);
+  c.q = w.cross(u0);
+  c.scale = w.norm();
+  c.dir = body.vertices[edge.v1] - body.vertices[edge.v0];
+  c.length = c.dir.norm();
+  c.point = body.vertices[edge.v0];
+  c.v0 = edge.v0;
+  return c;
+}
+
+EdgeCone edgeCone(const Body& body, int e) {
+  const geometry::Edge& edge = body.shape->edges()[e];
+  return edgeCone(body, e, body.faceNormal(edge.f0), body.faceNormal(edge.f1));
+}
+
+void worldNormals(const Body& body, std::vector<Vec3>& out) {
+  const auto& faces = body.shape->faces();
+  out.resize(faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f) out[f] = body.rotation * faces[f].normal;
+}
+
+double maxOverArc(const Vec3& u0, const Vec3& u1, const Vec3& x) {
+  // x's projection on the arc's plane is s u0 + t u1; inside the cone when s, t >= 0.
+  const double a0 = x.dot(u0), a1 = x.dot(u1), c = u0.dot(u1);
+  const double det = 1.0 - c * c;
+  if (det < 1e-12) return x.norm();  // nearly coplanar faces: |x| bounds it safely
+  if (a0 - c * a1 >= 0.0 && a1 - c * a0 >= 0.0) {
+    return std::sqrt(std::max(0.0, (a0 * a0 + a1 * a1 - 2.0 * c * a0 * a1) / det));
+  }
+  return std::max(a0, a1);
+}
+
+int coneSide(const EdgeCone& e, const Vec3& c, double c_norm2) {
+  // Slack, as a sine: arcs touching at an end still count as crossing.
+  constexpr double kConeSlack = 1e-12;
+  const double s = c.dot(e.p), t = c.dot(e.q);
+  if (s >= 0.0 && t >= 0.0) return 1;
+  if (s <= 0.0 && t <= 0.0) return -1;
+  const double tol = kConeSlack * std::sqrt(c_norm2) * e.scale;
+  if (s >= -tol && t >= -tol) return 1;
+  if (s <= tol && t <= tol) return -1;
+  return 0;
+}
+
+int edgeBetween(const Body& body, int v0, int v1) {
+  const auto& neighbours = body.shape->vertexNeighbours()[v0];
+  for (std::size_t k = 0; k < neighbours.size(); ++k) {
+    if (neighbours[k] == v1) return body.shape->vertexEdges()[v0][k];
+  }
+  return -1;
+}
+
 int convexOrder(std::span<const Vec3> points, const geometry::PlaneFrame& frame,
                 std::vector<int>& order) {
   // Andrew's monotone chain on the projected points (a handful: the closest vertices).

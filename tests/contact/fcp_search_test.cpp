@@ -34,8 +34,8 @@ struct Tally {
   }
   void print(const char* what) const {
     std::printf(
-        "[fcp] %-28s %5d pairs: certified %5d, full scan %4d (%.2f%%; the local optimum was not "
-        "global in %d), mean moves %.2f\n",
+        "[fcp] %-28s %5d pairs: certified %5d, full scan %4d (%.2f%%; it beat the searched plane "
+        "in %d), mean moves %.2f\n",
         what, pairs, certified, full_scan, pairs ? 100.0 * full_scan / pairs : 0.0, improved,
         pairs ? static_cast<double>(moves) / pairs : 0.0);
   }
