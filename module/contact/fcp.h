@@ -35,6 +35,10 @@ struct FcpOptions {
   /// Stop at the first plane with a positive gap: the pair is proven separated (collide() does
   /// this). When false, the search runs to the global maximum of the gap for separated pairs too.
   bool stop_when_separated = true;
+  /// Run the local search on deep overlaps too (inscribed balls overlapping), which otherwise go
+  /// from the first guess straight to the exact scan. For diagnostics: how often the local search
+  /// ends at a plane that is not the global optimum.
+  bool always_search = false;
 };
 
 /// How a common plane was found; for tests, reports and benchmarks.

@@ -420,7 +420,7 @@ CommonPlane findCommonPlane(const Body& a, const Body& b, const Vec3* warm_norma
   // Local search: move to the best candidate at the closest vertices while it improves. Skipped
   // when the inscribed balls overlap (a deep overlap): the certificate's pieces cannot prove such
   // an optimum, and the exact scan costs about as much as a few local moves.
-  const bool deep = search.ballsOverlap();
+  const bool deep = !options.always_search && search.ballsOverlap();
   bool converged = false;
   for (int move = 0; move < (deep ? 0 : kMaxMoves); ++move) {
     const Candidate c = search.bestLocal(s);
@@ -430,8 +430,13 @@ CommonPlane findCommonPlane(const Body& a, const Body& b, const Vec3* warm_norma
     }
     s = search.fromCandidate(c);
     ++t.moves;
-    tried = false;
     if (options.stop_when_separated && s.gap() > 0.0) return result(s, true);
+    // The certificate is cheaper than confirming a local optimum with another round of candidates.
+    tried = s.gap() <= 0.0;
+    if (tried && search.certify(s)) {
+      t.certified = true;
+      return result(s, false);
+    }
   }
   if (converged && !tried && s.gap() <= 0.0 && search.certify(s)) {
     t.certified = true;

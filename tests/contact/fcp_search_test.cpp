@@ -85,7 +85,9 @@ void expectSatOptimum(const Placed& a, const Placed& b, const CommonPlane& cp, i
 TEST(FcpSearch, OverlapGapAndNormalAreTheBruteForceSatOptimum) {
   std::mt19937_64 rng(2004);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  Tally deep, shallow;
+  Tally deep, deep_searched, shallow;
+  FcpOptions searched;
+  searched.always_search = true;
   for (int i = 0; i < 1000; ++i) {
     const auto b = randomBody(rng, Vec3(3.0, -2.0, 7.0));
     auto a = randomBody(rng, Vec3::Zero());
@@ -101,11 +103,19 @@ TEST(FcpSearch, OverlapGapAndNormalAreTheBruteForceSatOptimum) {
     const CommonPlane cp = findCommonPlane(a->body(), b->body(), nullptr, {}, &trace);
     (is_shallow ? shallow : deep).add(trace);
     expectSatOptimum(*a, *b, cp, i);
+    if (!is_shallow) {
+      // The local search run to its end before any scan: where it stalls, the scan must fix it.
+      const CommonPlane cs = findCommonPlane(a->body(), b->body(), nullptr, searched, &trace);
+      deep_searched.add(trace);
+      expectSatOptimum(*a, *b, cs, i);
+    }
   }
   deep.print("deep overlaps, cold:");
+  deep_searched.print("deep, local search first:");
   shallow.print("shallow overlaps, cold:");
   EXPECT_GT(deep.pairs, 400);
   EXPECT_GT(shallow.pairs, 400);
+  EXPECT_GT(deep_searched.improved, 0) << "the local search never stalled: the scan is untested";
 }
 
 TEST(FcpSearch, SeparatedPairsAreProvenApartAndTheirPlaneIsTheLargestGap) {
