@@ -44,11 +44,11 @@ struct FcpOptions {
 /// How a common plane was found; for tests, reports and benchmarks.
 struct FcpTrace {
   bool warm = false;                // started from the caller's normal
-  int moves = 0;                    // planes visited by the local search
-  int candidates = 0;               // candidate normals evaluated (local search and full scan)
-  bool certified = false;           // the local optimum was proven global by the certificate
-  bool full_scan = false;           // all candidates were evaluated (no certificate)
-  bool full_scan_improved = false;  // ... and one beat the local optimum
+  int moves = 0;                    // planes visited: the guess and the local moves
+  int candidates = 0;               // candidate normals evaluated (search and scan)
+  bool certified = false;           // the plane searched was proven optimal by the certificate
+  bool full_scan = false;           // the exact scan ran (no certificate)
+  bool full_scan_improved = false;  // ... and found a better plane than the search had
 };
 
 struct CommonPlane {
