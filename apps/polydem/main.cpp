@@ -50,11 +50,16 @@ int main(int argc, char** argv) {
     polydem::log::error("unknown command '" + command + "' (polydem --help lists them)");
     return 2;
   } catch (const polydem::app::UsageError& e) {
-    polydem::log::error(e.what());
+    if (polydem::mpi::rank() == 0) polydem::log::error(e.what());
     return 2;
+  } catch (const polydem::InputError& e) {
+    // Every rank reads the same input and stops at the same error: finish MPI normally.
+    if (polydem::mpi::rank() == 0) polydem::log::error(e.what());
+    return 1;
   } catch (const std::exception& e) {
+    // An error that may be local to this rank: the others may be waiting in a collective.
     polydem::log::error(e.what());
-    MPI_Abort(MPI_COMM_WORLD, 1);
+    if (polydem::mpi::size() > 1) MPI_Abort(MPI_COMM_WORLD, 1);
     return 1;
   }
 }

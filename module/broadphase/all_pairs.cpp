@@ -16,7 +16,9 @@ void AllPairs::findPairs(const SphereSet& spheres, double margin, std::vector<Ca
       const Vec3& cb = spheres.centers[b];
       if (withinReach(ca.x(), ca.y(), ca.z(), ra, cb.x(), cb.y(), cb.z(), spheres.radii[b],
                       margin)) {
-        detail::emitPair(spheres, a, b, out);
+        if ((spheres.active[a] | spheres.active[b]) == 0) continue;
+        const bool a_first = spheres.uids[a] < spheres.uids[b];
+        out.push_back({a_first ? a : b, a_first ? b : a});
       }
     }
   }

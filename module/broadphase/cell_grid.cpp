@@ -1,6 +1,7 @@
 #include "broadphase/cell_grid.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -8,31 +9,48 @@
 namespace polydem::broadphase::detail {
 
 namespace {
+
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-}  // namespace
+constexpr int kDigitBits = 11;
+constexpr std::size_t kBuckets = std::size_t{1} << kDigitBits;
 
-std::int64_t CellGrid::coord(double offset) const {
-  return static_cast<std::int64_t>(std::floor(offset * inv_edge_));
-}
-
-std::int32_t CellGrid::findOrInsert(const CellKey& key) {
-  for (std::uint64_t slot = hash(key) & mask_;; slot = (slot + 1) & mask_) {
-    Slot& s = table_[slot];
-    if (s.cell < 0) {
-      s.key = key;
-      s.cell = static_cast<std::int32_t>(cells_.size());
-      cells_.push_back({key, 0, 0});
-      return s.cell;
+// Stable LSD radix sort of `keys` (only their low `bits` bits are used) carrying `values`.
+void radixSort(std::vector<std::uint64_t>& keys, std::vector<std::int32_t>& values,
+               std::vector<std::uint64_t>& keys_tmp, std::vector<std::int32_t>& values_tmp,
+               int bits) {
+  const std::size_t n = keys.size();
+  keys_tmp.resize(n);
+  values_tmp.resize(n);
+  std::array<std::uint32_t, kBuckets> count;
+  for (int shift = 0; shift < bits; shift += kDigitBits) {
+    count.fill(0);
+    for (std::size_t k = 0; k < n; ++k) ++count[(keys[k] >> shift) & (kBuckets - 1)];
+    std::uint32_t start = 0;
+    for (auto& c : count) {
+      const std::uint32_t here = c;
+      c = start;
+      start += here;
     }
-    if (s.key == key) return s.cell;
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t pos = count[(keys[k] >> shift) & (kBuckets - 1)]++;
+      keys_tmp[pos] = keys[k];
+      values_tmp[pos] = values[k];
+    }
+    keys.swap(keys_tmp);
+    values.swap(values_tmp);
   }
 }
 
+}  // namespace
+
 void CellGrid::build(const SphereSet& spheres, std::span<const std::int32_t> members, double reach,
-                     const SceneBounds& bounds) {
-  const auto n = static_cast<std::int32_t>(members.size());
+                     const SceneBounds& bounds, bool lookup) {
   max_radius_ = 0.0;
-  for (const std::int32_t m : members) max_radius_ = std::max(max_radius_, spheres.radii[m]);
+  min_radius_ = members.empty() ? 0.0 : std::numeric_limits<double>::infinity();
+  for (const std::int32_t m : members) {
+    max_radius_ = std::max(max_radius_, spheres.radii[m]);
+    min_radius_ = std::min(min_radius_, spheres.radii[m]);
+  }
 
   // Edge: at least the reach, never so small that the cell coordinates of the scene overflow,
   // and enlarged by the rounding slack of (x - x0) * (1 / edge) over the whole extent (a centre
@@ -46,48 +64,93 @@ void CellGrid::build(const SphereSet& spheres, std::span<const std::int32_t> mem
   inv_edge_ = 1.0 / edge_;
   slack_ = 32.0 * kEps * (extent * inv_edge_ + 2.0);
 
-  const std::uint64_t capacity = std::bit_ceil(std::max<std::uint64_t>(16, 2 * std::uint64_t(n)));
-  table_.resize(capacity);
-  for (Slot& s : table_) s.cell = -1;
-  mask_ = capacity - 1;
-  cells_.clear();
-  cells_.reserve(n);  // at most one cell per member: no growth while inserting
-  cell_of_.resize(n);
+  // The scene's box of cells with one empty cell of padding on each side: a cell's neighbours
+  // then have distinct packed keys, and the key of every centre of the scene fits.
+  const CellKey top = keyOf(bounds.hi.x(), bounds.hi.y(), bounds.hi.z());
+  nx_ = top.x + 3;
+  ny_ = top.y + 3;
+  nz_ = top.z + 3;
+  box_cells_ = double(nx_) * double(ny_) * double(nz_);
+  key_bits_ = box_cells_ < 0x1.0p62 ? std::bit_width(static_cast<std::uint64_t>(box_cells_)) : 0;
 
-  for (std::int32_t k = 0; k < n; ++k) {
-    const Vec3& c = spheres.centers[members[k]];
-    const std::int32_t cell = findOrInsert(keyOf(c.x(), c.y(), c.z()));
-    cell_of_[k] = cell;
-    ++cells_[cell].end;  // count for now
+  sortMembers(spheres, members);
+  if (lookup) buildLookup();
+}
+
+void CellGrid::buildLookup() {
+  dense_ = key_bits_ > 0 &&
+           box_cells_ <= kDenseFactor * std::max<double>(64.0, static_cast<double>(cells_.size()));
+  if (dense_) {
+    table_.assign(static_cast<std::size_t>(box_cells_), -1);
+    for (std::size_t c = 0; c < cells_.size(); ++c) {
+      table_[static_cast<std::size_t>(packed(cells_[c].key))] = static_cast<std::int32_t>(c);
+    }
+    return;
   }
-  std::int32_t start = 0;
-  for (Cell& cell : cells_) {
-    const std::int32_t count = cell.end;
-    cell.begin = start;
-    cell.end = start;  // write cursor
-    start += count;
-  }
-  items_.resize(n);
-  index_.resize(n);
-  for (std::int32_t k = 0; k < n; ++k) {
-    const std::int32_t m = members[k];
-    const std::int32_t pos = cells_[cell_of_[k]].end++;
-    const Vec3& c = spheres.centers[m];
-    items_[pos] = {c.x(), c.y(), c.z(), spheres.radii[m]};
-    index_[pos] = m;
+  const std::uint64_t capacity =
+      std::bit_ceil(std::max<std::uint64_t>(16, 2 * static_cast<std::uint64_t>(cells_.size())));
+  table_.assign(capacity, -1);
+  mask_ = capacity - 1;
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    std::uint64_t slot = hash(cells_[c].key) & mask_;
+    while (table_[slot] >= 0) slot = (slot + 1) & mask_;
+    table_[slot] = static_cast<std::int32_t>(c);
   }
 }
 
-void CellGrid::boxAround(double x, double y, double z, double h, CellKey& lo, CellKey& hi) const {
-  const double span = h * inv_edge_ * (1.0 + 1e-12) + slack_;
-  const double s[3] = {(x - origin_.x()) * inv_edge_, (y - origin_.y()) * inv_edge_,
-                       (z - origin_.z()) * inv_edge_};
-  lo = {static_cast<std::int64_t>(std::floor(s[0] - span)),
-        static_cast<std::int64_t>(std::floor(s[1] - span)),
-        static_cast<std::int64_t>(std::floor(s[2] - span))};
-  hi = {static_cast<std::int64_t>(std::floor(s[0] + span)),
-        static_cast<std::int64_t>(std::floor(s[1] + span)),
-        static_cast<std::int64_t>(std::floor(s[2] + span))};
+void CellGrid::sortMembers(const SphereSet& spheres, std::span<const std::int32_t> members) {
+  const std::size_t n = members.size();
+  order_.assign(members.begin(), members.end());  // sphere indices, sorted below
+  items_.resize(n);
+  meta_.resize(n);
+  cells_.clear();
+  cells_.reserve(n);  // at most one cell per member: no growth below
+  auto add = [&](std::size_t p, const CellKey& key) {
+    const std::int32_t m = order_[p];
+    const Vec3& c = spheres.centers[m];
+    items_[p] = {c.x(), c.y(), c.z(), spheres.radii[m]};
+    meta_[p] = {spheres.uids[m], m, spheres.active[m]};
+    if (p == 0 || !(cells_.back().key == key)) {
+      cells_.push_back({key, static_cast<std::int32_t>(p), static_cast<std::int32_t>(p + 1)});
+    } else {
+      cells_.back().end = static_cast<std::int32_t>(p + 1);
+    }
+  };
+
+  if (key_bits_ > 0) {
+    // The cell's index in the padded box of cells: (z, y, x) order, one integer.
+    keys_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const Vec3& c = spheres.centers[order_[k]];
+      const CellKey key = keyOf(c.x(), c.y(), c.z());
+      keys_[k] = static_cast<std::uint64_t>(packed(key));
+    }
+    radixSort(keys_, order_, keys_tmp_, order_tmp_, key_bits_);
+    CellKey key{0, 0, 0};
+    for (std::size_t p = 0; p < n; ++p) {
+      if (p == 0 || keys_[p] != keys_[p - 1]) {  // decode only where a new cell starts
+        const auto linear = static_cast<std::int64_t>(keys_[p]);
+        key = {linear % nx_ - 1, (linear / nx_) % ny_ - 1, linear / (nx_ * ny_) - 1};
+      }
+      add(p, key);
+    }
+    return;
+  }
+  // A box of more than 2^62 cells (a scene spanning 1e18 cell sizes): compare keys instead.
+  cell_keys_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3& c = spheres.centers[order_[k]];
+    cell_keys_[k] = keyOf(c.x(), c.y(), c.z());
+  }
+  order_tmp_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) order_tmp_[k] = static_cast<std::int32_t>(k);
+  std::sort(order_tmp_.begin(), order_tmp_.end(), [&](std::int32_t a, std::int32_t b) {
+    const CellKey& ka = cell_keys_[a];
+    const CellKey& kb = cell_keys_[b];
+    return cellBefore(ka, kb) || (ka == kb && a < b);
+  });
+  for (std::size_t p = 0; p < n; ++p) order_[p] = members[order_tmp_[p]];
+  for (std::size_t p = 0; p < n; ++p) add(p, cell_keys_[order_tmp_[p]]);
 }
 
 }  // namespace polydem::broadphase::detail

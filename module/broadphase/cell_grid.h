@@ -1,19 +1,23 @@
-// A hashed cell list: the building block of the NBS and multi-level searches (internal).
+// A sorted cell list: the building block of the NBS and multi-level searches (internal).
 //
 // Particles are put into cubic cells by their centre, as in Zhao eqs. (37)-(39), but with
-// floor() from the lowest centre instead of Fortran's 1 + int(x + 0.5) (the same mapping shifted
-// by half a cell). Only occupied cells exist: cell coordinates are 64-bit integers looked up in
-// an open-addressing hash table, so a scene spread over a huge, mostly empty region (particles at
-// 1e6 m next to millimetre grains, a far ghost) costs memory and time in proportion to the
-// particles, never to the volume. Particles are counting-sorted by cell, so that each cell's
-// members lie contiguously in items() (the inner loops stream through them). Building and one
-// lookup are O(1) per particle (expected), which is what keeps NBS linear for dense packs; the
-// price over a dense array of cells is one hash probe per neighbour-cell visit.
+// floor() from the lowest centre of the scene instead of Fortran's 1 + int(x + 0.5) (the same
+// mapping shifted by half a cell). Only occupied cells are stored: the members are sorted by
+// cell in (z, y, x) order (a stable radix sort on the cell's index in the scene's box of cells,
+// 11 bits per pass, as many passes as that index needs), and a cell is a run of equal keys. So a
+// scene spread over a huge, mostly empty region (millimetre grains at 1e6 m, a far ghost) costs
+// memory and time in proportion to the particles, never to the volume, and the members of
+// neighbouring cells of a row lie next to each other in memory. Within a grid, neighbour cells
+// are found by sweeping (grid_search.cpp); a grid that smaller particles search also gets a table
+// from cell key to cell (find()): a plain array over the scene's box of cells when that box has
+// at most kDenseFactor cells per occupied cell (large particles packed in a compact region: the
+// usual case), else a hash table sized by the occupied cells, never by the volume.
 //
 // Rounding. Cell coordinates are computed in floating point, so two centres at exactly the reach
 // could land two cells apart. The edge is therefore enlarged by a relative slack that bounds the
 // rounding of (x - x0) / edge over the whole scene (a few ulps times the number of cells across),
-// which makes the neighbour-cell rule exact for every pair withinReach() accepts.
+// which makes the neighbour-cell rule exact for every pair withinReach() accepts; query boxes get
+// the same slack.
 #pragma once
 
 #include <cstdint>
@@ -30,55 +34,102 @@ struct Item {
   double x, y, z, r;
 };
 
+/// What a pair needs besides the geometry: its canonical order and whether it counts.
+struct Meta {
+  Uid uid;
+  std::int32_t index;  // local index into the SphereSet
+  std::uint8_t active;
+};
+
+/// Appends the pair (a, b), lower uid first, if one of them is active. The order is picked
+/// without a branch: which uid is lower is a coin toss the branch predictor would lose.
+inline void emitPair(const Meta& a, const Meta& b, std::vector<CandidatePair>& out) {
+  if ((a.active | b.active) == 0) return;
+  const bool a_first = a.uid < b.uid;
+  out.push_back({a_first ? a.index : b.index, a_first ? b.index : a.index});
+}
+
 struct CellKey {
   std::int64_t x, y, z;
   friend bool operator==(const CellKey&, const CellKey&) = default;
 };
 
-/// Cells of one edge over a subset of a SphereSet.
+/// floor() to an integer, inline (std::floor is a library call without SSE4.1); |v| < 2^63.
+inline std::int64_t floorToInt(double v) {
+  const auto t = static_cast<std::int64_t>(v);  // truncates towards zero
+  return t - static_cast<std::int64_t>(v < static_cast<double>(t));
+}
+
+/// (z, y, x) lexicographic order: the order cells are stored in.
+inline bool cellBefore(const CellKey& a, const CellKey& b) {
+  if (a.z != b.z) return a.z < b.z;
+  if (a.y != b.y) return a.y < b.y;
+  return a.x < b.x;
+}
+
+/// A dense lookup array may have this many entries per occupied cell.
+inline constexpr double kDenseFactor = 8.0;
+
+/// Cells of one edge over the bounds of a whole SphereSet.
 class CellGrid {
  public:
   struct Cell {
     CellKey key;
-    std::int32_t begin, end;  // range in items() / index()
+    std::int32_t begin, end;  // range in items() / meta()
   };
 
   /// Puts `members` (indices into `spheres`) into cells of edge >= `reach`, the largest distance
   /// at which two members, or a member and a query, can form a pair. `bounds` are those of the
-  /// whole set, so that every centre of the set maps with the same arithmetic. Reuses storage.
+  /// whole set, so that every centre of the set maps with the same arithmetic. With `lookup`,
+  /// also builds the table behind find(). Reuses storage.
   void build(const SphereSet& spheres, std::span<const std::int32_t> members, double reach,
-             const SceneBounds& bounds);
+             const SceneBounds& bounds, bool lookup);
 
   double edge() const { return edge_; }
   std::span<const Item> items() const { return items_; }
-  std::span<const std::int32_t> index() const { return index_; }
+  std::span<const Meta> meta() const { return meta_; }
   std::span<const Cell> cells() const { return cells_; }
-  /// Largest radius among the members (0 for an empty grid).
+  /// Largest and smallest radius among the members (0 for an empty grid).
   double maxRadius() const { return max_radius_; }
+  double minRadius() const { return min_radius_; }
 
-  /// The cell holding the key, or -1 if it is empty.
+  /// The cell with this key, or -1 if it is empty. Needs build(..., lookup = true).
   std::int32_t find(const CellKey& key) const {
+    if (dense_) {
+      if (key.x < -1 || key.x > nx_ - 2 || key.y < -1 || key.y > ny_ - 2 || key.z < -1 ||
+          key.z > nz_ - 2) {
+        return -1;
+      }
+      return table_[static_cast<std::size_t>(packed(key))];
+    }
     for (std::uint64_t slot = hash(key) & mask_;; slot = (slot + 1) & mask_) {
-      const Slot& s = table_[slot];
-      if (s.cell < 0) return -1;
-      if (s.key == key) return s.cell;
+      const std::int32_t cell = table_[slot];
+      if (cell < 0 || cells_[cell].key == key) return cell;
     }
   }
+
+  /// Whether find() uses the array over the box of cells (else the hash table).
+  bool denseLookup() const { return dense_; }
 
   /// The key of the cell a centre falls in.
   CellKey keyOf(double x, double y, double z) const {
     return {coord(x - origin_.x()), coord(y - origin_.y()), coord(z - origin_.z())};
   }
 
-  /// The keys of all cells that can hold a member within `h` of the point (x, y, z), as a box
-  /// [lo, hi]. Conservative by the same rounding slack as the edge.
-  void boxAround(double x, double y, double z, double h, CellKey& lo, CellKey& hi) const;
+  /// The keys of all cells that can hold a member within `h` of some point of the box
+  /// [lo_point, hi_point], as a box of keys [lo, hi]. Conservative by the rounding slack.
+  void keysAround(const Vec3& lo_point, const Vec3& hi_point, double h, CellKey& lo,
+                  CellKey& hi) const {
+    const double span = h * inv_edge_ * (1.0 + 1e-12) + slack_;
+    lo = {floorToInt((lo_point.x() - origin_.x()) * inv_edge_ - span),
+          floorToInt((lo_point.y() - origin_.y()) * inv_edge_ - span),
+          floorToInt((lo_point.z() - origin_.z()) * inv_edge_ - span)};
+    hi = {floorToInt((hi_point.x() - origin_.x()) * inv_edge_ + span),
+          floorToInt((hi_point.y() - origin_.y()) * inv_edge_ + span),
+          floorToInt((hi_point.z() - origin_.z()) * inv_edge_ + span)};
+  }
 
  private:
-  struct Slot {
-    CellKey key;
-    std::int32_t cell;
-  };
   static std::uint64_t hash(const CellKey& k) {
     std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9E3779B97F4A7C15ull +
                       static_cast<std::uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full +
@@ -87,20 +138,34 @@ class CellGrid {
     h *= 0xD6E8FEB86659FD93ull;
     return h ^ (h >> 32);
   }
-  std::int64_t coord(double offset) const;
-  std::int32_t findOrInsert(const CellKey& key);
+  std::int64_t coord(double offset) const { return floorToInt(offset * inv_edge_); }
+  /// The cell's index in the padded box of cells, in (z, y, x) order.
+  std::int64_t packed(const CellKey& key) const {
+    return (key.x + 1) + nx_ * ((key.y + 1) + ny_ * (key.z + 1));
+  }
+  void sortMembers(const SphereSet& spheres, std::span<const std::int32_t> members);
+  void buildLookup();
 
   Vec3 origin_ = Vec3::Zero();
   double edge_ = 1.0;
   double inv_edge_ = 1.0;
   double slack_ = 0.0;  // cells
   double max_radius_ = 0.0;
-  std::uint64_t mask_ = 0;
-  std::vector<Slot> table_;
-  std::vector<Cell> cells_;
-  std::vector<std::int32_t> cell_of_;  // per member, during build
+  double min_radius_ = 0.0;
+  // The scene's box of cells, padded by one cell on each side, for the packed sort key.
+  std::int64_t nx_ = 0, ny_ = 0, nz_ = 0;
+  double box_cells_ = 0.0;
+  int key_bits_ = 0;  // 0: the box is too large to pack; sort by comparing keys instead
   std::vector<Item> items_;
-  std::vector<std::int32_t> index_;
+  std::vector<Meta> meta_;
+  std::vector<Cell> cells_;
+  bool dense_ = false;               // table_ is indexed by packed(key), else by hash slot
+  std::vector<std::int32_t> table_;  // -> cell, -1 empty
+  std::uint64_t mask_ = 0;
+  // Sort scratch.
+  std::vector<std::uint64_t> keys_, keys_tmp_;
+  std::vector<std::int32_t> order_, order_tmp_;
+  std::vector<CellKey> cell_keys_;
 };
 
 }  // namespace polydem::broadphase::detail

@@ -81,7 +81,7 @@ double LevelPlanner::levelCost(double n, double d, double below_r, double below_
   if (n <= static_cast<double>(kDirectMax)) return kLevelCost + 0.5 * n * (n - 1.0) + below_n * n;
   const double edge = cell_factor * (2.0 * d + margin);
   const double per_cell = std::min(n, n * edge * edge * edge / volume);
-  const double within = 13.5 * n * per_cell + kLookupCost * 13.0 * n / std::max(per_cell, 1.0);
+  const double within = 13.5 * n * per_cell + kLookupCost * 5.0 * n / std::max(per_cell, 1.0);
   // A smaller particle's reach box has width 2 (r + d + margin): 1 + width / edge cells a side.
   const double side = 1.0 + 2.0 * (below_r + d + margin) / edge;
   const double across = side * side * side * (kLookupCost + per_cell);

@@ -12,9 +12,10 @@
 //  * the plan minimises the expected number of sphere tests plus cell look-ups (each costed as
 //    kLookupCost tests) over all runs of bins, by dynamic programming over the bins:
 //      level with n members of largest radius d, cell edge l = 2d + margin, mean members per
-//      cell o = n l^3 / V (V: the smaller of the centres' box and the spheres' packed volume),
-//      pairs inside the level 13.5 n o, NBS look-ups 13 per occupied cell, and for every smaller
-//      particle one reach box of about 8 cells: 8 look-ups and 8 o tests;
+//      cell o = n l^3 / V (V: the smaller of the centres' box and the spheres' packed volume);
+//      pairs inside the level: 13.5 n o tests (own and 13 neighbour cells), 5 row look-ups per
+//      occupied cell; for every smaller particle (largest radius r): the s^3 cells around it,
+//      s = 1 + 2 (r + d + margin) / l (about 2 for r << d), each a look-up and o tests;
 //      a level of at most kDirectMax members is searched directly: n^2/2 and n per smaller one;
 //      each level also costs kLevelCost (building its grid);
 //  * levels with no members never exist, so a lone huge boundary block becomes a level of one,

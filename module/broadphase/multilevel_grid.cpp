@@ -2,8 +2,6 @@
 
 #include <algorithm>
 
-#include "broadphase/grid_search.h"
-
 namespace polydem::broadphase {
 
 MultiLevelGrid::MultiLevelGrid(const BroadPhaseParams& params) : params_(params) {
@@ -37,21 +35,23 @@ void MultiLevelGrid::findPairs(const SphereSet& spheres, double margin,
   for (int k = 0; k < levels; ++k) {
     const std::span<const std::int32_t> members(members_.data() + level_start_[k],
                                                 static_cast<std::size_t>(info_[k].count));
+    const bool searched_by_smaller = k + 1 < levels && info_[k].count > detail::kDirectMax;
     grids_[k].build(spheres, members, params_.cell_factor * (2.0 * info_[k].max_radius + margin),
-                    bounds);
+                    bounds, searched_by_smaller);
   }
   for (int k = 0; k < levels; ++k) {
     const bool direct = info_[k].count <= detail::kDirectMax;
     if (direct) {
-      detail::searchWithinDirect(grids_[k], spheres, margin, out);
+      detail::searchWithinDirect(grids_[k], margin, out);
     } else {
-      detail::searchWithin(grids_[k], spheres, margin, out);
+      detail::searchWithin(grids_[k], margin, out);
     }
+    // Zhao step k: every smaller group searched in group k's cells.
     for (int j = k + 1; j < levels; ++j) {
       if (direct) {
-        detail::searchAcrossDirect(grids_[k], grids_[j], spheres, margin, out);
+        detail::searchAcrossDirect(grids_[k], grids_[j], margin, out);
       } else {
-        detail::searchAcross(grids_[k], grids_[j], spheres, margin, out, ranges_);
+        detail::searchAcross(grids_[k], grids_[j], margin, out, across_);
       }
     }
   }

@@ -6,17 +6,20 @@
 // remaining group elements"). Every pair is found once, in the grid of its larger member.
 //
 // Cost: each particle is tested against the members of its own group near it and, for each larger
-// group, against the members of the 2 x 2 x 2 cells (of that group's size) around it; neither
-// depends on how many particles there are, so the search is linear in N for any size mix.
+// group k, against the members of group k that can reach the box of its own cell (found in the
+// 2 x 2 x 2 or so cells of group k's size around that cell, then culled by one box test per cell
+// of small particles); neither depends on how many particles there are, so the search is linear
+// in N for any size mix.
+//
 // Buffers (grids, member lists, the level plan) are kept between calls: once warm, a call with a
 // similar scene allocates nothing except when `out` must grow.
 #pragma once
 
-#include <utility>
 #include <vector>
 
 #include "broadphase/broad_phase.h"
 #include "broadphase/cell_grid.h"
+#include "broadphase/grid_search.h"
 #include "broadphase/level_plan.h"
 
 namespace polydem::broadphase {
@@ -44,7 +47,7 @@ class MultiLevelGrid final : public BroadPhase {
   std::vector<std::int32_t> level_start_;
   std::vector<std::int32_t> members_;
   std::vector<detail::CellGrid> grids_;
-  std::vector<std::pair<std::int32_t, std::int32_t>> ranges_;
+  detail::AcrossScratch across_;
   std::vector<LevelInfo> info_;
 };
 

@@ -15,8 +15,9 @@ void NbsGrid::findPairs(const SphereSet& spheres, double margin, std::vector<Can
   const detail::SceneBounds bounds = detail::checkAndBound(spheres, margin);
   all_.resize(spheres.centers.size());
   std::iota(all_.begin(), all_.end(), 0);
-  grid_.build(spheres, all_, params_.cell_factor * (2.0 * bounds.max_radius + margin), bounds);
-  detail::searchWithin(grid_, spheres, margin, out);
+  grid_.build(spheres, all_, params_.cell_factor * (2.0 * bounds.max_radius + margin), bounds,
+              false);
+  detail::searchWithin(grid_, margin, out);
 }
 
 }  // namespace polydem::broadphase

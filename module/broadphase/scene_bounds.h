@@ -20,15 +20,4 @@ SceneBounds checkAndBound(const SphereSet& spheres, double margin);
 /// Throws polydem::Error if `params` are out of range (see BroadPhaseParams).
 void checkParams(const BroadPhaseParams& params);
 
-/// Appends the pair (a, b) in canonical order if one member is active.
-inline void emitPair(const SphereSet& s, std::int32_t a, std::int32_t b,
-                     std::vector<CandidatePair>& out) {
-  if ((s.active[a] | s.active[b]) == 0) return;
-  if (s.uids[a] < s.uids[b]) {
-    out.push_back({a, b});
-  } else {
-    out.push_back({b, a});
-  }
-}
-
 }  // namespace polydem::broadphase::detail

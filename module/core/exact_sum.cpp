@@ -91,6 +91,20 @@ void ExactSum::allreduce(MPI_Comm comm) {
   normalize();
 }
 
+ExactSum::Digits ExactSum::digits() const {
+  ExactSum copy = *this;
+  copy.normalize();
+  return copy.digit_;
+}
+
+ExactSum ExactSum::fromDigits(const Digits& digits) {
+  ExactSum s;
+  s.digit_ = digits;
+  s.pending_ = 1;
+  s.normalize();
+  return s;
+}
+
 double exactSum(std::span<const double> values) {
   ExactSum sum;
   for (double v : values) sum.add(v);

@@ -31,8 +31,13 @@ class ExactSum {
   /// Replaces this sum by the sum over all ranks of `comm` (collective).
   void allreduce(MPI_Comm comm);
 
- private:
   static constexpr int kDigits = 67;  // 67 * 32 bits cover the whole double range plus carries
+  using Digits = std::array<std::int64_t, kDigits>;
+  /// The exact state, normalised (for checkpoints: a restarted sum continues with the same bits).
+  Digits digits() const;
+  static ExactSum fromDigits(const Digits& digits);
+
+ private:
   void normalize();
 
   std::array<std::int64_t, kDigits> digit_{};

@@ -17,6 +17,9 @@ std::string cat(const Args&... args) {
   return out.str();
 }
 
+/// A number for people to read: 6 significant digits ("0.205391", "1.7e-09").
+std::string num(double x);
+
 /// Joins strings with a separator: join({"a","b"}, ", ") == "a, b".
 std::string join(const std::vector<std::string>& parts, std::string_view sep);
 

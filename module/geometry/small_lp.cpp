@@ -14,6 +14,9 @@
 // constant to choose and nothing depends on the scale. At the end, a box row still carrying a
 // positive multiplier means the objective falls without bound as M grows (unbounded); a violated
 // row that no basis row can make room for (no positive ratio-test candidate) proves infeasibility.
+// A warm start replaces the box rows by a given basis of real rows that is already dual feasible
+// (say the optimal basis of the previous time step): its vertex has no M part, and when the rows
+// have moved only a little it is optimal as it stands or a pivot or two away.
 //
 // Degeneracy (many rows through one vertex, zero multipliers) cannot make the method cycle: the
 // most violated row (Dantzig's rule) is taken while pivots make progress, and after a run of
@@ -27,6 +30,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "core/error.h"
@@ -49,8 +53,9 @@ constexpr double kDualTol = 1e-12;
 constexpr int kStackRows = 64;
 
 /// The working copy of the rows, structure of arrays: rows scaled to unit length (the feasible
-/// set does not change, and excesses become distances, comparable between rows), zero rows
-/// dropped, the four box rows appended.
+/// set does not change, and excesses become distances, comparable between rows), the four box
+/// rows appended. Row j is the caller's row j; a zero row (0 <= b with b >= 0) stays as a zero
+/// row that is never violated and so never enters a basis.
 class RowTable {
  public:
   /// Returns false when a zero row reads 0 <= b < 0 (the problem is infeasible).
@@ -58,6 +63,7 @@ class RowTable {
             const std::array<double, 4>& sign);
 
   int rows() const { return m_; }  // real rows; box row k has index rows() + k
+  bool isZero(int j) const { return zero_[j] != 0; }
   double maxAbsB() const { return max_abs_b_; }
   Vec4 row(int j) const { return Vec4(a_[0][j], a_[1][j], a_[2][j], a_[3][j]); }
   double b0(int j) const { return b0_[j]; }  // right-hand side, real part
@@ -73,21 +79,37 @@ class RowTable {
   }
 
   std::array<double, kArrays*(kStackRows + 4)> stack_;
-  std::vector<double> heap_;
+  std::array<std::uint8_t, kStackRows + 4> zero_stack_;
   std::array<double*, 4> a_{};
+  std::uint8_t* zero_ = nullptr;
   double* b0_ = nullptr;
   double* b1_ = nullptr;
   int m_ = 0;
   double max_abs_b_ = 0.0;
 };
 
+// Problems above kStackRows rows use a per-thread buffer that grows once and is then reused, so
+// that even they allocate nothing once warm (polydem runs one thread per MPI rank).
+struct HeapRows {
+  std::vector<double> values;
+  std::vector<std::uint8_t> zero;
+};
+HeapRows& heapRows() {
+  thread_local HeapRows heap;
+  return heap;
+}
+
 bool RowTable::load(std::span<const Vec4> rows, std::span<const double> b,
                     const std::array<double, 4>& sign) {
   const std::size_t stride = rows.size() + 4;
   double* base = stack_.data();
+  std::uint8_t* zero = zero_stack_.data();
   if (rows.size() > static_cast<std::size_t>(kStackRows)) {
-    heap_.resize(kArrays * stride);
-    base = heap_.data();
+    HeapRows& heap = heapRows();
+    if (heap.values.size() < kArrays * stride) heap.values.resize(kArrays * stride);
+    if (heap.zero.size() < stride) heap.zero.resize(stride);
+    base = heap.values.data();
+    zero = heap.zero.data();
   }
   double* a0 = base;
   double* a1 = base + stride;
@@ -95,37 +117,41 @@ bool RowTable::load(std::span<const Vec4> rows, std::span<const double> b,
   double* a3 = base + 3 * stride;
   double* b0 = base + 4 * stride;
   double* b1 = base + 5 * stride;
-  int m = 0;
+  const int m = static_cast<int>(rows.size());
   double max_abs_b = 0.0;
-  for (std::size_t i = 0; i < rows.size(); ++i) {
+  for (int i = 0; i < m; ++i) {
     const Vec4& a = rows[i];
     const double norm = a.norm();
     if (!std::isfinite(norm + b[i])) {
       throw GeometryError(cat("solveSmallLp: row ", i, " is not finite"));
     }
-    if (norm == 0.0) {
+    b1[i] = 0.0;
+    zero[i] = norm == 0.0 ? 1 : 0;
+    if (zero[i]) {
       if (b[i] < 0.0) return false;
+      a0[i] = a1[i] = a2[i] = a3[i] = 0.0;
+      b0[i] = b[i];
       continue;
     }
     const double scale = 1.0 / norm;
-    a0[m] = a[0] * scale;
-    a1[m] = a[1] * scale;
-    a2[m] = a[2] * scale;
-    a3[m] = a[3] * scale;
-    b0[m] = b[i] * scale;
-    b1[m] = 0.0;
-    max_abs_b = std::max(max_abs_b, std::abs(b0[m]));
-    ++m;
+    a0[i] = a[0] * scale;
+    a1[i] = a[1] * scale;
+    a2[i] = a[2] * scale;
+    a3[i] = a[3] * scale;
+    b0[i] = b[i] * scale;
+    max_abs_b = std::max(max_abs_b, std::abs(b0[i]));
   }
   a_ = {a0, a1, a2, a3};
   b0_ = b0;
   b1_ = b1;
+  zero_ = zero;
   m_ = m;
   max_abs_b_ = max_abs_b;
   for (int k = 0; k < 4; ++k) {  // box row k: sign_k z_k <= M
     for (int i = 0; i < 4; ++i) a_[i][m + k] = i == k ? sign[k] : 0.0;
     b0[m + k] = 0.0;
     b1[m + k] = 1.0;
+    zero[m + k] = 0;
   }
   return true;
 }
@@ -133,7 +159,9 @@ bool RowTable::load(std::span<const Vec4> rows, std::span<const double> b,
 class DualSimplex {
  public:
   DualSimplex(const Vec4& c, const SmallLpOptions& options);
-  SmallLpResult solve(std::span<const Vec4> rows, std::span<const double> b);
+  /// `warm` is null for a cold start, else four row indices to try first.
+  SmallLpResult solve(std::span<const Vec4> rows, std::span<const double> b,
+                      const std::array<int, 4>* warm);
 
  private:
   bool isBox(int j) const { return j >= m_; }
@@ -146,6 +174,8 @@ class DualSimplex {
   int ratioTest(const Vec4& alpha, bool bland) const;
   void pivot(int r, int l, const Vec4& alpha);
   void refactor();
+  void startCold();
+  bool startWarm(const std::array<int, 4>& rows);
   SmallLpResult finish();
 
   SmallLpOptions options_;
@@ -294,14 +324,8 @@ void DualSimplex::refactor() {
   for (int i = 0; i < 4; ++i) y_[i] = y[i] > zero ? y[i] : 0.0;
 }
 
-SmallLpResult DualSimplex::solve(std::span<const Vec4> rows, std::span<const double> b) {
-  if (b.size() != rows.size()) {
-    throw Error(cat("solveSmallLp: ", rows.size(), " rows but ", b.size(), " right-hand sides"));
-  }
-  SmallLpResult result;
-  result.status = Status::kInfeasible;
-  if (!table_.load(rows, b, sign_)) return result;
-  m_ = table_.rows();
+// The artificial start: the four box rows, dual feasible for any c.
+void DualSimplex::startCold() {
   inv_.setZero();
   for (int k = 0; k < 4; ++k) {
     basis_[k] = m_ + k;
@@ -310,6 +334,53 @@ SmallLpResult DualSimplex::solve(std::span<const Vec4> rows, std::span<const dou
   }
   b0_.setZero();
   b1_.setOnes();
+  boxes_ = 4;
+}
+
+// A given basis of real rows: usable when they are distinct non-zero rows, A_B is well
+// conditioned (the rows have unit length, so |det A_B| >= kWarmDet bounds the smallest singular
+// value from below by kWarmDet / 8) and the multipliers y = -A_B^-T c are >= 0 up to rounding.
+bool DualSimplex::startWarm(const std::array<int, 4>& rows) {
+  constexpr double kWarmDet = 1e-8;
+  for (int i = 0; i < 4; ++i) {
+    if (rows[i] < 0 || rows[i] >= m_ || table_.isZero(rows[i])) return false;
+    for (int k = 0; k < i; ++k) {
+      if (rows[k] == rows[i]) return false;
+    }
+  }
+  Mat4 a_b;
+  for (int i = 0; i < 4; ++i) a_b.row(i) = table_.row(rows[i]).transpose();
+  Mat4 inv;
+  double det = 0.0;
+  bool invertible = false;
+  a_b.computeInverseAndDetWithCheck(inv, det, invertible, kWarmDet);
+  if (!invertible || !inv.allFinite()) return false;
+  const Vec4 y = -(inv.transpose() * c_);
+  const double zero = kDualTol * c_norm_;
+  for (int i = 0; i < 4; ++i) {
+    if (y[i] < -zero) return false;
+  }
+  inv_ = inv;
+  for (int i = 0; i < 4; ++i) {
+    basis_[i] = rows[i];
+    y_[i] = y[i] > zero ? y[i] : 0.0;
+    b0_[i] = table_.b0(rows[i]);
+    b1_[i] = 0.0;
+  }
+  boxes_ = 0;
+  return true;
+}
+
+SmallLpResult DualSimplex::solve(std::span<const Vec4> rows, std::span<const double> b,
+                                 const std::array<int, 4>* warm) {
+  if (b.size() != rows.size()) {
+    throw Error(cat("solveSmallLp: ", rows.size(), " rows but ", b.size(), " right-hand sides"));
+  }
+  SmallLpResult result;
+  result.status = Status::kInfeasible;
+  if (!table_.load(rows, b, sign_)) return result;
+  m_ = table_.rows();
+  if (warm == nullptr || !startWarm(*warm)) startCold();
 
   const int max_pivots = 64 * (m_ + 4);
   int degenerate_run = 0, since_refactor = 0, pivots = 0;
@@ -371,6 +442,10 @@ SmallLpResult DualSimplex::finish() {
   result.status = Status::kOptimal;
   result.z = z;
   result.objective = c_.dot(z);
+  for (int i = 0; i < 4; ++i) {
+    result.basis[i] = isBox(basis_[i]) ? -1 : basis_[i];
+    result.multipliers[i] = y_[i];
+  }
   return result;
 }
 
@@ -378,11 +453,16 @@ SmallLpResult DualSimplex::finish() {
 
 SmallLpResult solveSmallLp(std::span<const Vec4> rows, std::span<const double> b, const Vec4& c,
                            const SmallLpOptions& options) {
-  return DualSimplex(c, options).solve(rows, b);
+  return DualSimplex(c, options).solve(rows, b, nullptr);
 }
 
 SmallLpResult solveSmallLp(std::span<const Vec4> rows, std::span<const double> b, const Vec4& c) {
   return solveSmallLp(rows, b, c, SmallLpOptions{});
+}
+
+SmallLpResult solveSmallLp(std::span<const Vec4> rows, std::span<const double> b, const Vec4& c,
+                           const std::array<int, 4>& basis, const SmallLpOptions& options) {
+  return DualSimplex(c, options).solve(rows, b, &basis);
 }
 
 }  // namespace polydem::geometry

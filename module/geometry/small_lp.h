@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <span>
 
 namespace polydem::geometry {
@@ -21,12 +22,18 @@ struct SmallLpResult {
   Vec4 z = Vec4::Zero();  // the minimiser, when optimal
   double objective = 0.0;
   int iterations = 0;
+  /// When optimal: the optimal basis, as the caller's indices of the four rows whose planes meet
+  /// at z (-1 for an artificial box row of the solver: the optimum is then not a vertex of the
+  /// rows), and their multipliers y >= 0 with -c = sum_k y_k rows[basis[k]] (the dual solution,
+  /// rows taken at unit length: y_k multiplies rows[basis[k]] / |rows[basis[k]]|).
+  std::array<int, 4> basis{-1, -1, -1, -1};
+  Vec4 multipliers = Vec4::Zero();
 };
 
 /// Minimises c.z subject to rows[i].z <= b[i] for all i. Deterministic (no randomisation).
 /// Rows are scaled to unit length internally and tolerances are relative to the problem's size,
 /// so the same problem in other units gives the same answer in those units. No heap allocation
-/// up to 64 rows.
+/// up to 64 rows; above, a per-thread buffer grows once and is reused.
 SmallLpResult solveSmallLp(std::span<const Vec4> rows, std::span<const double> b, const Vec4& c);
 
 /// The solver's anti-cycling and refactoring rules. The defaults suit every use in polydem; tests
@@ -37,5 +44,15 @@ struct SmallLpOptions {
 };
 SmallLpResult solveSmallLp(std::span<const Vec4> rows, std::span<const double> b, const Vec4& c,
                            const SmallLpOptions& options);
+
+/// Warm start: starts the dual simplex from `basis`, four row indices (typically the optimal
+/// basis of a nearby problem, e.g. the same rows moved a little since the last time step). The
+/// basis is used when its rows are distinct, well conditioned (|det| >= 1e-8 at unit length) and
+/// dual feasible for this problem (multipliers >= 0); a vertex that violates rows is then a few
+/// pivots from the optimum. Otherwise (or with a -1 entry) the solve starts cold. The answer is
+/// the cold solve's up to the choice among several optimal vertices.
+SmallLpResult solveSmallLp(std::span<const Vec4> rows, std::span<const double> b, const Vec4& c,
+                           const std::array<int, 4>& basis,
+                           const SmallLpOptions& options = SmallLpOptions{});
 
 }  // namespace polydem::geometry

@@ -61,7 +61,8 @@ struct DomainSpec {
   std::optional<std::array<int, 3>> blocks;  // default: chosen from the rank count
   std::array<bool, 3> periodic{false, false, false};
   std::int64_t rebalance_every = 0;  // steps; 0 = never
-  std::string balancer = "metis";    // "metis" | "sfc"
+  std::string balancer = "metis";    // "metis" | "sfc" | "cyclic" (round robin: borders everywhere,
+                                     // to stress communication in tests)
 };
 
 /// The initial-equilibrium stage of 3DEC and Keissar section 3.3: heavy local damping and a

@@ -200,7 +200,7 @@ void readDomain(const Context& ctx, const toml::table& root, Scene& scene) {
     s->fail("periodic", "a periodic axis needs the domain's min and max");
   }
   d.rebalance_every = s->integer("rebalance_every", 0, Range::kNonNegative);
-  d.balancer = s->choice("balancer", {"metis", "sfc"}, d.balancer);
+  d.balancer = s->choice("balancer", {"metis", "sfc", "cyclic"}, d.balancer);
 }
 
 void readEquilibrium(const Context& ctx, const toml::table& root, Scene& scene) {

@@ -63,10 +63,10 @@ void printChecks(const std::vector<io::CheckResult>& checks) {
   if (checks.empty()) return;
   log::info("checks:");
   for (const auto& c : checks) {
-    log::info(cat("  ", c.pass ? "PASS " : "FAIL ", c.name, ": ", c.value, " (", c.compare, " ",
-                  c.expected, c.compare == "abs" || c.compare == "rel" ? cat(" +- ", c.tolerance)
-                                                                        : std::string(),
-                  ")", c.note.empty() ? "" : "  [" + c.note + "]"));
+    const bool tol = c.compare == "abs" || c.compare == "rel";
+    log::info(cat("  ", c.pass ? "PASS " : "FAIL ", c.name, ": ", num(c.value), " (", c.compare,
+                  " ", num(c.expected), tol ? " +- " + num(c.tolerance) : std::string(), ")",
+                  c.note.empty() ? "" : "  [" + c.note + "]"));
   }
 }
 
@@ -145,7 +145,7 @@ RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const auto timing = sim.loop().timing().reduce(comm);
   log::info(cat("finished: ", timeloop::toString(reason), " after ", result.steps,
-                " steps, t = ", result.time, " s, ", result.wall_seconds, " s wall"));
+                " steps, t = ", num(result.time), " s, ", num(result.wall_seconds), " s wall"));
   log::info(TimingPool::table(timing, result.steps));
   printChecks(result.checks);
   log::info("state hash " + result.hash.hex());

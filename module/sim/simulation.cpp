@@ -7,6 +7,7 @@
 #include "core/logging.h"
 #include "core/mpi_env.h"
 #include "core/strings.h"
+#include "domain/partition.h"
 #include "domain/rebalance.h"
 #include "dynamics/driver.h"
 #include "dynamics/integrator.h"
@@ -105,6 +106,7 @@ void Simulation::integrate() {
 void Simulation::communicate() {
   const std::int64_t next_step = loop_.step() + 1;
   exchange_stats_ = exchange_.migrate(*forest_, storage_, history_, next_step);
+  migrated_histories_ += exchange_stats_.histories_received;
   if (scene_.domain.rebalance_every > 0 && next_step % scene_.domain.rebalance_every == 0) {
     rebalance();
   }
@@ -120,12 +122,19 @@ void Simulation::rebalance() {
     if (!storage_[i].isFree()) continue;
     weights[forest_->blockOf(storage_[i].position)] += 1.0;
   }
-  const auto method = scene_.domain.balancer == "sfc" ? domain::PartitionMethod::kSfc
-                                                      : domain::PartitionMethod::kMetis;
-  const auto report = domain::rebalance(*forest_, weights, comm_, method);
+  std::vector<double> global(weights.size());
+  MPI_Allreduce(weights.data(), global.data(), static_cast<int>(weights.size()), MPI_DOUBLE,
+                MPI_SUM, comm_);
+  const double before = domain::imbalance(forest_->rankMap(), global, ranks_);
+  const auto old_map = forest_->rankMap();
+  forest_->setRankMap(rankMap(weights), ranks_);
+  int blocks_moved = 0;
+  for (int b = 0; b < forest_->numBlocks(); ++b) blocks_moved += old_map[b] != forest_->rankOfBlock(b);
+  const double after = domain::imbalance(forest_->rankMap(), global, ranks_);
   const auto moved = exchange_.migrate(*forest_, storage_, history_, loop_.step());
-  log::info(cat("rebalanced at step ", loop_.step(), ": imbalance ", report.imbalance_before,
-                " -> ", report.imbalance_after, ", ", report.blocks_moved, " blocks and ",
+  migrated_histories_ += moved.histories_received;
+  log::info(cat("rebalanced at step ", loop_.step(), ": imbalance ", num(before), " -> ",
+                num(after), ", ", blocks_moved, " blocks and ",
                 mpi::allreduceSum(moved.particles_sent, comm_), " particles moved"));
 }
 

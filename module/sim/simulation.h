@@ -79,6 +79,8 @@ class Simulation {
   const ContactPhase& contacts() const { return contact_phase_; }
   const ContactPhaseStats& contactStats() const { return contact_stats_; }
   const comm::ExchangeStats& exchangeStats() const { return exchange_stats_; }
+  /// Pair histories this rank received with migrating particles since the start.
+  std::int64_t migratedHistories() const { return migrated_histories_; }
   timeloop::TimeLoop& loop() { return loop_; }
   const timeloop::TimeLoop& loop() const { return loop_; }
   const contact::Kernel& kernel() const { return *kernel_; }
@@ -100,6 +102,7 @@ class Simulation {
   double suggestedTimeStep() const { return suggested_dt_; }
 
  private:
+  std::vector<int> rankMap(std::span<const double> weights) const;
   void buildTables();
   void buildDomain();
   void placeParticles();
@@ -144,6 +147,7 @@ class Simulation {
   ContactPhase contact_phase_;
   ContactPhaseStats contact_stats_;
   comm::ExchangeStats exchange_stats_;
+  std::int64_t migrated_histories_ = 0;
   std::vector<dynamics::ForceAccumulator> forces_;  // parallel to storage_ during a step only
   dynamics::ForceRatio ratio_local_;  // this rank's share of Keissar eq. 3.2, last contact phase
   std::vector<broadphase::CandidatePair> candidates_;

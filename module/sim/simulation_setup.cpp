@@ -107,22 +107,34 @@ void Simulation::buildDomain() {
   const auto counts = scene_.domain.blocks ? *scene_.domain.blocks
                                            : domain::chooseBlockCounts(box, ranks_, 8);
   forest_ = std::make_unique<domain::BlockForest>(box, counts, scene_.domain.periodic);
+  // Every rank checks (so that all of them stop on an error); rank 0 alone counts the weights.
   std::vector<double> weights(forest_->numBlocks(), 0.0);
-  if (rank_ == 0) {
-    for (const auto& p : scene_.particles) {
-      if (p.fixed || p.driver >= 0) continue;
-      const int b = forest_->blockOf(p.position + p.orientation * shape_frames_[p.shape].centroid);
-      if (b < 0) {
-        throw InputError(scene_.file, p.line,
-                         cat("particle ", p.uid, (p.label.empty() ? "" : " '" + p.label + "'"),
-                             " lies outside the [domain] box"));
-      }
-      weights[b] += 1.0;
+  for (const auto& p : scene_.particles) {
+    if (p.fixed || p.driver >= 0) continue;
+    const int b = forest_->blockOf(p.position + p.orientation * shape_frames_[p.shape].centroid);
+    if (b < 0) {
+      throw InputError(scene_.file, p.line,
+                       cat("particle ", p.uid, (p.label.empty() ? "" : " '" + p.label + "'"),
+                           " lies outside the [domain] box"));
     }
+    if (rank_ == 0) weights[b] += 1.0;
+  }
+  forest_->setRankMap(rankMap(weights), ranks_);
+}
+
+std::vector<int> Simulation::rankMap(std::span<const double> weights) const {
+  if (scene_.domain.balancer == "cyclic") {
+    if (forest_->numBlocks() < ranks_) {
+      throw InputError(scene_.file, 0, cat("[domain] has ", forest_->numBlocks(),
+                                           " blocks for ", ranks_, " ranks"));
+    }
+    std::vector<int> map(forest_->numBlocks());
+    for (int b = 0; b < forest_->numBlocks(); ++b) map[b] = b % ranks_;
+    return map;
   }
   const auto method = scene_.domain.balancer == "sfc" ? domain::PartitionMethod::kSfc
                                                       : domain::PartitionMethod::kMetis;
-  forest_->setRankMap(domain::computeRankMap(*forest_, weights, comm_, method), ranks_);
+  return domain::computeRankMap(*forest_, weights, comm_, method);
 }
 
 void Simulation::placeParticles() {

@@ -61,9 +61,14 @@ void TimeLoop::setTimeStep(double dt) {
 }
 
 void TimeLoop::restore(std::int64_t step, double time) {
+  ExactSum t;
+  t.add(time);
+  restore(step, t);
+}
+
+void TimeLoop::restore(std::int64_t step, const ExactSum& time) {
   step_ = step;
-  time_ = ExactSum();
-  time_.add(time);
+  time_ = time;
   time_value_ = time_.value();
 }
 

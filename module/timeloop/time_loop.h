@@ -50,8 +50,11 @@ class TimeLoop {
   /// so 10 steps of 0.1 give t = 1 exactly and no drift accumulates over millions of steps.
   std::int64_t step() const { return step_; }
   double time() const { return time_value_; }
-  /// Sets step and time, e.g. after reading a checkpoint.
+  /// Sets step and time, e.g. after reading a checkpoint. Give the exact sum (exactTime()) to
+  /// continue with the same bits as a run that never stopped.
   void restore(std::int64_t step, double time);
+  void restore(std::int64_t step, const ExactSum& time);
+  const ExactSum& exactTime() const { return time_; }
 
   // ---- stop conditions -----------------------------------------------------------------------
   // Checked after every step, in this order, the first that holds being the reason reported;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "broadphase/overlap.h"
@@ -42,7 +43,7 @@ TEST(CellGrid, RoundingNeverSplitsAPairAcrossTwoCells) {
       s.finish(1);
       const std::vector<std::int32_t> all = {0, 1};
       CellGrid grid;
-      grid.build(s.view(), all, 2 * r, boundsOf(s));
+      grid.build(s.view(), all, 2 * r, boundsOf(s), false);
       const double edge = grid.edge();
       EXPECT_GE(edge, 2 * r);
       EXPECT_LE(edge, 2 * r * (1 + 1e-9));
@@ -55,7 +56,7 @@ TEST(CellGrid, RoundingNeverSplitsAPairAcrossTwoCells) {
       probe.finish(2);
       std::vector<std::int32_t> members(probe.centers.size());
       for (std::size_t i = 0; i < members.size(); ++i) members[i] = static_cast<std::int32_t>(i);
-      grid.build(probe.view(), members, 2 * r, boundsOf(probe));
+      grid.build(probe.view(), members, 2 * r, boundsOf(probe), false);
       ASSERT_EQ(grid.edge(), edge);  // same extent, same edge
       const double small = 0.1 * r;
       for (std::size_t i = 2; i < probe.centers.size(); ++i) {
@@ -69,7 +70,7 @@ TEST(CellGrid, RoundingNeverSplitsAPairAcrossTwoCells) {
         for (const double q : {p.x() + r + small, p.x() - r - small}) {
           if (!withinReach(p.x(), 0, 0, r, q, 0, 0, small, 0.0)) continue;
           CellKey lo, hi;
-          grid.boxAround(q, 0, 0, small + grid.maxRadius(), lo, hi);
+          grid.keysAround(Vec3(q, 0, 0), Vec3(q, 0, 0), small + grid.maxRadius(), lo, hi);
           EXPECT_TRUE(lo.x <= key.x && key.x <= hi.x) << "query box misses " << p.x();
         }
       }
@@ -77,26 +78,94 @@ TEST(CellGrid, RoundingNeverSplitsAPairAcrossTwoCells) {
   }
 }
 
-TEST(CellGrid, MembersAreGroupedByCell) {
-  const testing::Scene s = testing::randomScene({.n = 2000, .size_ratio = 5.0, .seed = 4});
-  std::vector<std::int32_t> members;
-  for (std::int32_t i = 0; i < 2000; i += 2) members.push_back(i);
-  CellGrid grid;
-  grid.build(s.view(), members, 1.0, boundsOf(s));
-  std::size_t total = 0;
-  for (std::size_t c = 0; c < grid.cells().size(); ++c) {
-    const CellGrid::Cell& cell = grid.cells()[c];
-    EXPECT_EQ(grid.find(cell.key), static_cast<std::int32_t>(c));
-    for (std::int32_t k = cell.begin; k < cell.end; ++k) {
-      const Vec3& centre = s.centers[grid.index()[k]];
-      EXPECT_EQ(grid.keyOf(centre.x(), centre.y(), centre.z()), cell.key);
-      EXPECT_EQ(grid.items()[k].r, s.radii[grid.index()[k]]);
-      EXPECT_EQ(grid.index()[k] % 2, 0);
+// Checks that the grid holds exactly `members`, each in the cell of its centre, cells in
+// strictly increasing (z, y, x) order, members of a cell in input order (the sort is stable),
+// and, with a lookup table, that find() gives every cell.
+void expectSortedByCell(const CellGrid& grid, const testing::Scene& s,
+                        std::vector<std::int32_t> members, bool lookup) {
+  std::vector<std::int32_t> seen;
+  const auto cells = grid.cells();
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const auto& cell = cells[c];
+    EXPECT_LT(cell.begin, cell.end);
+    if (c > 0) {
+      EXPECT_TRUE(detail::cellBefore(cells[c - 1].key, cell.key));
+      EXPECT_EQ(cells[c - 1].end, cell.begin);
     }
-    total += cell.end - cell.begin;
+    if (lookup) {
+      EXPECT_EQ(grid.find(cell.key), static_cast<std::int32_t>(c));
+    }
+    for (std::int32_t k = cell.begin; k < cell.end; ++k) {
+      const detail::Meta& meta = grid.meta()[k];
+      const Vec3& centre = s.centers[meta.index];
+      EXPECT_EQ(grid.keyOf(centre.x(), centre.y(), centre.z()), cell.key);
+      EXPECT_EQ(grid.items()[k].x, centre.x());
+      EXPECT_EQ(grid.items()[k].r, s.radii[meta.index]);
+      EXPECT_EQ(meta.uid, s.uids[meta.index]);
+      EXPECT_EQ(meta.active, s.active[meta.index]);
+      if (k > cell.begin) {
+        EXPECT_LT(grid.meta()[k - 1].index, meta.index);
+      }
+      seen.push_back(meta.index);
+    }
   }
-  EXPECT_EQ(total, members.size());
-  EXPECT_EQ(grid.find({-5, -5, -5}), -1);
+  std::sort(seen.begin(), seen.end());
+  std::sort(members.begin(), members.end());
+  EXPECT_EQ(seen, members);
+}
+
+TEST(CellGrid, MembersAreSortedByCell) {
+  for (const double offset : {0.0, 1e6}) {
+    const testing::Scene s = testing::randomScene({.n = 3000,
+                                                   .size_ratio = 5.0,
+                                                   .inactive_fraction = 0.3,
+                                                   .offset = Vec3::Constant(offset),
+                                                   .seed = 4});
+    std::vector<std::int32_t> even;
+    for (std::int32_t i = 0; i < 3000; i += 2) even.push_back(i);
+    // Small cells in a large box: hashed look-up; cells of the spheres' size: an array.
+    for (const double reach : {1.0, 20.0}) {
+      CellGrid grid;
+      grid.build(s.view(), even, reach, boundsOf(s), true);
+      EXPECT_EQ(grid.denseLookup(), reach > 1.0);
+      expectSortedByCell(grid, s, even, true);
+      EXPECT_EQ(grid.find({-5, -5, -5}), -1);
+      EXPECT_EQ(grid.find({1000000, 0, 0}), -1);
+      EXPECT_EQ(grid.find({0, 1000000, -1}), -1);
+    }
+  }
+}
+
+// Two clusters 1e4 cells apart: the lookup is a hash table, not an array over the empty box.
+TEST(CellGrid, ClustersFarApart) {
+  testing::Scene s = testing::randomScene({.n = 500, .solid_fraction = 0.3, .seed = 6});
+  testing::Scene far = testing::randomScene(
+      {.n = 500, .solid_fraction = 0.3, .offset = Vec3::Constant(2e4), .seed = 7});
+  for (std::size_t i = 0; i < far.centers.size(); ++i) s.add(far.centers[i], far.radii[i]);
+  s.finish(8);
+  std::vector<std::int32_t> all(s.centers.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::int32_t>(i);
+  CellGrid grid;
+  grid.build(s.view(), all, 2.0, boundsOf(s), true);
+  EXPECT_FALSE(grid.denseLookup());
+  expectSortedByCell(grid, s, all, true);
+  EXPECT_EQ(grid.find({5000, 5000, 5000}), -1);
+}
+
+// A scene spanning more than 2^62 cells is sorted by comparing keys instead of packing them.
+TEST(CellGrid, HugeSparseExtent) {
+  testing::Scene s;
+  std::vector<std::int32_t> members;
+  for (int i = 0; i < 200; ++i) {
+    s.add(Vec3(1e-9 * (i % 7), 1e-9 * (i % 5), 1e-9 * (i % 3)) + Vec3::Constant(i < 100 ? 0 : 1e9),
+          1e-9);
+    members.push_back(i);
+  }
+  s.finish(3);
+  CellGrid grid;
+  grid.build(s.view(), members, 2e-9, boundsOf(s), true);
+  EXPECT_LT(grid.edge(), 1e-3);  // cells stay small: no dense array over the extent
+  expectSortedByCell(grid, s, members, true);
 }
 
 }  // namespace

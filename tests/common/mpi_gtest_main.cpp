@@ -8,6 +8,9 @@
 int main(int argc, char** argv) {
   polydem::mpi::Environment env(argc, argv);
   ::testing::InitGoogleTest(&argc, argv);
+  // On several ranks an exception on one rank would leave the others waiting in a collective
+  // forever; letting it escape ends this process, and mpiexec then ends the whole job at once.
+  if (polydem::mpi::size() > 1) ::testing::GTEST_FLAG(catch_exceptions) = false;
   if (polydem::mpi::rank() != 0) {
     auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
     delete listeners.Release(listeners.default_result_printer());

@@ -1,6 +1,8 @@
 // solveSmallLp against GLPK's exact (rational) simplex on thousands of random instances, and on
 // the two problems polydem solves with it: the Chebyshev centre of a polyhedron and the
-// potential-block overlap test of Boon et al. (2012).
+// potential-block overlap test of Boon et al. (2012) (instances built from the faces of random
+// polyhedron pairs, overlapping and apart); the optimal basis and multipliers it reports, and
+// warm starts from a nearby problem's basis.
 #include "geometry/small_lp.h"
 
 #include <glpk.h>
@@ -17,6 +19,8 @@
 #include <vector>
 
 #include "core/error.h"
+#include "geometry/convex_polyhedron.h"
+#include "geometry/shapes.h"
 
 // Counts operator new calls, to check that the solver allocates nothing. GCC cannot tell that
 // these replacements pair malloc with free themselves, hence the pragma.
@@ -93,6 +97,10 @@ Reference solveWithGlpk(const Lp& lp, bool exact) {
   glp_smcp parm;
   glp_init_smcp(&parm);
   parm.msg_lev = GLP_MSG_OFF;
+  // GLPK's default primal and dual tolerances (1e-7) let its optimum violate the rows of thin
+  // polyhedra by ~5e-8 and undercut the true optimum by as much; ask for round-off.
+  parm.tol_bnd = 1e-12;
+  parm.tol_dj = 1e-12;
   if (glp_simplex(p, &parm) != 0) ADD_FAILURE() << "glp_simplex failed";
   if (exact && glp_exact(p, &parm) != 0) ADD_FAILURE() << "glp_exact failed";
   Reference ref;
@@ -160,6 +168,27 @@ double worstRelativeExcess(const Lp& lp, const Vec4& z) {
   return worst;
 }
 
+// The optimal basis and multipliers: y >= 0, -c = sum_k y_k rows[basis[k]] / |rows[basis[k]]|
+// over the real rows in the basis (box rows carry y = 0 at an optimum), and every real basis row
+// active at z (complementary slackness).
+void checkBasis(const Lp& lp, const SmallLpResult& got, const std::string& label) {
+  const double size = problemSize(lp, got.z);
+  Vec4 combination = Vec4::Zero();
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_GE(got.multipliers[k], 0.0) << label;
+    const int j = got.basis[k];
+    if (j < 0) {
+      EXPECT_EQ(got.multipliers[k], 0.0) << label;
+      continue;
+    }
+    ASSERT_LT(j, static_cast<int>(lp.rows.size())) << label;
+    const double norm = lp.rows[j].norm();
+    combination += got.multipliers[k] * lp.rows[j] / norm;
+    EXPECT_NEAR(lp.rows[j].dot(got.z), lp.b[j], 1e-9 * norm * size) << label << describe(lp);
+  }
+  EXPECT_LE((combination + lp.c).norm(), 1e-9 * lp.c.norm()) << label << describe(lp);
+}
+
 // The default rules, Bland's rule from the first pivot, and a fresh basis inverse at every pivot:
 // every instance checks the anti-cycling and refactoring paths too.
 const SmallLpOptions kOptionSets[] = {{}, {.bland_after = 0}, {.refactor_every = 1}};
@@ -175,9 +204,12 @@ Status checkAgainstGlpk(const Lp& lp, bool exact, const std::string& what) {
     EXPECT_EQ(name(got.status), std::string(name(ref.status))) << label << describe(lp);
     if (got.status == Status::kOptimal && ref.status == Status::kOptimal) {
       const double scale = lp.c.norm() * problemSize(lp, ref.z);
-      EXPECT_NEAR(got.objective, ref.objective, 1e-9 * scale) << label << describe(lp);
+      EXPECT_NEAR(got.objective, ref.objective, 1e-9 * scale)
+          << label << " excess: GLPK " << worstRelativeExcess(lp, ref.z) << ", ours "
+          << worstRelativeExcess(lp, got.z) << describe(lp);
       EXPECT_NEAR(got.objective, lp.c.dot(got.z), 1e-12 * scale) << label;
       EXPECT_LE(worstRelativeExcess(lp, got.z), 1e-9) << label << describe(lp);
+      checkBasis(lp, got, label);
     }
   }
   return ref.status;
@@ -456,18 +488,25 @@ TEST(SmallLp, EdgeCases) {
   EXPECT_THROW(lp.solve(), GeometryError);
 }
 
-TEST(SmallLp, DeterministicAndAllocationFreeUpTo64Rows) {
+TEST(SmallLp, DeterministicAndAllocationFreeOnceWarm) {
+  // Up to 64 rows nothing is allocated; above, a per-thread buffer grows on the first solve of
+  // that size and is reused after.
   std::mt19937_64 rng(7);
   for (int m : {12, 64, 65, 200}) {
     Lp lp;
     addPolytopeAround(lp, rng, gaussian(rng), 0.3, m, false);
     lp.c = gaussian(rng);
-    const long before = g_allocations.load();
+    long before = g_allocations.load();
     const SmallLpResult first = lp.solve();
-    const SmallLpResult second = lp.solve();
     if (m <= 64) {
       EXPECT_EQ(g_allocations.load(), before) << m << " rows";
     }
+    before = g_allocations.load();
+    const SmallLpResult second = lp.solve();
+    EXPECT_EQ(g_allocations.load(), before) << m << " rows";
+    const SmallLpResult warm = solveSmallLp(lp.rows, lp.b, lp.c, first.basis);
+    EXPECT_EQ(g_allocations.load(), before) << m << " rows";
+    EXPECT_EQ(warm.iterations, 0);
     EXPECT_EQ(first.status, Status::kOptimal) << m << " rows";
     EXPECT_EQ(first.status, second.status);
     EXPECT_EQ(first.iterations, second.iterations);
@@ -557,6 +596,162 @@ TEST(SmallLp, PotentialBlockOverlapOfTwoCubes) {
     checkCubePair(Eigen::Vector3d(-0.1, 0.0, 1.0), scale);  // touching faces: s* = 0
     checkCubePair(Eigen::Vector3d(1.0, 1.0, 1.0), scale);   // touching corners: s* = 0
   }
+}
+
+// Boon et al.'s overlap LP for the faces of two placed polyhedra: minimise s s.t.
+// a_i . x - s <= d_i, with A at the origin and B moved by (R, t).
+Lp contactLp(const ConvexPolyhedron& a, const ConvexPolyhedron& b, const Mat3& r, const Vec3& t) {
+  Lp lp;
+  for (const Face& f : a.faces())
+    lp.add(Vec4(f.normal.x(), f.normal.y(), f.normal.z(), -1.0), f.offset);
+  for (const Face& f : b.faces()) {
+    const Vec3 n = r * f.normal;
+    lp.add(Vec4(n.x(), n.y(), n.z(), -1.0), f.offset + n.dot(t));
+  }
+  lp.c = Vec4(0, 0, 0, 1);
+  return lp;
+}
+
+Mat3 randomRotation(std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
+}
+
+// Random convex polyhedra with 8-40 vertices; `thin` ones are plates (one semi-axis 1e-3..1e-2 of
+// the others) or rods (two).
+ConvexPolyhedron randomPolyhedron(std::mt19937_64& rng, std::uint64_t seed, bool thin = false) {
+  Vec3 axes(uniform(rng, 0.3, 1.0), uniform(rng, 0.3, 1.0), uniform(rng, 0.3, 1.0));
+  if (thin) {
+    axes[seed % 3] *= uniform(rng, 1e-3, 1e-2);
+    if (seed % 2 == 0) axes[(seed + 1) % 3] *= uniform(rng, 1e-3, 1e-2);
+  }
+  return ConvexPolyhedron::fromPoints(
+      shapes::randomConvex(uniformInt(rng, 8, 40), seed, axes, 0.2));
+}
+
+TEST(SmallLpVsGlpk, ContactShapedInstances) {
+  // Two random polyhedra (8-40 vertices; a quarter of them plates or rods 1e-3..1e-2 thin) at
+  // distances from deep overlap to well apart, and axis-aligned boxes in face contact (many rows
+  // through the optimum, optimal faces).
+  std::mt19937_64 rng(9);
+  int overlapping = 0, apart = 0;
+  for (int n = 0; n < 800; ++n) {
+    const ConvexPolyhedron a = randomPolyhedron(rng, 1000 + n, n % 4 == 1);
+    const ConvexPolyhedron b = randomPolyhedron(rng, 5000 + n, n % 4 == 2);
+    const Vec3 t = unitVector(rng).head<3>().normalized() * uniform(rng, 0.0, 2.5);
+    const Lp lp = contactLp(a, b, randomRotation(rng), t);
+    ASSERT_EQ(checkAgainstGlpk(lp, false, "contact " + std::to_string(n)), Status::kOptimal);
+    (lp.solve().objective < 0.0 ? overlapping : apart) += 1;
+  }
+  EXPECT_GT(overlapping, 150);
+  EXPECT_GT(apart, 150);
+  const ConvexPolyhedron cube = ConvexPolyhedron::fromPoints(shapes::cube(1.0));
+  for (int n = 0; n < 200; ++n) {
+    // Face on face with a lateral offset, depth from 0.2 to -0.2 (apart), on the grid 1/64.
+    const Vec3 t(uniformInt(rng, -48, 48) / 64.0, uniformInt(rng, -48, 48) / 64.0,
+                 1.0 - uniformInt(rng, -13, 13) / 64.0);
+    EXPECT_EQ(checkAgainstGlpk(contactLp(cube, cube, Mat3::Identity(), t), true,
+                               "face-face " + std::to_string(n)),
+              Status::kOptimal);
+  }
+}
+
+TEST(SmallLp, WarmStartFromANearbyBasis) {
+  // The optimal basis of a pair, offered to the same pair moved a little (a time step): the
+  // same answer as a cold solve, in fewer pivots on average; from its own basis, no pivot.
+  std::mt19937_64 rng(10);
+  long cold_pivots = 0, warm_pivots = 0;
+  for (int n = 0; n < 400; ++n) {
+    const ConvexPolyhedron a = randomPolyhedron(rng, 9000 + n);
+    const ConvexPolyhedron b = randomPolyhedron(rng, 9500 + n);
+    const Mat3 r = randomRotation(rng);
+    const Vec3 t = unitVector(rng).head<3>().normalized() * uniform(rng, 0.2, 2.0);
+    const Lp before = contactLp(a, b, r, t);
+    const SmallLpResult first = before.solve();
+    ASSERT_EQ(first.status, Status::kOptimal);
+    const SmallLpResult again = solveSmallLp(before.rows, before.b, before.c, first.basis);
+    EXPECT_EQ(again.iterations, 0) << n;
+    EXPECT_NEAR(again.objective, first.objective, 1e-12 * problemSize(before, first.z)) << n;
+
+    const Mat3 turn = Eigen::AngleAxisd(1e-3, unitVector(rng).head<3>().normalized()).matrix();
+    const Lp after = contactLp(a, b, turn * r, t + 1e-3 * unitVector(rng).head<3>());
+    const Reference ref = solveWithGlpk(after, false);
+    ASSERT_EQ(ref.status, Status::kOptimal);
+    for (const SmallLpOptions& options : kOptionSets) {
+      const SmallLpResult warm = solveSmallLp(after.rows, after.b, after.c, first.basis, options);
+      ASSERT_EQ(warm.status, Status::kOptimal) << n;
+      EXPECT_NEAR(warm.objective, ref.objective, 1e-9 * problemSize(after, ref.z)) << n;
+      EXPECT_LE(worstRelativeExcess(after, warm.z), 1e-9) << n;
+      checkBasis(after, warm, "warm " + std::to_string(n));
+    }
+    cold_pivots += after.solve().iterations;
+    warm_pivots += solveSmallLp(after.rows, after.b, after.c, first.basis).iterations;
+  }
+  EXPECT_LT(warm_pivots * 4, cold_pivots);
+}
+
+TEST(SmallLp, UnusableWarmBasesFallBackToColdStarts) {
+  std::mt19937_64 rng(11);
+  for (int n = 0; n < 300; ++n) {
+    Lp lp;
+    addPolytopeAround(lp, rng, gaussian(rng), 0.3, uniformInt(rng, 6, 30), false);
+    lp.add(Vec4::Zero(), 1.0);  // a zero row: index m-1, never usable in a basis
+    lp.c = gaussian(rng);
+    const int m = static_cast<int>(lp.rows.size());
+    const SmallLpResult cold = lp.solve();
+    std::array<int, 4> basis{};
+    switch (n % 5) {
+      case 0:  // out of range
+        basis = {0, 1, 2, m};
+        break;
+      case 1:  // an artificial row
+        basis = {-1, 0, 1, 2};
+        break;
+      case 2:  // a repeated row
+        basis = {0, 1, 1, 2};
+        break;
+      case 3:  // the zero row
+        basis = {0, 1, 2, m - 1};
+        break;
+      default:  // random rows: mostly not dual feasible
+        for (int& j : basis) j = uniformInt(rng, 0, m - 2);
+        break;
+    }
+    const SmallLpResult warm = solveSmallLp(lp.rows, lp.b, lp.c, basis);
+    ASSERT_EQ(warm.status, cold.status) << n;
+    if (cold.status != Status::kOptimal) continue;
+    EXPECT_NEAR(warm.objective, cold.objective, 1e-9 * lp.c.norm() * problemSize(lp, cold.z));
+    checkBasis(lp, warm, "fallback " + std::to_string(n));
+  }
+  // Two rows that are the same plane (a singular basis) must not be taken.
+  Lp box;
+  for (int k = 0; k < 4; ++k) {
+    box.add(Vec4::Unit(k), 1.0);
+    box.add(-Vec4::Unit(k), 1.0);
+  }
+  box.add(2.0 * Vec4::Unit(0), 2.0);  // row 8 = row 0 scaled
+  box.c = -Vec4::Ones();
+  const SmallLpResult r = solveSmallLp(box.rows, box.b, box.c, {0, 8, 2, 4});
+  ASSERT_EQ(r.status, Status::kOptimal);
+  EXPECT_NEAR(r.objective, -4.0, 1e-14);
+}
+
+TEST(SmallLp, ZeroRowsKeepTheCallersIndices) {
+  // Basis indices refer to the caller's rows even when zero rows come first.
+  Lp lp;
+  lp.add(Vec4::Zero(), 0.0);
+  lp.add(Vec4::Zero(), 3.0);
+  for (int k = 0; k < 4; ++k) {
+    lp.add(Vec4::Unit(k), 1.0);
+    lp.add(-Vec4::Unit(k), 1.0);
+  }
+  lp.c = Vec4(1, 2, -3, 4);
+  const SmallLpResult r = lp.solve();
+  ASSERT_EQ(r.status, Status::kOptimal);
+  std::array<int, 4> sorted = r.basis;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(sorted, (std::array<int, 4>{3, 5, 6, 9}));  // -z0, -z1, +z2, -z3 at the optimum
+  checkBasis(lp, r, "zero rows");
 }
 
 }  // namespace

@@ -1,0 +1,138 @@
+// The machinery shared by the potential kernels (distance-potential, fdem): the boundary integral
+// of Zhao eq. (3) over the overlap of two convex cells, each carrying a piecewise-linear potential
+//
+//     phi(x) = min over the cell's face planes i of d_i(x) / s_i,   d_i = inward distance to plane
+//     i,
+//
+// (distance potential, Zhao eq. 5: s_i = r, the inradius; FDEM, Zhao eq. 1 / Munjiza: one cell per
+// tetrahedron, s_i = H_i / 4). For cells A and B with overlap V and its outward normal n,
+//
+//     f_A = kn * integral over dV of n (phi_A - phi_B) dS                               (Zhao eq.
+//     3)
+//
+// On the part of dV on A's surface phi_A = 0 and n is A's face normal; on B's part phi_B = 0 and n
+// is B's face normal. So each face of A is clipped by B's planes (the part of A's surface inside
+// B), split by B's regions {phi_B = d_j / s_j} (Zhao steps 1-2, eqs. 6-8), and the linear phi_B
+// is integrated exactly over each piece by a fan of triangles (Zhao eqs. 9-12, 16-28: the integral
+// of a linear function over a triangle is its area times the mean of the corner values; the first
+// moment likewise); the same for B's faces inside A with phi_A.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "contact/contact.h"
+#include "core/types.h"
+#include "geometry/polygon_clip.h"
+
+namespace polydem::contact::potential {
+
+/// A face plane of a cell: inside is normal.x <= offset; its term of the potential is
+/// (offset - normal.x) * inv_scale (dimensionless).
+struct CellPlane {
+  Vec3 normal = Vec3::UnitZ();
+  double offset = 0.0;
+  double inv_scale = 0.0;
+  double term(const Vec3& x) const { return (offset - normal.dot(x)) * inv_scale; }
+};
+
+/// A face to integrate over: plane `plane`, corners loops[begin .. end) counter-clockwise seen
+/// from outside.
+struct CellFace {
+  int plane = 0;
+  int begin = 0, end = 0;
+};
+
+/// A convex cell. `planes` are all its planes (they bound it and define its potential); `faces`
+/// are the faces on the body's surface: faces shared by two cells of one body (FDEM's internal
+/// tetrahedron faces) are left out, since their two contributions cancel exactly.
+struct Cell {
+  std::span<const CellPlane> planes;
+  std::span<const Vec3> corners;
+  std::span<const int> loops;
+  std::span<const CellFace> faces;
+};
+
+/// Sums of the boundary integral over one or more cell pairs, in the frame the cells are given in.
+struct OverlapSums {
+  Vec3 force = Vec3::Zero();   // integral of n (phi_A - phi_B) dS, m^2 (times kn: N on A)
+  Vec3 moment = Vec3::Zero();  // integral of x cross n (phi_A - phi_B) dS about the origin, m^3
+  double phi_integral = 0.0;   // integral of (phi_A + phi_B) dS over the boundary pieces, m^2
+  double area = 0.0;           // area of the boundary pieces, m^2
+  // The largest boundary piece's plane (to tell a flat overlap, touching faces, from a solid one).
+  double largest_piece = 0.0;
+  Vec3 largest_normal = Vec3::UnitZ();
+  double largest_offset = 0.0;
+};
+
+/// What one cell pair gave besides the sums.
+struct PairInfo {
+  bool found = false;    // some boundary piece with positive area
+  double bound_a = 0.0;  // an upper bound of phi_A over the overlap
+  double bound_b = 0.0;  // the same for phi_B
+};
+
+/// Integrates cell pairs. Holds reusable buffers: no allocation once they have grown.
+class OverlapIntegrator {
+ public:
+  /// Adds the overlap of `a` and `b` (the force is on A) to `sums`, appends the corners of its
+  /// boundary pieces to `corners`. Faces of either cell lying wholly outside the box [lo, hi]
+  /// (which must contain the overlap) are skipped, the others clipped by it first.
+  PairInfo add(const Cell& a, const Cell& b, const Vec3& lo, const Vec3& hi, OverlapSums& sums,
+               std::vector<Vec3>& corners);
+
+ private:
+  struct Piece {
+    int begin = 0, end = 0;  // corners in pool_
+    int plane = 0;           // the plane of its own cell it lies on
+    bool on_a = true;
+  };
+  // The planes of `cell` that cut the box [lo, hi]; false if one excludes the whole box.
+  static bool activePlanes(const Cell& cell, const Vec3& lo, const Vec3& hi,
+                           std::vector<int>& active);
+  void clipFaces(const Cell& own, const Cell& other, const std::vector<int>& other_active,
+                 bool on_a, const Vec3& lo, const Vec3& hi);
+  // Candidates of `cell`: planes whose term can be the minimum somewhere in the overlap.
+  double selectCandidates(const Cell& cell, std::vector<int>& candidates);
+  // Integral of phi_cell over the piece and its first moment.
+  void integratePiece(const Piece& piece, const Vec3& normal, const Cell& cell,
+                      const std::vector<int>& candidates, double& integral, Vec3& first_moment,
+                      double& area);
+
+  geometry::ConvexPolygonClipper clipper_;
+  std::vector<Vec3> pool_;
+  std::vector<Piece> pieces_;
+  std::vector<int> candidates_a_, candidates_b_, active_a_, active_b_, cut_;
+  std::vector<double> values_, distance_;
+  std::vector<char> known_;
+};
+
+/// The integral of a linear function over a convex polygon (corners in order, counter-clockwise
+/// about `normal`) given by its corner values, and its first moment (Zhao eqs. 23-25 in vector
+/// form): a fan of triangles, each adding area * mean value and area/12 * (sum g_i x_i +
+/// (sum g_i)(sum x_i)).
+void integrateLinear(std::span<const Vec3> corners, std::span<const double> values,
+                     const Vec3& normal, double& integral, Vec3& first_moment, double& area);
+
+/// The full result of a potential kernel for one pair, in world coordinates.
+struct PotentialResult {
+  Contact contact;
+  Vec3 force = Vec3::Zero();   // integral of n (phi_A - phi_B) dS, m^2 (times the penalty: N)
+  Vec3 moment = Vec3::Zero();  // its moment about the contact point, m^3
+  double torsion = 0.0;        // moment.normal: the couple about the line of action, which the
+                               // Contact (a force at a point) cannot carry
+  double bound_a = 0.0, bound_b = 0.0;  // upper bounds of phi_A, phi_B over the overlap
+};
+
+/// Turns the sums of a pair into the Contact (Zhao eq. 29 generalised): normal = force direction,
+/// potential = |force|, point = the point of the line of action half way across the overlap's
+/// extent along the normal, depth = that extent. `origin` is the world point the cells' frame is
+/// centred on, `length_scale` the pair's size (tolerances), `fallback_normal` the direction used
+/// when the force vanishes (identical or concentric bodies: status kDegenerate).
+PotentialResult finishContact(const OverlapSums& sums, std::span<const Vec3> corners,
+                              const Vec3& origin, double length_scale, const Vec3& fallback_normal);
+
+/// Axis-aligned box of world vertices.
+void boundingBox(std::span<const Vec3> points, Vec3& lo, Vec3& hi);
+
+}  // namespace polydem::contact::potential
