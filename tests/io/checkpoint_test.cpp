@@ -7,7 +7,10 @@
 #include <mpi.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "checkpoint_test_data.h"
 #include "core/mpi_env.h"
@@ -263,6 +266,38 @@ TEST_F(CheckpointRoundTrip, SummaryCountsAndEnergy) {
   EXPECT_NE(text.find("/particles/position [" + std::to_string(s.particles) + " x 3]"),
             std::string::npos)
       << text;
+}
+
+// Writes sample.h5 and what the C++ reader says about it (expected.json) for the Python check
+// (tests/io/checkpoint_summary_test.py); only when POLYDEM_CHECKPOINT_SAMPLE_DIR is set.
+TEST(CheckpointSample, WriteForPython) {
+  const char* dir = std::getenv("POLYDEM_CHECKPOINT_SAMPLE_DIR");
+  if (!dir) GTEST_SKIP() << "POLYDEM_CHECKPOINT_SAMPLE_DIR is not set";
+  if (mpi::rank() == 0) std::filesystem::create_directories(dir);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const std::filesystem::path path = std::filesystem::path(dir) / "sample.h5";
+  const Truth truth = makeTruth(300, 700, false, 7);
+  writeCheckpoint(path, shareOf(truth, mpi::rank(), mpi::size()), MPI_COMM_WORLD);
+  const CheckpointSummary s = verifyCheckpoint(path, MPI_COMM_WORLD);
+  if (mpi::rank() != 0) return;
+  auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); };
+  nlohmann::json j = {{"step", s.step},
+                      {"time", s.time},
+                      {"dt", s.dt},
+                      {"stage", toString(s.stage)},
+                      {"particles", s.particles},
+                      {"replicated_particles", s.replicated_particles},
+                      {"pairs", s.pairs},
+                      {"touching_pairs", s.touching_pairs},
+                      {"shapes", s.shapes},
+                      {"materials", s.materials},
+                      {"writer_ranks", s.writer_ranks},
+                      {"scene_hash", BitHasher::hex(s.scene_hash)},
+                      {"particles_lo", vec(s.particles_lo)},
+                      {"particles_hi", vec(s.particles_hi)},
+                      {"kinetic_energy", s.kinetic_energy}};
+  for (const auto& d : s.datasets) j["datasets"][d.name] = BitHasher::hex(d.checksum);
+  std::ofstream(std::filesystem::path(dir) / "expected.json") << j.dump(1) << "\n";
 }
 
 TEST(CheckpointShapes, MismatchNamesTheFirstDifference) {
