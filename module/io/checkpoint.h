@@ -104,11 +104,14 @@ struct CheckpointData {
   std::vector<particles::PairHistory> pair_histories;
 };
 
-/// Tuning of the parallel I/O; the defaults suit every file system polydem was tried on.
+/// Tuning of the parallel I/O.
 struct CheckpointIoOptions {
-  /// Largest transfer one rank makes in one H5Dwrite/H5Dread: larger slices are moved in several
-  /// collective rounds (MPI-IO counts are 32-bit).
-  std::size_t max_transfer_bytes = std::size_t{1} << 30;
+  /// Bytes of a table (all its columns) one rank moves per collective round: the particle and
+  /// pair tables are packed from their structs (and hashed) into buffers of this size, block by
+  /// cache-sized block, then written with one collective transfer per column; reading mirrors
+  /// it. Larger rounds mean fewer collective calls and more memory; every rank takes part in
+  /// every round (with no rows once it has none left).
+  std::size_t round_bytes = std::size_t{32} << 20;
 };
 
 /// Writes `data` to `path` (collective; see the top of this file). Throws CheckpointError on every

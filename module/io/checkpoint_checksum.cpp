@@ -1,7 +1,6 @@
 #include "io/checkpoint_checksum.h"
 
 #include <bit>
-#include <cstring>
 
 #include "core/error.h"
 #include "core/state_hash.h"
@@ -14,28 +13,39 @@ static_assert(std::endian::native == std::endian::little,
 
 namespace {
 
+// One loop per element size, written so that the compiler vectorises it. On x86-64 it is built
+// twice, for the baseline and for AVX2 (4 elements per instruction, about 1.5-2x faster), and the
+// loader picks the one the processor supports. Both compute the same integers, so the checksum
+// does not depend on which one ran.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define POLYDEM_CHECKSUM_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define POLYDEM_CHECKSUM_CLONES
+#endif
+
+// The buffers hold doubles and signed integers; they are read as their bit patterns through
+// types that may alias anything.
+using U64 = std::uint64_t __attribute__((may_alias));
+using U32 = std::uint32_t __attribute__((may_alias));
+
 template <typename U>
-std::uint64_t sumTerms(const void* data, std::size_t count, std::uint64_t first_index) {
-  const auto* bytes = static_cast<const unsigned char*>(data);
-  // Four independent accumulators and keys let the multiplications of neighbouring elements
-  // overlap; the sum is the same because addition mod 2^64 is associative.
-  std::uint64_t s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-  std::uint64_t key = (first_index + 1) * kChecksumGamma;
-  std::size_t i = 0;
-  auto term = [&](std::size_t k, std::uint64_t key_k) {
-    U u;
-    std::memcpy(&u, bytes + k * sizeof(U), sizeof(U));
-    return BitHasher::mix(static_cast<std::uint64_t>(u) + key_k);
-  };
-  for (; i + 4 <= count; i += 4) {
-    s0 += term(i, key);
-    s1 += term(i + 1, key + kChecksumGamma);
-    s2 += term(i + 2, key + 2 * kChecksumGamma);
-    s3 += term(i + 3, key + 3 * kChecksumGamma);
-    key += 4 * kChecksumGamma;
+std::uint64_t sumTerms(const U* values, std::size_t count, std::uint64_t first_index) {
+  std::uint64_t sum = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    sum += BitHasher::mix(static_cast<std::uint64_t>(values[i]) +
+                          (first_index + 1 + i) * kChecksumGamma);
   }
-  for (; i < count; ++i, key += kChecksumGamma) s0 += term(i, key);
-  return s0 + s1 + s2 + s3;
+  return sum;
+}
+
+POLYDEM_CHECKSUM_CLONES std::uint64_t sum8(const U64* v, std::size_t n, std::uint64_t first) {
+  return sumTerms(v, n, first);
+}
+POLYDEM_CHECKSUM_CLONES std::uint64_t sum4(const U32* v, std::size_t n, std::uint64_t first) {
+  return sumTerms(v, n, first);
+}
+std::uint64_t sum1(const std::uint8_t* v, std::size_t n, std::uint64_t first) {
+  return sumTerms(v, n, first);
 }
 
 }  // namespace
@@ -44,11 +54,11 @@ std::uint64_t checksumPartial(const void* data, std::size_t count, int element_s
                               std::uint64_t first_index) {
   switch (element_size) {
     case 1:
-      return sumTerms<std::uint8_t>(data, count, first_index);
+      return sum1(static_cast<const std::uint8_t*>(data), count, first_index);
     case 4:
-      return sumTerms<std::uint32_t>(data, count, first_index);
+      return sum4(static_cast<const U32*>(data), count, first_index);
     case 8:
-      return sumTerms<std::uint64_t>(data, count, first_index);
+      return sum8(static_cast<const U64*>(data), count, first_index);
     default:
       throw Error(cat("checksumPartial: element size ", element_size, " is not 1, 4 or 8"));
   }

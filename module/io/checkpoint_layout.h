@@ -2,6 +2,9 @@
 // the reader and docs/checkpoint.md follow (internal to io/).
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
+
 namespace polydem::io::layout {
 
 struct Dataset {
@@ -108,5 +111,12 @@ inline constexpr Dataset kWarmValid{"/contacts/warm_valid", "", "1 if the warm s
 inline constexpr Dataset kKernelReserved{"/contacts/kernel_reserved", "",
                                          "reserved word of the kernel state"};
 inline constexpr Dataset kTouching{"/contacts/touching", "", "1 if in contact at the last step"};
+
+// Bytes of one row of the particle and pair tables (all columns).
+inline constexpr std::size_t kParticleRowBytes = 8 + 4 * 4 + 13 * 8;  // uid, 4 ints, 13 doubles
+inline constexpr std::size_t kPairRowBytes = 2 * 8 + 12 * 8 + 3 * 4;  // pair, 4 vectors, 3 words
+
+/// Rows of a table packed (or unpacked) and hashed together, so that the block stays in cache.
+inline constexpr std::uint64_t kBlockRows = 4096;
 
 }  // namespace polydem::io::layout

@@ -15,6 +15,8 @@ namespace polydem::io {
 
 namespace {
 
+using particles::PairHistory;
+using particles::PairKey;
 using particles::Particle;
 
 bool sameBits(double a, double b) {
@@ -24,6 +26,28 @@ bool sameBits(double a, double b) {
 Vec3 vec3At(const std::vector<double>& v, std::size_t row) {
   return {v[3 * row], v[3 * row + 1], v[3 * row + 2]};
 }
+Vec3 vec3At(const double* v) {
+  return {v[0], v[1], v[2]};
+}
+
+/// One column of a table being read: its dataset and the buffer of one round.
+template <typename T>
+struct ReadColumn {
+  ReadColumn(h5::File& f, const layout::Dataset& d, std::uint64_t total, std::size_t cols_)
+      : dataset(f.open<T>(d.name, total, cols_)), cols(cols_) {}
+  const T* row(std::size_t i) const { return buffer.data() + i * cols; }
+  void read(std::uint64_t first_row, std::uint64_t rows) {
+    buffer.resize(rows * cols);
+    dataset.read(buffer.data(), first_row, rows);
+  }
+  void hash(std::size_t from, std::uint64_t count, std::uint64_t first_row) {
+    dataset.hash(row(from), first_row, count);
+  }
+
+  h5::Dataset dataset;
+  std::size_t cols;
+  std::vector<T> buffer;
+};
 
 class Reader {
  public:
@@ -55,7 +79,7 @@ class Reader {
 
   template <typename T>
   std::vector<T> table(const layout::Dataset& d, std::uint64_t n, std::size_t cols = 1) {
-    return f_.read<T>(d.name, cols, h5::wholeSlice(n));
+    return f_.readTable<T>(d.name, n, cols);
   }
 
   /// Offsets must start at 0, never decrease and end at `end` (the row count of what they index).
@@ -219,9 +243,31 @@ class Reader {
     d.rank_map.assign(map.begin(), map.end());
   }
 
-  template <typename T>
-  std::vector<T> particleField(const layout::Dataset& d, std::size_t cols) {
-    return f_.read<T>(d.name, cols, particle_slice_, replicated_);
+  /// Reads a table in collective rounds (few large transfers): every rank reads rows
+  /// [0, prefix) (replicated rows, counted in the checksums on rank 0 only), then its `slice`.
+  /// Each round is hashed and handed to unpack(from, count) (buffer rows [from, from + count),
+  /// which the caller appends) block by block, while each block is in cache.
+  template <typename Unpack, typename... Columns>
+  void stream(std::uint64_t prefix, const h5::Slice& slice, std::size_t row_bytes, Unpack unpack,
+              Columns&... columns) {
+    const bool rank0 = mpi::rank(comm_) == 0;
+    const std::size_t round_bytes = f_.options().round_bytes;
+    auto run = [&](const h5::Slice& part, bool hashed) {
+      const h5::Rounds rounds(part, row_bytes, round_bytes);
+      for (std::uint64_t k = 0; k < rounds.count; ++k) {
+        const std::uint64_t b = rounds.begin(k), e = rounds.end(k);
+        (columns.read(part.offset + b, e - b), ...);
+        for (std::uint64_t sb = b; sb < e; sb += layout::kBlockRows) {
+          const std::uint64_t se = std::min(e, sb + layout::kBlockRows);
+          if (hashed) (columns.hash(sb - b, se - sb, part.offset + sb), ...);
+          unpack(sb - b, se - sb);
+        }
+      }
+    };
+    run(h5::Slice{0, prefix, slice.total, prefix}, rank0);
+    run(slice, true);
+    h5::Dataset* all[] = {&columns.dataset...};
+    f_.finish(all);
   }
 
   void readParticles() {
@@ -232,45 +278,52 @@ class Reader {
           cat("/particles: replicated_count ", replicated_, " exceeds the ", n, " particles"));
     }
     const int rank = mpi::rank(comm_), ranks = mpi::size(comm_);
-    particle_slice_ = h5::readerSlice(n - replicated_, rank, ranks);
-    particle_slice_.offset += replicated_;
-    particle_slice_.total = n;
-    const auto uid = particleField<std::uint64_t>(layout::kUid, 1);
-    const auto shape = particleField<std::int32_t>(layout::kShape, 1);
-    const auto material = particleField<std::int32_t>(layout::kMaterial, 1);
-    const auto flags = particleField<std::uint32_t>(layout::kFlags, 1);
-    const auto driver = particleField<std::int32_t>(layout::kDriver, 1);
-    const auto position = particleField<double>(layout::kPosition, 3);
-    const auto orientation = particleField<double>(layout::kOrientation, 4);
-    const auto velocity = particleField<double>(layout::kVelocity, 3);
-    const auto angular_momentum = particleField<double>(layout::kAngularMomentum, 3);
+    h5::Slice slice = h5::readerSlice(n - replicated_, rank, ranks);
+    slice.offset += replicated_;
+    slice.total = n;
+    ReadColumn<std::uint64_t> uid(f_, layout::kUid, n, 1);
+    ReadColumn<std::int32_t> shape(f_, layout::kShape, n, 1);
+    ReadColumn<std::int32_t> material(f_, layout::kMaterial, n, 1);
+    ReadColumn<std::uint32_t> flags(f_, layout::kFlags, n, 1);
+    ReadColumn<std::int32_t> driver(f_, layout::kDriver, n, 1);
+    ReadColumn<double> position(f_, layout::kPosition, n, 3);
+    ReadColumn<double> orientation(f_, layout::kOrientation, n, 4);
+    ReadColumn<double> velocity(f_, layout::kVelocity, n, 3);
+    ReadColumn<double> momentum(f_, layout::kAngularMomentum, n, 3);
 
     std::optional<std::string> problem;
     const auto n_shapes = static_cast<std::int32_t>(d_.shapes.size());
     const auto n_materials = static_cast<std::int32_t>(d_.materials.size());
-    d_.particles.resize(uid.size());
-    for (std::size_t i = 0; i < uid.size(); ++i) {
-      Particle& p = d_.particles[i];
-      p.uid = uid[i];
-      p.shape = shape[i];
-      p.material = material[i];
-      p.flags = flags[i];
-      p.driver = driver[i];
-      p.position = vec3At(position, i);
-      const double* q = orientation.data() + 4 * i;
-      p.orientation = Quat(q[0], q[1], q[2], q[3]);
-      p.velocity = vec3At(velocity, i);
-      p.angular_momentum = vec3At(angular_momentum, i);
-      const bool should_be_global = i < replicated_;
-      if (problem) continue;
-      if (p.shape < 0 || p.shape >= n_shapes || p.material < 0 || p.material >= n_materials) {
-        problem = cat("particle uid ", p.uid, " has shape ", p.shape, " and material ", p.material,
-                      " but the tables have ", n_shapes, " and ", n_materials);
-      } else if (p.isGhost() || p.isGlobal() != should_be_global) {
-        problem = cat("particle uid ", p.uid, " has flags ", p.flags, " but is stored among the ",
-                      should_be_global ? "replicated" : "free", " particles");
+    // Reserved, then appended block by block (rows come in file order): every byte of the new
+    // memory is written once, without a zeroing pass first.
+    d_.particles.reserve(replicated_ + slice.rows);
+    auto unpack = [&](std::uint64_t from, std::uint64_t count) {
+      for (std::uint64_t i = from; i < from + count; ++i) {
+        const std::uint64_t at = d_.particles.size();
+        Particle& p = d_.particles.emplace_back();
+        p.uid = *uid.row(i);
+        p.shape = *shape.row(i);
+        p.material = *material.row(i);
+        p.flags = *flags.row(i);
+        p.driver = *driver.row(i);
+        p.position = vec3At(position.row(i));
+        const double* q = orientation.row(i);
+        p.orientation = Quat(q[0], q[1], q[2], q[3]);
+        p.velocity = vec3At(velocity.row(i));
+        p.angular_momentum = vec3At(momentum.row(i));
+        if (problem) continue;
+        const bool should_be_global = at < replicated_;
+        if (p.shape < 0 || p.shape >= n_shapes || p.material < 0 || p.material >= n_materials) {
+          problem = cat("particle uid ", p.uid, " has shape ", p.shape, " and material ",
+                        p.material, " but the tables have ", n_shapes, " and ", n_materials);
+        } else if (p.isGhost() || p.isGlobal() != should_be_global) {
+          problem = cat("particle uid ", p.uid, " has flags ", p.flags, " but is stored among the ",
+                        should_be_global ? "replicated" : "free", " particles");
+        }
       }
-    }
+    };
+    stream(replicated_, slice, layout::kParticleRowBytes, unpack, uid, shape, material, flags,
+           driver, position, orientation, velocity, momentum);
     if (problem) problem = f_.context("/particles: " + *problem + " (inconsistent data)");
     h5::agree(problem, comm_);
   }
@@ -278,40 +331,44 @@ class Reader {
   void readContacts() {
     const std::uint64_t m = rows(layout::kPair);
     const h5::Slice slice = h5::readerSlice(m, mpi::rank(comm_), mpi::size(comm_));
-    const auto pair = f_.read<std::uint64_t>(layout::kPair.name, 2, slice);
-    const auto shear = f_.read<double>(layout::kShearForce.name, 3, slice);
-    const auto normal = f_.read<double>(layout::kNormal.name, 3, slice);
-    const auto warm_direction = f_.read<double>(layout::kWarmDirection.name, 3, slice);
-    const auto warm_point = f_.read<double>(layout::kWarmPoint.name, 3, slice);
-    const auto warm_valid = f_.read<std::uint32_t>(layout::kWarmValid.name, 1, slice);
-    const auto reserved = f_.read<std::uint32_t>(layout::kKernelReserved.name, 1, slice);
-    const auto touching = f_.read<std::uint32_t>(layout::kTouching.name, 1, slice);
+    ReadColumn<std::uint64_t> pair(f_, layout::kPair, m, 2);
+    ReadColumn<double> shear(f_, layout::kShearForce, m, 3);
+    ReadColumn<double> normal(f_, layout::kNormal, m, 3);
+    ReadColumn<double> warm_direction(f_, layout::kWarmDirection, m, 3);
+    ReadColumn<double> warm_point(f_, layout::kWarmPoint, m, 3);
+    ReadColumn<std::uint32_t> warm_valid(f_, layout::kWarmValid, m, 1);
+    ReadColumn<std::uint32_t> reserved(f_, layout::kKernelReserved, m, 1);
+    ReadColumn<std::uint32_t> touching(f_, layout::kTouching, m, 1);
     std::optional<std::string> problem;
-    d_.pair_keys.resize(slice.rows);
-    d_.pair_histories.resize(slice.rows);
-    for (std::size_t i = 0; i < slice.rows; ++i) {
-      auto& key = d_.pair_keys[i];
-      key = {pair[2 * i], pair[2 * i + 1]};
-      if (!(key.lo < key.hi) && !problem) {
-        problem = f_.context(cat(layout::kPair.name, ": row ", slice.offset + i, " (", key.lo, ", ",
-                                 key.hi, ") is not ordered lo < hi (inconsistent data)"));
+    d_.pair_keys.reserve(slice.rows);
+    d_.pair_histories.reserve(slice.rows);
+    auto unpack = [&](std::uint64_t from, std::uint64_t count) {
+      for (std::uint64_t i = from; i < from + count; ++i) {
+        const std::uint64_t at = d_.pair_keys.size();
+        const PairKey& key = d_.pair_keys.emplace_back(PairKey{pair.row(i)[0], pair.row(i)[1]});
+        if (!(key.lo < key.hi) && !problem) {
+          problem =
+              f_.context(cat(layout::kPair.name, ": row ", slice.offset + at + i, " (", key.lo,
+                             ", ", key.hi, ") is not ordered lo < hi (inconsistent data)"));
+        }
+        PairHistory& h = d_.pair_histories.emplace_back();
+        h.shear_force = vec3At(shear.row(i));
+        h.normal = vec3At(normal.row(i));
+        h.kernel.warm_direction = vec3At(warm_direction.row(i));
+        h.kernel.warm_point = vec3At(warm_point.row(i));
+        h.kernel.warm_valid = *warm_valid.row(i);
+        h.kernel.reserved = *reserved.row(i);
+        h.touching = *touching.row(i);
       }
-      auto& h = d_.pair_histories[i];
-      h.shear_force = vec3At(shear, i);
-      h.normal = vec3At(normal, i);
-      h.kernel.warm_direction = vec3At(warm_direction, i);
-      h.kernel.warm_point = vec3At(warm_point, i);
-      h.kernel.warm_valid = warm_valid[i];
-      h.kernel.reserved = reserved[i];
-      h.touching = touching[i];
-    }
+    };
+    stream(0, slice, layout::kPairRowBytes, unpack, pair, shear, normal, warm_direction, warm_point,
+           warm_valid, reserved, touching);
     h5::agree(problem, comm_);
   }
 
   h5::File& f_;
   MPI_Comm comm_;
   CheckpointData d_;
-  h5::Slice particle_slice_;
   std::uint64_t replicated_ = 0;
 };
 

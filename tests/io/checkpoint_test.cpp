@@ -174,16 +174,30 @@ TEST_F(CheckpointRoundTrip, ReadOnAnotherRankCount) {
 }
 
 TEST_F(CheckpointRoundTrip, SmallTransfersTakeSeveralCollectiveRounds) {
-  // 40-byte transfers: every rank moves each dataset in many rounds, the ranks with fewer rows
-  // taking part with empty selections.
+  // 300-byte rounds (2 particle or pair rows): every rank moves each table in many rounds, the
+  // ranks with fewer rows taking part with empty selections.
   const Truth truth = makeTruth(31, 45);
   const auto path = dir_ / "rounds.h5";
   CheckpointIoOptions small;
-  small.max_transfer_bytes = 40;
+  small.round_bytes = 300;
   writeCheckpoint(path, shareOf(truth, mpi::rank(), mpi::size()), MPI_COMM_WORLD, small);
   const CheckpointData read = readCheckpoint(path, MPI_COMM_WORLD, small);
   expectReplicated(read, truth.replicated);
   expectDistributed(read, truth, MPI_COMM_WORLD);
+}
+
+TEST_F(CheckpointRoundTrip, LargeTablesInSeveralRoundsAndBlocks) {
+  // 1 MiB rounds hold about 7000 pair rows: on few ranks a round spans several 4096-row blocks
+  // and the last block of a round is partial.
+  const Truth truth = makeTruth(12000, 20000);
+  const auto path = dir_ / "large.h5";
+  CheckpointIoOptions options;
+  options.round_bytes = 1 << 20;
+  writeCheckpoint(path, shareOf(truth, mpi::rank(), mpi::size()), MPI_COMM_WORLD, options);
+  const CheckpointData read = readCheckpoint(path, MPI_COMM_WORLD, options);
+  expectDistributed(read, truth, MPI_COMM_WORLD);
+  // Read with the default rounds: the same file.
+  expectDistributed(readCheckpoint(path, MPI_COMM_WORLD), truth, MPI_COMM_WORLD);
 }
 
 TEST_F(CheckpointRoundTrip, EmptyTablesAndNoParticles) {
