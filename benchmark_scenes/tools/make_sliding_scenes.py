@@ -24,6 +24,12 @@ def vec(v):
     return "[" + ", ".join(f"{x:.12g}" for x in v) + "]"
 
 
+def penalty(kn):
+    """The distance potential's penalty (Pa) with the block's stiffness kn on its base: a depth d
+    gives the force penalty * area * d / inradius (Zhao eqs. 5, 13)."""
+    return kn * (min(SIZE) / 2) / (SIZE[0] * SIZE[1])
+
+
 def scene(ident, title, variants, note):
     out = [f"# {ident}: {title}.", "#", "# Written by tools/make_sliding_scenes.py; edit that, not this.",
            "# " + note, "", "[scene]", f'id = "{ident}"', f'title = "{title}"',
@@ -34,10 +40,11 @@ def scene(ident, title, variants, note):
     for i, (mu, kn) in enumerate(variants):
         tag = f"{i}"
         out += ["[[material]]", f'name = "block{tag}"', f"density = {DENSITY}", f"kn = {kn:g}",
-                f"ks = {KS:g}", "friction_angle = 0", "",
+                f"penalty = {penalty(kn):g}", f"ks = {KS:g}", "friction_angle = 0", "",
                 "[[material]]", f'name = "incline{tag}"', f"density = {DENSITY}", f"kn = {kn:g}",
-                f"ks = {KS:g}", "friction_angle = 0", "",
+                f"penalty = {penalty(kn):g}", f"ks = {KS:g}", "friction_angle = 0", "",
                 "[[interaction]]", f'materials = ["block{tag}", "incline{tag}"]', f"kn = {kn:g}",
+                f"penalty = {penalty(kn):g}   # distance-potential: kn x inradius / base area",
                 f"ks = {KS:g}", f"friction_angle = {math.degrees(math.atan(mu)):.12g}   # mu = {mu}", ""]
     out += ["[[shape]]", 'name = "block"', 'type = "box"', f"size = {vec(SIZE)}",
             f"rotation = {{ axis = [0, 1, 0], angle = {-THETA} }}", "",

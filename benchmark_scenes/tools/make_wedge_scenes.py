@@ -28,6 +28,7 @@ def wedge_slide():
            "[simulation]", 'kernel = "fcp-ipm"', 'dt = "1e-4 s"', 'end_time = "1 s"', "",
            "[domain]", "min = [-8, -6, -6]", "max = [8, 22, 6]", "",
            "[[material]]", 'name = "rock"', 'density = "2600 kg/m^3"', 'kn = "2 GN/m"',
+           'penalty = "0.6 GPa"   # distance-potential: about kn x inradius / contact area',
            'ks = "0.12 GN/m"', "friction_angle = 0", "normal_damping = 0.2", ""]
     left = [(0, 0), (-3, 3), (-3 - math.sqrt(0.5), 3 - math.sqrt(0.5)), (-math.sqrt(0.5), -math.sqrt(0.5))]
     right = [(-y, z) for (y, z) in left]
@@ -71,7 +72,8 @@ def wedge_32():
            'source = "Keissar fig. 2.11, table 2.1; BENCHMARKS.md S-WEDGE-32"', "",
            "[simulation]", 'kernel = "gjk-epa-ipm"', 'dt = "1e-4 s"', 'end_time = "3 s"', "",
            "[domain]", "min = [-3, -2, -5]", "max = [7, 6.5, 3]", "",
-           "[[material]]", 'name = "rock"', 'density = "2000 kg/m^3"', 'kn = "10 GN/m"', 'ks = "5 GN/m"',
+           "[[material]]", 'name = "rock"', 'density = "2000 kg/m^3"', 'kn = "10 GN/m"',
+           'penalty = "3 GPa"   # distance-potential: about kn x inradius / contact area', 'ks = "5 GN/m"',
            "friction_angle = 25", "local_damping = 0.05", "",
            "[[shape]]", 'name = "slope"', 'type = "box"', "size = [12, 10, 2]",
            f"rotation = {{ axis = [0, 1, 0], angle = {slope} }}", "",

@@ -1,0 +1,79 @@
+#!/usr/bin/python3
+"""Builds the README's validation table from the summary.json files of scripts/validation-table.
+
+One row per scene, one column per kernel. A cell is PASS or FAIL (every check of the scene must
+pass) with the scene's headline figure; a run that did not finish shows why (the last line of its
+log). The check list of every cell follows the table, so that each figure can be traced.
+"""
+import argparse
+import json
+import pathlib
+
+# The figure shown in a cell: the first check whose name contains one of these words, else the
+# first failing check, else the first check.
+HEADLINE = ("rotation", "drift", "displacement", "velocity", "energy", "steps")
+
+
+def headline(checks):
+    for word in HEADLINE:
+        for c in checks:
+            if word in c["name"]:
+                return c
+    failing = [c for c in checks if not c["pass"]]
+    return (failing or checks or [None])[0]
+
+
+def fmt(v):
+    if v is None:
+        return "-"
+    if isinstance(v, float):
+        return f"{v:.3g}"
+    return str(v)
+
+
+def cell(run_dir, log):
+    summary = run_dir / "summary.json"
+    if not summary.exists():
+        last = log.read_text(errors="replace").strip().splitlines()[-1:] if log.exists() else []
+        return "not run" if not last else "error: " + last[0][:80].replace("|", "/"), None
+    s = json.loads(summary.read_text())
+    checks = [c for c in s.get("checks", []) if c.get("kind") != "report" and
+              c.get("compare") != "report"]
+    ok = all(c["pass"] for c in checks)
+    h = headline(checks)
+    text = ("PASS" if ok else "FAIL") + (f" {h['name']} {fmt(h['value'])}" if h else "")
+    eq = s.get("equilibrium")
+    if eq:
+        text += f"; equilibrium {'in ' + str(eq['steps']) + ' steps' if eq['reached'] else 'not reached in ' + str(eq['steps'])}"
+    return text, s
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("out")
+    ap.add_argument("--kernels", nargs="+", required=True)
+    ap.add_argument("--scenes", nargs="+", required=True)
+    a = ap.parse_args()
+    out = pathlib.Path(a.out)
+    details = []
+    print("| scene | " + " | ".join(a.kernels) + " |")
+    print("|---" * (len(a.kernels) + 1) + "|")
+    for scene in a.scenes:
+        row = []
+        for k in a.kernels:
+            text, s = cell(out / scene / k, out / scene / f"{k}.log")
+            row.append(text)
+            if s:
+                details.append((scene, k, s))
+        print(f"| {scene} | " + " | ".join(row) + " |")
+    print()
+    for scene, k, s in details:
+        print(f"- {scene} / {k}: {s['steps']} steps, {s['wall_seconds']:.1f} s wall, "
+              f"hash {s['state_hash']}")
+        for c in s.get("checks", []):
+            print(f"  - {c['name']}: {fmt(c['value'])} (expected {fmt(c['expected'])}, "
+                  f"{c['compare']} {fmt(c['tolerance'])}) {'pass' if c['pass'] else 'FAIL'}")
+
+
+if __name__ == "__main__":
+    main()
