@@ -1,4 +1,4 @@
-// polydem bench kernels | scaling: the benchmarks of the README.
+// polydem bench kernels | scaling | checkpoint: the benchmarks of the README.
 #include <cstdio>
 #include <string>
 
@@ -6,6 +6,7 @@
 
 namespace polydem::app {
 
+int benchCheckpoint(int argc, char** argv);
 #ifdef POLYDEM_WITH_BENCHMARKS
 int benchKernels(int argc, char** argv);
 int benchScaling(int argc, char** argv);
@@ -13,12 +14,14 @@ int benchScaling(int argc, char** argv);
 
 int benchCommand(int argc, char** argv) {
   const std::string which = argc > 0 ? argv[0] : "";
+  if (which == "checkpoint") return benchCheckpoint(argc - 1, argv + 1);
 #ifdef POLYDEM_WITH_BENCHMARKS
   if (which == "kernels") return benchKernels(argc - 1, argv + 1);
   if (which == "scaling") return benchScaling(argc - 1, argv + 1);
   std::printf(
       "usage: polydem bench kernels [--help]   contact kernels vs libccd (P-KERNELS)\n"
-      "       mpirun -n P polydem bench scaling [--help]   strong scaling of P-PILE\n");
+      "       mpirun -n P polydem bench scaling [--help]   strong scaling of P-PILE\n"
+      "       mpirun -n P polydem bench checkpoint [--help]   checkpoint bandwidth vs raw HDF5\n");
   return which == "--help" ? 0 : 2;
 #else
   std::fprintf(stderr, "polydem was built without benchmarks (POLYDEM_BUILD_BENCHMARKS=OFF)\n");

@@ -13,6 +13,9 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 /// A face whose doubled area is below this fraction of its longest edge squared is flat to
 /// round-off: its normal means nothing, it is never the closest face and is deleted when reached.
 constexpr double kFlatFace = 1e-14;
+/// Next and previous corner of a triangle (no integer division in the hot loops).
+constexpr int kNext[3] = {1, 2, 0};
+constexpr int kPrev[3] = {2, 0, 1};
 
 /// Triangle of the polytope, counter-clockwise seen from outside.
 struct Face {
@@ -46,19 +49,15 @@ class Polytope {
     for (int m = 0; m < 4; ++m) vertex[m] = s.p[m];
     if (positive) std::swap(vertex[1], vertex[2]);  // now (0,1,2) faces away from vertex 3
     num_vertices = 4;
+    // Faces and, for each edge i of each face, the neighbouring face and the edge's index there.
     static constexpr int kTet[4][3] = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
-    for (const auto& t : kTet) newFace(t[0], t[1], t[2]);
+    static constexpr int kAdj[4][3] = {{1, 3, 2}, {2, 3, 0}, {0, 3, 1}, {1, 2, 0}};
+    static constexpr int kAdjEdge[4][3] = {{2, 2, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 1}};
     for (int f = 0; f < 4; ++f) {
+      newFace(kTet[f][0], kTet[f][1], kTet[f][2]);
       for (int i = 0; i < 3; ++i) {
-        const int from = face[f].v[i], to = face[f].v[(i + 1) % 3];
-        for (int g = 0; g < 4; ++g) {
-          for (int j = 0; j < 3; ++j) {
-            if (face[g].v[j] == to && face[g].v[(j + 1) % 3] == from) {
-              face[f].adj[i] = g;
-              face[f].adj_edge[i] = static_cast<std::uint8_t>(j);
-            }
-          }
-        }
+        face[f].adj[i] = kAdj[f][i];
+        face[f].adj_edge[i] = static_cast<std::uint8_t>(kAdjEdge[f][i]);
       }
     }
   }
@@ -90,14 +89,14 @@ class Polytope {
     if (nh < 3 || num_free_ + (kMaxFaces - num_faces) < nh) return false;
     for (int k = 0; k < nh; ++k) {
       const HorizonEdge& h = horizon_[k];
-      const HorizonEdge& next = horizon_[(k + 1) % nh];
-      if (face[h.face].v[h.edge] != face[next.face].v[(next.edge + 1) % 3]) return false;
+      const HorizonEdge& next = horizon_[k + 1 == nh ? 0 : k + 1];
+      if (face[h.face].v[h.edge] != face[next.face].v[kNext[next.edge]]) return false;
     }
     int first = -1, previous = -1;
     for (int k = 0; k < nh; ++k) {
       const HorizonEdge h = horizon_[k];
       Face& g = face[h.face];
-      const int nf = newFace(g.v[(h.edge + 1) % 3], g.v[h.edge], vw);
+      const int nf = newFace(g.v[kNext[h.edge]], g.v[h.edge], vw);
       face[nf].adj[0] = h.face;
       face[nf].adj_edge[0] = static_cast<std::uint8_t>(h.edge);
       g.adj[h.edge] = nf;
@@ -168,8 +167,8 @@ class Polytope {
       return;
     }
     remove(f);
-    silhouette(F.adj[(e + 1) % 3], F.adj_edge[(e + 1) % 3], w);
-    silhouette(F.adj[(e + 2) % 3], F.adj_edge[(e + 2) % 3], w);
+    silhouette(F.adj[kNext[e]], F.adj_edge[kNext[e]], w);
+    silhouette(F.adj[kPrev[e]], F.adj_edge[kPrev[e]], w);
   }
 };
 
@@ -247,6 +246,8 @@ EpaResult epaPenetration(MinkowskiSupport& support, const Simplex& simplex, doub
     best = f;
     const Face& F = P.face[f];
     const SupportPoint w = support(F.n);
+    r.lowest_a = w.ia;  // along -normal = F.n for A, along normal = -F.n for B
+    r.highest_b = w.ib;
     if (F.n.dot(w.w) - F.dist <= tolerance) break;
     bool known = false;
     for (int i = 0; i < 3; ++i) {
@@ -275,7 +276,7 @@ EpaResult epaPenetration(MinkowskiSupport& support, const Simplex& simplex, doub
   for (int step = 0; intact && step < 16 && xi.minCoeff() < -1e-12; ++step) {
     int i = 0;
     xi.minCoeff(&i);
-    const int edge = (i + 1) % 3;  // the edge opposite corner i
+    const int edge = kNext[i];  // the edge opposite corner i
     const int g = P.face[f].adj[edge];
     const Face& G = P.face[g];
     if (!G.alive || G.flat || std::abs(G.n.dot(c) - G.dist) > tolerance) break;

@@ -22,6 +22,10 @@ struct EpaResult {
   Vec3 point = Vec3::Zero();  // barycentric contact point, Keissar eqs. 2.1-2.2
   bool converged = true;      // false when a bound was hit or the polytope became inconsistent
   int iterations = 0;
+  /// EPA's last support query along the normal: A's vertex lowest along it and B's highest
+  /// (indices into the bodies' vertices; -1 when there was none). They bound the overlap along
+  /// the normal, e.g. for the IPM's plane in the middle of it.
+  int lowest_a = -1, highest_b = -1;
 };
 
 /// Vertices the polytope may hold; bounds the iterations at kEpaMaxVertices - 4.

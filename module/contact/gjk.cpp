@@ -95,8 +95,8 @@ bool closestToOrigin(Simplex& s, Vec3& v) {
       // contains the origin, its faces are searched instead.
       const Vec3 e1 = p1 - p0, e2 = p2 - p0, e3 = p3 - p0;
       const double volume = e1.dot(e2.cross(e3));
-      const double edges = e1.norm() * e2.norm() * e3.norm();
-      const bool flat = !(std::abs(volume) > 1e-14 * edges);
+      const double edges2 = e1.squaredNorm() * e2.squaredNorm() * e3.squaredNorm();
+      const bool flat = !(volume * volume > 1e-28 * edges2);  // |volume| > 1e-14 |e1||e2||e3|
       static constexpr int kFaces[4][4] = {{0, 1, 2, 3}, {0, 1, 3, 2}, {0, 2, 3, 1}, {1, 2, 3, 0}};
       bool found = false;
       for (const auto& f : kFaces) {

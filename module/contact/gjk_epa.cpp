@@ -9,7 +9,7 @@
 
 namespace polydem::contact {
 
-Contact gjkEpaContact(const Body& a, const Body& b, PairState* state) {
+Contact gjkEpaContact(const Body& a, const Body& b, PairState* state, Extremes* extremes) {
   const double tolerance = absTol(pairLengthScale(a, b), RelTol::kIteration);
   const bool warm =
       state != nullptr && state->warm_valid != 0 && state->warm_direction.squaredNorm() > 0.0;
@@ -35,6 +35,7 @@ Contact gjkEpaContact(const Body& a, const Body& b, PairState* state) {
     state->warm_direction = epa.normal;
     state->warm_valid = 1;
   }
+  if (extremes != nullptr) *extremes = {epa.lowest_a, epa.highest_b};
   return c;
 }
 
@@ -43,9 +44,15 @@ Contact GjkEpaKernel::collide(const Body& a, const Body& b, PairState* state) co
 }
 
 Contact GjkEpaIpmKernel::collide(const Body& a, const Body& b, PairState* state) const {
-  Contact c = gjkEpaContact(a, b, state);
+  Extremes extremes;
+  Contact c = gjkEpaContact(a, b, state, &extremes);
   if (!c.touching) return c;
-  const auto polygon = ipmContact(a, b, c.normal, c.point);
+  // EPA's last support query already found the extremes of the overlap along its normal.
+  const Vec3 plane_point = extremes.lowest_a >= 0
+                               ? midOverlapPoint(a.vertices[extremes.lowest_a],
+                                                 b.vertices[extremes.highest_b], c.normal, c.point)
+                               : midOverlapPoint(a, b, c.normal, c.point);
+  const auto polygon = intersectionPolygon(a, b, c.normal, plane_point);
   if (polygon) {
     c.point = polygon->centroid;
   } else if (c.status == Status::kOk) {

@@ -16,8 +16,12 @@
 namespace polydem::contact {
 
 /// GJK + EPA on the pair; `state` (may be null) is read for and updated with the warm start.
-/// Tolerances are RelTol::kIteration times the sum of the circumradii.
-Contact gjkEpaContact(const Body& a, const Body& b, PairState* state);
+/// Tolerances are RelTol::kIteration times the sum of the circumradii. For a touching contact,
+/// `extremes` (may be null) receives A's vertex lowest and B's vertex highest along the normal.
+struct Extremes {
+  int lowest_a = -1, highest_b = -1;
+};
+Contact gjkEpaContact(const Body& a, const Body& b, PairState* state, Extremes* extremes = nullptr);
 
 class GjkEpaKernel final : public Kernel {
  public:

@@ -50,12 +50,16 @@ std::optional<IntersectionPolygon> intersectionPolygon(const Body& a, const Body
   return IntersectionPolygon{frame.lift(m.centroid), m.area, static_cast<int>(s.clipped.size())};
 }
 
-Vec3 midOverlapPoint(const Body& a, const Body& b, const Vec3& normal, const Vec3& near) {
-  const Vec3& lowest_a = a.vertices[supportIndex(a, -normal)];
-  const Vec3& highest_b = b.vertices[supportIndex(b, normal)];
+Vec3 midOverlapPoint(const Vec3& lowest_a, const Vec3& highest_b, const Vec3& normal,
+                     const Vec3& near) {
   // Heights relative to `near`, so that coordinates far from the origin lose no accuracy.
   const double offset = 0.5 * (normal.dot(lowest_a - near) + normal.dot(highest_b - near));
   return near + offset * normal;
+}
+
+Vec3 midOverlapPoint(const Body& a, const Body& b, const Vec3& normal, const Vec3& near) {
+  return midOverlapPoint(a.vertices[supportIndex(a, -normal)], b.vertices[supportIndex(b, normal)],
+                         normal, near);
 }
 
 std::optional<IntersectionPolygon> ipmContact(const Body& a, const Body& b, const Vec3& normal,

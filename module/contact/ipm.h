@@ -30,6 +30,9 @@ std::optional<IntersectionPolygon> intersectionPolygon(const Body& a, const Body
 /// The point of the plane with unit normal `normal` (from B into A) half way through the overlap
 /// along it, offset (min over A of n . a + max over B of n . b) / 2, nearest to `near`.
 Vec3 midOverlapPoint(const Body& a, const Body& b, const Vec3& normal, const Vec3& near);
+/// The same from A's lowest and B's highest point along the normal, when they are known already.
+Vec3 midOverlapPoint(const Vec3& lowest_a, const Vec3& highest_b, const Vec3& normal,
+                     const Vec3& near);
 
 /// Both steps: the IPM contact point for a contact normal, with the plane in the middle of the
 /// overlap along it; `near` is any point near the contact (e.g. another kernel's point).

@@ -31,11 +31,12 @@ inline int supportIndex(const Body& body, const Vec3& direction, int hint = 0) {
   return best;
 }
 
-/// A point of the Minkowski difference A - B with the vertices of A and B it came from.
+/// A point of the Minkowski difference A - B with the vertices of A and B it came from. No default
+/// member values: EPA keeps hundreds of them in an uninitialised array.
 struct SupportPoint {
-  Vec3 w;      // a - b
-  int ia = 0;  // index into a.vertices
-  int ib = 0;  // index into b.vertices
+  Vec3 w;  // a - b
+  int ia;  // index into a.vertices
+  int ib;  // index into b.vertices
 };
 
 /// Support of A - B along `direction`: A's support along d minus B's along -d. Keeps the last

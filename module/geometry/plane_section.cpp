@@ -29,10 +29,12 @@ void planeHeights(std::span<const Vec3> world_vertices, const PlaneFrame& frame,
 void sectionPolygon(const ConvexPolyhedron& shape, std::span<const Vec3> world_vertices,
                     const PlaneFrame& frame, std::span<const double> heights,
                     std::vector<Vec2>& polygon, std::vector<Vec2>& points) {
-  points.clear();
+  points.resize(heights.size() + shape.edges().size());
+  Vec2* out = points.data();
+  std::size_t count = 0;
   // Vertices on the plane belong to the section; an edge from one of them is not crossed.
   for (std::size_t i = 0; i < heights.size(); ++i) {
-    if (heights[i] == 0.0) points.push_back(frame.project(world_vertices[i]));
+    if (heights[i] == 0.0) out[count++] = frame.project(world_vertices[i]);
   }
   for (const Edge& e : shape.edges()) {
     const double h0 = heights[e.v0], h1 = heights[e.v1];
@@ -42,8 +44,9 @@ void sectionPolygon(const ConvexPolyhedron& shape, std::span<const Vec3> world_v
     const double t = h0 / (h0 - h1);
     const Vec3 d0 = world_vertices[e.v0] - frame.origin;
     const Vec3 d = d0 + t * (world_vertices[e.v1] - world_vertices[e.v0]);
-    points.emplace_back(frame.u.dot(d), frame.v.dot(d));
+    out[count++] = Vec2(frame.u.dot(d), frame.v.dot(d));
   }
+  points.resize(count);
   convexHull(points, polygon);
 }
 
@@ -57,19 +60,22 @@ bool sectionHalfPlanes(const ConvexPolyhedron& shape, std::span<const Vec3> worl
     above = above || h > 0.0;
   }
   if (!(below && above)) return false;
-  for (const Face& face : shape.faces()) {
-    double lo = heights[face.vertices[0]], hi = lo;
-    for (int v : face.vertices) {
-      lo = std::min(lo, heights[v]);
-      hi = std::max(hi, heights[v]);
-    }
-    if (!(lo <= 0.0 && hi >= 0.0 && lo < hi)) continue;
+  const auto& faces = shape.faces();
+  auto add = [&](int f) {
     // The face's plane n . (x - x_f) <= 0 restricted to the plane: with x = origin + y1 u + y2 v,
     // (n.u, n.v) . y <= n . (x_f - origin).
-    const Vec3 n = rotation * face.normal;
+    const Vec3 n = rotation * faces[f].normal;
     const Vec2 g(n.dot(frame.u), n.dot(frame.v));
-    if (!(g.squaredNorm() > 0.0)) continue;
-    half_planes.push_back({g, n.dot(world_vertices[face.vertices[0]] - frame.origin)});
+    if (!(g.squaredNorm() > 0.0)) return;
+    half_planes.push_back({g, n.dot(world_vertices[faces[f].vertices[0]] - frame.origin)});
+  };
+  // Going round a face counter-clockwise, the heights pass from negative to non-negative exactly
+  // once if the face has vertices of both kinds: the face is taken at that edge, so each face
+  // meeting the plane comes once, and faces wholly above or below never.
+  for (const Edge& e : shape.edges()) {
+    const double h0 = heights[e.v0], h1 = heights[e.v1];
+    if (h0 < 0.0 && h1 >= 0.0) add(e.f0);  // e runs v0 -> v1 in f0
+    if (h1 < 0.0 && h0 >= 0.0) add(e.f1);  // and v1 -> v0 in f1
   }
   return true;
 }

@@ -48,8 +48,8 @@ void sectionPolygon(const ConvexPolyhedron& shape, std::span<const Vec3> world_v
                     const PlaneFrame& frame, std::span<const double> heights,
                     std::vector<Vec2>& polygon, std::vector<Vec2>& points);
 
-/// The half-planes, in the frame, of the faces the plane cuts (vertices strictly on both sides,
-/// or on it and on one side): their intersection is the section polygon. Each is taken from the
+/// The half-planes, in the frame, of the faces the plane meets (vertices below it and others on
+/// or above it), each once: their intersection is the section polygon. Each is taken from the
 /// face's own plane, so it is exact even where the section has a tiny edge (the plane passing
 /// near a vertex), unlike an edge through two nearly equal corners. `rotation` turns body-frame
 /// normals into world ones. Returns false when the plane misses the polyhedron (all vertices on

@@ -39,10 +39,10 @@ void convexHull(std::vector<Vec2>& points, std::vector<Vec2>& hull);
 /// on the inner side of every edge (Keissar eqs. 2.8-2.9).
 bool containsPoint(std::span<const Vec2> polygon, const Vec2& p, double tolerance = 0.0);
 
-/// Sutherland-Hodgman step: the part of `polygon` (any simple polygon, in order) inside the
-/// half-plane. `out` must not alias `polygon`.
-void clipByHalfPlane(std::span<const Vec2> polygon, const HalfPlane& half_plane,
-                     std::vector<Vec2>& out);
+/// Sutherland-Hodgman step: writes the part of `polygon` (any simple polygon, in order) inside
+/// the half-plane to `out` and returns the number of corners written. `out` needs room for
+/// polygon.size() + 1 corners and must not overlap `polygon`.
+std::size_t clipByHalfPlane(std::span<const Vec2> polygon, const HalfPlane& half_plane, Vec2* out);
 
 /// The half-plane to the left of the directed edge a -> b (the inside of a counter-clockwise
 /// polygon). The edge must have non-zero length.

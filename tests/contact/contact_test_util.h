@@ -69,7 +69,9 @@ inline Vec3 randomUnit(std::mt19937_64& rng) {
 }
 
 /// Minimum penetration by the separating-axis theorem, brute force: every face normal of A and B
-/// and every cross product of an edge of A with an edge of B, both signs. `normal` points from B
+/// and the cross product of every edge of A with every edge of B whose arcs on the Gauss map
+/// cross (Gregorius, GDC 2013: only those pairs span a face of A - B; the others are never the
+/// minimum and only cost time), both signs. `normal` points from B
 /// into A (A moves along it by `depth` to separate); depth < 0 is the separation along the best
 /// axis (a lower bound of the distance). `runner_up` is the smallest depth over axes more than
 /// 1e-6 rad away from `normal`: the minimum is unique when it is clearly larger than `depth`.
@@ -92,9 +94,19 @@ inline SatResult satPenetration(const Body& a, const Body& b) {
   std::vector<Vec3> axes;
   for (const auto& f : a.shape->faces()) axes.push_back(a.rotation * f.normal);
   for (const auto& f : b.shape->faces()) axes.push_back(b.rotation * f.normal);
+  const auto& fa = a.shape->faces();
+  const auto& fb = b.shape->faces();
   for (const auto& ea : a.shape->edges()) {
     const Vec3 da = a.vertices[ea.v1] - a.vertices[ea.v0];
+    const Vec3 n0 = a.rotation * fa[ea.f0].normal, n1 = a.rotation * fa[ea.f1].normal;
+    const Vec3 n1xn0 = n1.cross(n0);
     for (const auto& eb : b.shape->edges()) {
+      // The arcs n0-n1 of A's edge and -m0 to -m1 of B's (A - B takes B's normals negated).
+      const Vec3 m0 = -(b.rotation * fb[eb.f0].normal), m1 = -(b.rotation * fb[eb.f1].normal);
+      const Vec3 m1xm0 = m1.cross(m0);
+      const double cba = m0.dot(n1xn0), dba = m1.dot(n1xn0);
+      const double adc = n0.dot(m1xm0), bdc = n1.dot(m1xm0);
+      if (!(cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0)) continue;
       const Vec3 db = b.vertices[eb.v1] - b.vertices[eb.v0];
       const Vec3 n = da.cross(db);
       if (n.norm() > 1e-9 * da.norm() * db.norm()) axes.push_back(n.normalized());
@@ -103,8 +115,21 @@ inline SatResult satPenetration(const Body& a, const Body& b) {
   std::vector<std::pair<double, Vec3>> candidates;
   candidates.reserve(2 * axes.size());
   for (const Vec3& n : axes) {
-    candidates.emplace_back(overlapAlong(a, b, n), n);
-    candidates.emplace_back(overlapAlong(a, b, -n), Vec3(-n));
+    // Both signs from one pass: along n A must clear max_b - min_a, along -n max_a - min_b.
+    double min_a = std::numeric_limits<double>::infinity(), max_a = -min_a;
+    double min_b = min_a, max_b = max_a;
+    for (const Vec3& x : a.vertices) {
+      const double h = n.dot(x);
+      min_a = std::min(min_a, h);
+      max_a = std::max(max_a, h);
+    }
+    for (const Vec3& x : b.vertices) {
+      const double h = n.dot(x);
+      min_b = std::min(min_b, h);
+      max_b = std::max(max_b, h);
+    }
+    candidates.emplace_back(max_b - min_a, n);
+    candidates.emplace_back(max_a - min_b, Vec3(-n));
   }
   SatResult r;
   for (const auto& [d, n] : candidates) {
@@ -114,7 +139,7 @@ inline SatResult satPenetration(const Body& a, const Body& b) {
     }
   }
   for (const auto& [d, n] : candidates) {
-    if (angleBetween(n, r.normal) > 1e-6) r.runner_up = std::min(r.runner_up, d);
+    if (d < r.runner_up && angleBetween(n, r.normal) > 1e-6) r.runner_up = d;
   }
   return r;
 }

@@ -11,6 +11,7 @@
 #include "contact/gjk_epa.h"
 #include "contact/ipm.h"
 #include "contact_test_util.h"
+#include "geometry/plane_section.h"
 #include "geometry/shapes.h"
 
 namespace polydem::contact {
@@ -97,20 +98,28 @@ Patch exactPatch(const Body& a, const Body& b, const Frame& f) {
 
 TEST(Ipm, FaceFaceWithYawAndOffsetsGivesTheOverlapPatchCentroid) {
   // A unit cube turned by a yaw about z, partly hanging off a box below it, penetrating it by
-  // 1e-5 .. 1e-3: the patch is the rotated square clipped by the box's top rectangle.
+  // 1e-5 .. 1e-3: the patch is the rotated square clipped by the box's top rectangle. Every
+  // other pair is moved by a random rigid motion and scaled by 1e-3, 1 or 1e3 as a whole.
   std::mt19937_64 rng(42);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const geometry::ConvexPolyhedron cube =
+      geometry::ConvexPolyhedron::fromPoints(geometry::shapes::cube(1.0));
   double worst = 0.0;
   int partial = 0;
-  for (int i = 0; i < 200; ++i) {
+  for (int i = 0; i < 300; ++i) {
     const double yaw = 2.0 * kPi * unit(rng);
     const double depth = std::pow(10.0, -5.0 + 2.0 * unit(rng));
     const Vec3 centre(1.2 * (unit(rng) - 0.5), 1.2 * (unit(rng) - 0.5), 0.5 - depth);
     const Mat3 R = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();
-    const Placed a(geometry::ConvexPolyhedron::fromPoints(geometry::shapes::cube(1.0)), centre, R);
     const Vec3 lo(-0.3 - unit(rng), -0.3 - unit(rng), -1.0),
         hi(0.3 + unit(rng), 0.3 + unit(rng), 0);
-    const auto b = placeWorld(geometry::shapes::box(lo, hi));
+    const bool moved = i % 2 == 1;
+    const Mat3 G = moved ? randomRotation(rng) : Mat3::Identity();
+    const double scale = moved ? std::pow(10.0, 3.0 * (i % 3) - 3.0) : 1.0;
+    const Vec3 t = moved ? Vec3(scale * 4.0 * randomUnit(rng)) : Vec3::Zero();
+    const Placed a(cube.scaled(scale), t + scale * (G * centre), G * R);
+    const Placed b(
+        geometry::ConvexPolyhedron::fromPoints(geometry::shapes::box(lo, hi)).scaled(scale), t, G);
 
     // Independent answer in the horizontal plane z = -depth / 2: square footprint and rectangle.
     std::vector<Line> lines;
@@ -124,18 +133,22 @@ TEST(Ipm, FaceFaceWithYawAndOffsetsGivesTheOverlapPatchCentroid) {
     lines.push_back({Vec2(0, -1), -lo.y()});
     const Patch exact = enumerate(lines, 1e-12);
     partial += exact.area < 1.0 - 1e-9;
-    const Vec3 expected(exact.centroid.x(), exact.centroid.y(), -0.5 * depth);
+    const Vec3 expected =
+        t + scale * (G * Vec3(exact.centroid.x(), exact.centroid.y(), -0.5 * depth));
 
-    const Contact r = GjkEpaIpmKernel().collide(a.body(), b->body(), nullptr);
+    const Contact r = GjkEpaIpmKernel().collide(a.body(), b.body(), nullptr);
     ASSERT_TRUE(r.touching);
     EXPECT_EQ(r.status, Status::kOk);
-    EXPECT_LT(angleBetween(r.normal, Vec3::UnitZ()), 1e-12);
-    EXPECT_NEAR(r.depth, depth, 1e-12);
-    EXPECT_LT((r.point - expected).norm(), 1e-10) << "pose " << i;
-    worst = std::max(worst, (r.point - expected).norm());
+    EXPECT_LT(angleBetween(r.normal, G * Vec3::UnitZ()), 1e-12);
+    EXPECT_NEAR(r.depth, scale * depth, 1e-12 * scale);
+    const double error = (r.point - expected).norm() / scale;
+    EXPECT_LT(error, 1e-10) << "pose " << i;
+    worst = std::max(worst, error);
   }
-  std::printf("face-face with yaw: worst point error %.2e over 200 poses (%d partly off B)\n",
-              worst, partial);
+  std::printf(
+      "face-face with yaw: worst point error %.2e of the size over 300 poses (%d partly "
+      "off B)\n",
+      worst, partial);
   EXPECT_GT(partial, 50);
 }
 
@@ -169,6 +182,33 @@ TEST(Ipm, TiltedPlanesThroughRandomPolyhedraMatchVertexEnumeration) {
     EXPECT_NEAR(n.dot(ipm->centroid - point), 0.0, 1e-14);  // on the plane
   }
   EXPECT_GT(compared, 150);
+}
+
+TEST(Ipm, PlaneThroughVerticesOfOctahedra) {
+  // The plane z = 0 holds four vertices of each octahedron and crosses no edge strictly: the
+  // sections are the squares |x| + |y| <= 1 and |x - 0.5| + |y| <= 1, each corner once.
+  const auto a = placeWorld(geometry::shapes::octahedron(std::sqrt(2.0)));
+  std::vector<Vec3> moved = geometry::shapes::octahedron(std::sqrt(2.0));
+  for (auto& v : moved) v += Vec3(0.5, 0, 0);
+  const auto b = placeWorld(moved);
+  const auto frame = geometry::PlaneFrame::make(Vec3::UnitZ(), Vec3(0.2, 0.1, 0));
+  std::vector<double> heights;
+  std::vector<Vec2> polygon, points;
+  geometry::planeHeights(a->body().vertices, frame, heights);
+  geometry::sectionPolygon(a->shape(), a->body().vertices, frame, heights, polygon, points);
+  ASSERT_EQ(polygon.size(), 4u);
+  EXPECT_NEAR(geometry::areaCentroid(polygon).area, 2.0, 1e-15);
+  std::vector<geometry::HalfPlane> planes;
+  EXPECT_TRUE(geometry::sectionHalfPlanes(a->shape(), a->body().vertices, Mat3::Identity(), frame,
+                                          heights, planes));
+  EXPECT_EQ(planes.size(), 4u);  // the four lower faces, once each
+  const auto m = intersectionPolygon(a->body(), b->body(), Vec3::UnitZ(), Vec3(0.2, 0.1, 0));
+  ASSERT_TRUE(m.has_value());
+  const Patch exact = exactPatch(a->body(), b->body(), Frame(Vec3::UnitZ(), Vec3(0.2, 0.1, 0)));
+  EXPECT_NEAR(m->area, exact.area, 1e-15);
+  // By hand: the quadrilateral (-0.5, 0), (0.25, -0.75), (1, 0), (0.25, 0.75): area 1.5 * 0.75.
+  EXPECT_NEAR(m->area, 1.125, 1e-15);
+  EXPECT_NEAR((m->centroid - Vec3(0.25, 0, 0)).norm(), 0.0, 1e-15);
 }
 
 TEST(Ipm, MidOverlapPointIsHalfWayBetweenTheSurfaces) {

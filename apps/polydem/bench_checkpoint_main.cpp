@@ -1,0 +1,21 @@
+// polydem_bench_checkpoint: runs the checkpoint benchmark (bench_checkpoint.cpp) on its own, with
+// the options of `polydem bench checkpoint`, e.g. mpirun -n 2 polydem_bench_checkpoint --json f.
+#include <exception>
+
+#include "commands.h"
+#include "core/logging.h"
+#include "core/mpi_env.h"
+
+int main(int argc, char** argv) {
+  polydem::mpi::Environment env(argc, argv);
+  try {
+    return polydem::app::benchCheckpoint(argc - 1, argv + 1);
+  } catch (const polydem::app::UsageError& e) {
+    polydem::log::error(e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    polydem::log::error(e.what());
+    MPI_Abort(MPI_COMM_WORLD, 1);
+    return 1;
+  }
+}

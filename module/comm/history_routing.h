@@ -1,0 +1,48 @@
+// Routing pair histories to the ranks that need them, e.g. after reading a checkpoint: each rank
+// read an arbitrary slice of the pair histories, the particles have been migrated to their owners,
+// and now every history must reach every rank owning its lo or its hi particle.
+//
+// No rank knows who owns a uid, so the histories meet the owners at a directory: rank uid % P.
+//   round 1: every rank registers its owned uids at their directory ranks, and sends each history
+//            to the directory of each of its two particles;
+//   round 2: each directory forwards the histories it received to the owners registered with it.
+// A rank owning both particles of a pair receives it twice and keeps one copy. Replicated
+// (fixed/driven) particles are on every rank and have no owner: a pair with one of them goes to
+// the owner of its other particle, and a pair of two of them to every rank.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <span>
+
+#include "core/types.h"
+#include "particles/contact_history.h"
+#include "particles/particle_storage.h"
+
+namespace polydem::comm {
+
+struct HistoryRoutingStats {
+  std::int64_t registered = 0;  // uids this rank registered at their directories
+  std::int64_t forwarded = 0;   // histories this rank forwarded as a directory
+  std::int64_t kept = 0;        // histories this rank holds afterwards
+};
+
+/// Delivers the histories (`keys[i]`, `entries[i]`) of all ranks to every rank that owns the lo
+/// or the hi particle of the pair. `owned`: uids of the free particles this rank owns.
+/// `replicated`: uids of the fixed/driven particles, the same on every rank. Returns this rank's
+/// histories, sorted by key, each pair once. Collective; throws polydem::Error on every rank if a
+/// pair names a free particle that no rank owns, or a uid is owned by two ranks.
+particles::ContactHistory routeHistories(std::span<const particles::PairKey> keys,
+                                         std::span<const particles::PairHistory> entries,
+                                         std::span<const Uid> owned,
+                                         std::span<const Uid> replicated, MPI_Comm comm,
+                                         HistoryRoutingStats* stats = nullptr);
+
+/// The same, with `owned` and `replicated` taken from the storage's local (non-ghost) particles.
+particles::ContactHistory routeHistories(std::span<const particles::PairKey> keys,
+                                         std::span<const particles::PairHistory> entries,
+                                         const particles::ParticleStorage& storage, MPI_Comm comm,
+                                         HistoryRoutingStats* stats = nullptr);
+
+}  // namespace polydem::comm

@@ -1,0 +1,157 @@
+// verifyCheckpoint and its text form; the shape records and their comparison with a built table.
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <sstream>
+
+#include "core/exact_sum.h"
+#include "core/mpi_env.h"
+#include "core/state_hash.h"
+#include "core/strings.h"
+#include "io/checkpoint.h"
+#include "io/checkpoint_read_all.h"
+
+namespace polydem::io {
+
+namespace {
+
+bool sameBits(const Vec3& a, const Vec3& b) {
+  return std::memcmp(a.data(), b.data(), 24) == 0;
+}
+bool sameBits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+/// Kinetic energy of one free particle: translation plus rotation, 1/2 L . w with
+/// w = R diag(1 / (density I_k)) R^T L (body-frame principal moments I_k per unit density).
+double kineticEnergy(const particles::Particle& p, const CheckpointShape& shape, double density) {
+  const double mass = density * shape.volume;
+  const Mat3 r = p.orientation.toRotationMatrix();
+  const Vec3 body_l = r.transpose() * p.angular_momentum;
+  const Vec3 body_w = body_l.cwiseQuotient(density * shape.principal_moments);
+  return 0.5 * mass * p.velocity.squaredNorm() + 0.5 * body_l.dot(body_w);
+}
+
+}  // namespace
+
+CheckpointSummary verifyCheckpoint(const std::filesystem::path& path, MPI_Comm comm) {
+  CheckpointSummary s;
+  const CheckpointData d = readCheckpointVerified(path, comm, {}, &s.datasets);
+  s.file = path.string();
+  s.format_version = d.format_version;
+  s.code_version = d.code_version;
+  s.scene_file = d.scene_file;
+  s.scene_hash = d.scene_hash;
+  s.step = d.step;
+  s.time = d.time;
+  s.dt = d.dt;
+  s.stage = d.stage;
+  s.equilibrium_steps = d.equilibrium_steps;
+  s.equilibrium_reached = d.equilibrium_reached;
+  s.shapes = static_cast<int>(d.shapes.size());
+  s.materials = static_cast<int>(d.materials.size());
+  s.writer_ranks = d.writer_ranks;
+  s.domain_lo = d.domain.lo;
+  s.domain_hi = d.domain.hi;
+
+  // Every rank holds all replicated particles and its share of the free ones.
+  std::int64_t replicated = 0, free = 0, touching = 0;
+  ExactSum energy;
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& p : d.particles) {
+    lo = lo.cwiseMin(p.position);
+    hi = hi.cwiseMax(p.position);
+    if (p.isGlobal()) {
+      ++replicated;
+    } else {
+      ++free;
+      energy.add(kineticEnergy(p, d.shapes[p.shape], d.materials[p.material].density));
+    }
+  }
+  for (const auto& h : d.pair_histories) touching += h.touching != 0;
+  s.replicated_particles = replicated;
+  s.particles = replicated + mpi::allreduceSum(free, comm);
+  s.pairs = mpi::allreduceSum(static_cast<std::int64_t>(d.pair_keys.size()), comm);
+  s.touching_pairs = mpi::allreduceSum(touching, comm);
+  energy.allreduce(comm);
+  s.kinetic_energy = energy.value();
+  MPI_Allreduce(MPI_IN_PLACE, lo.data(), 3, MPI_DOUBLE, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, hi.data(), 3, MPI_DOUBLE, MPI_MAX, comm);
+  if (s.particles > 0) {
+    s.particles_lo = lo;
+    s.particles_hi = hi;
+  }
+  return s;
+}
+
+std::string formatCheckpointSummary(const CheckpointSummary& s) {
+  std::ostringstream out;
+  out.precision(17);
+  auto vec = [](const Vec3& v) { return cat("(", v.x(), ", ", v.y(), ", ", v.z(), ")"); };
+  out << "file: " << s.file << "\n"
+      << "format version: " << s.format_version << "\n"
+      << "written by: polydem " << s.code_version << " on " << s.writer_ranks << " ranks\n"
+      << "scene: " << s.scene_file << " (hash " << BitHasher::hex(s.scene_hash) << ")\n"
+      << "step: " << s.step << "\n"
+      << "time: " << s.time << " s\n"
+      << "dt: " << s.dt << " s\n"
+      << "stage: " << toString(s.stage) << " (equilibrium steps " << s.equilibrium_steps
+      << (s.equilibrium_reached ? ", reached" : ", not reached") << ")\n"
+      << "particles: " << s.particles << " (" << s.replicated_particles << " fixed or driven)\n"
+      << "pair histories: " << s.pairs << " (" << s.touching_pairs << " touching)\n"
+      << "shapes: " << s.shapes << ", materials: " << s.materials << "\n"
+      << "domain: " << vec(s.domain_lo) << " - " << vec(s.domain_hi) << " m\n"
+      << "particle centroids: " << vec(s.particles_lo) << " - " << vec(s.particles_hi) << " m\n"
+      << "kinetic energy (free particles, velocities at t - dt/2): " << s.kinetic_energy << " J\n"
+      << "datasets (" << s.datasets.size() << ", checksums verified):\n";
+  for (const auto& d : s.datasets) {
+    std::vector<std::string> dims;
+    for (auto x : d.dims) dims.push_back(cat(x));
+    out << "  " << d.name << " [" << (dims.empty() ? "scalar" : join(dims, " x ")) << "] "
+        << BitHasher::hex(d.checksum) << "\n";
+  }
+  return out.str();
+}
+
+std::vector<CheckpointShape> shapeRecords(const particles::ShapeTable& shapes) {
+  std::vector<CheckpointShape> out;
+  for (const auto& s : shapes) {
+    CheckpointShape r;
+    r.name = s.name;
+    r.vertices = s.polyhedron.vertices();
+    for (const auto& f : s.polyhedron.faces()) r.faces.push_back(f.vertices);
+    r.volume = s.volume;
+    r.principal_moments = s.principal_moments;
+    r.circumradius = s.circumradius;
+    r.inradius = s.inradius;
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+std::string shapeMismatch(const std::vector<CheckpointShape>& stored,
+                          const particles::ShapeTable& built) {
+  if (stored.size() != built.size()) {
+    return cat("the checkpoint has ", stored.size(), " shapes, the scene builds ", built.size());
+  }
+  for (std::size_t i = 0; i < stored.size(); ++i) {
+    const CheckpointShape& a = stored[i];
+    const CheckpointShape b = shapeRecords({built[i]}).front();
+    const std::string which = cat("shape ", i, " '", a.name, "'");
+    if (a.name != b.name) return cat(which, ": the scene calls it '", b.name, "'");
+    if (a.vertices.size() != b.vertices.size()) {
+      return cat(which, ": ", a.vertices.size(), " vertices stored, ", b.vertices.size(), " built");
+    }
+    for (std::size_t v = 0; v < a.vertices.size(); ++v) {
+      if (!sameBits(a.vertices[v], b.vertices[v])) return cat(which, ": vertex ", v, " differs");
+    }
+    if (a.faces != b.faces) return cat(which, ": the faces differ");
+    if (!sameBits(a.volume, b.volume) || !sameBits(a.principal_moments, b.principal_moments) ||
+        !sameBits(a.circumradius, b.circumradius) || !sameBits(a.inradius, b.inradius)) {
+      return cat(which, ": the mass properties or radii differ");
+    }
+  }
+  return {};
+}
+
+}  // namespace polydem::io

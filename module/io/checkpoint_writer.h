@@ -1,0 +1,12 @@
+// Writes everything a checkpoint holds into an open file (internal to io/; writeCheckpoint in
+// checkpoint_write.cpp handles validation, the temporary file and the rename). Collective.
+#pragma once
+
+#include "io/checkpoint.h"
+#include "io/hdf5_file.h"
+
+namespace polydem::io {
+
+void writeContents(h5::File& file, const CheckpointData& data);
+
+}  // namespace polydem::io

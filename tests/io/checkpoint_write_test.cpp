@@ -1,0 +1,188 @@
+// Writing: the temporary file is renamed only when complete, a failure on any rank fails on every
+// rank and leaves the previous checkpoint intact; file names and keeping the last K.
+#include <gtest/gtest.h>
+#include <mpi.h>
+#include <signal.h>
+#include <sys/resource.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include "checkpoint_test_data.h"
+#include "core/error.h"
+#include "core/mpi_env.h"
+#include "io/checkpoint.h"
+
+namespace polydem::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string readBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
+
+/// Names of the entries of `dir`, sorted.
+std::vector<std::string> entries(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+class CheckpointWrite : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing::scratchDirectory("checkpoint_write", MPI_COMM_WORLD);
+    path_ = dir_ / "run.h5";
+    old_ = testing::makeTruth(20, 30, true, 1);
+    writeCheckpoint(path_, testing::shareOf(old_, mpi::rank(), mpi::size()), MPI_COMM_WORLD);
+    old_bytes_ = readBytes(path_);
+  }
+  void TearDown() override {
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (mpi::rank() == 0) fs::remove_all(dir_);
+  }
+
+  /// The previous checkpoint is still there, unchanged, and no temporary file is left.
+  void expectPreviousIntact() {
+    MPI_Barrier(MPI_COMM_WORLD);
+    EXPECT_EQ(readBytes(path_), old_bytes_);
+    EXPECT_EQ(entries(dir_), std::vector<std::string>{"run.h5"});
+    const CheckpointData read = readCheckpoint(path_, MPI_COMM_WORLD);
+    EXPECT_EQ(testing::gatherFree(read, MPI_COMM_WORLD).size(), old_.free.size());
+  }
+
+  std::string failureOf(const std::function<void()>& write) {
+    try {
+      write();
+    } catch (const CheckpointError& e) {
+      return e.what();
+    }
+    ADD_FAILURE() << "the write did not fail";
+    return {};
+  }
+
+  fs::path dir_, path_;
+  testing::Truth old_;
+  std::string old_bytes_;
+};
+
+TEST_F(CheckpointWrite, ReplacesThePreviousFileAndLeavesNoTemporary) {
+  const auto next = testing::makeTruth(25, 40, true, 2);
+  writeCheckpoint(path_, testing::shareOf(next, mpi::rank(), mpi::size()), MPI_COMM_WORLD);
+  MPI_Barrier(MPI_COMM_WORLD);
+  EXPECT_EQ(entries(dir_), std::vector<std::string>{"run.h5"});
+  const CheckpointSummary s = verifyCheckpoint(path_, MPI_COMM_WORLD);
+  EXPECT_EQ(s.particles, static_cast<std::int64_t>(next.free.size() + next.globals.size()));
+}
+
+TEST_F(CheckpointWrite, NoRoomLeavesThePreviousCheckpoint) {
+  // A file size limit below the checkpoint's size, as a nearly full disk: the write is refused
+  // on every rank before it starts (the limit is set on the last rank only).
+  const auto big = testing::makeTruth(3000, 6000, true, 3);
+  const CheckpointData share = testing::shareOf(big, mpi::rank(), mpi::size());
+  rlimit saved{};
+  getrlimit(RLIMIT_FSIZE, &saved);
+  const auto saved_handler = signal(SIGXFSZ, SIG_IGN);
+  if (mpi::rank() == mpi::size() - 1) {
+    rlimit small = saved;
+    small.rlim_cur = 64 * 1024;
+    setrlimit(RLIMIT_FSIZE, &small);
+  }
+  const std::string message = failureOf([&] { writeCheckpoint(path_, share, MPI_COMM_WORLD); });
+  setrlimit(RLIMIT_FSIZE, &saved);
+  signal(SIGXFSZ, saved_handler);
+  EXPECT_NE(message.find(path_.string() + ": needs about"), std::string::npos) << message;
+  EXPECT_NE(message.find("file size limit of 65536 bytes"), std::string::npos) << message;
+  expectPreviousIntact();
+}
+
+TEST_F(CheckpointWrite, InvalidDataOnOneRankFailsOnEveryRank) {
+  CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
+  if (mpi::rank() == mpi::size() - 1) {
+    share.particles.push_back(old_.free.front());
+    share.particles.back().flags |= particles::kGhost;
+  }
+  const std::string message = failureOf([&] { writeCheckpoint(path_, share, MPI_COMM_WORLD); });
+  EXPECT_NE(message.find("is a ghost copy"), std::string::npos) << message;
+  expectPreviousIntact();
+}
+
+TEST_F(CheckpointWrite, InconsistentTimeIsRefused) {
+  CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
+  share.time = std::nextafter(share.time, 1e9);
+  const std::string message = failureOf([&] { writeCheckpoint(path_, share, MPI_COMM_WORLD); });
+  EXPECT_NE(message.find("is not the rounded exact time"), std::string::npos) << message;
+  expectPreviousIntact();
+}
+
+TEST_F(CheckpointWrite, RenameFailureRemovesTheTemporary) {
+  const fs::path target = dir_ / "occupied";
+  if (mpi::rank() == 0) {
+    fs::create_directory(target);
+    std::ofstream(target / "keep.txt") << "keep";
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  const CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
+  const std::string message = failureOf([&] { writeCheckpoint(target, share, MPI_COMM_WORLD); });
+  EXPECT_NE(message.find("cannot rename"), std::string::npos) << message;
+  MPI_Barrier(MPI_COMM_WORLD);
+  EXPECT_EQ(entries(dir_), (std::vector<std::string>{"occupied", "run.h5"}));
+  EXPECT_EQ(entries(target), std::vector<std::string>{"keep.txt"});
+}
+
+TEST_F(CheckpointWrite, MissingDirectory) {
+  const CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
+  const fs::path path = dir_ / "absent" / "run.h5";
+  const std::string message = failureOf([&] { writeCheckpoint(path, share, MPI_COMM_WORLD); });
+  EXPECT_NE(message.find("cannot create the file"), std::string::npos) << message;
+  expectPreviousIntact();
+}
+
+TEST(CheckpointFiles, NamesListAndKeepLast) {
+  if (mpi::rank() != 0) return;  // not collective
+  const fs::path dir = fs::temp_directory_path() / ("polydem_ckfiles_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  EXPECT_EQ(checkpointFileName(dir, 1500), dir / "checkpoint_000000001500.h5");
+  EXPECT_EQ(checkpointFileName("", 0).string(), "checkpoint_000000000000.h5");
+  EXPECT_THROW(checkpointFileName(dir, -1), Error);
+  EXPECT_TRUE(listCheckpoints(dir / "absent").empty());
+
+  for (std::int64_t step : {100, 0, 1500, 5, 10})
+    std::ofstream(checkpointFileName(dir, step)) << step;
+  // Names that only look like checkpoints, and a directory with a checkpoint's name.
+  const std::vector<std::string> others = {
+      "checkpoint_000000000005.h5.tmp.4242", "checkpoint_5.h5", "checkpoint_00000000001x.h5",
+      "checkpoint_000000000007.h5.bak",      "notes.txt",       "Checkpoint_000000000003.h5"};
+  for (const auto& name : others) std::ofstream(dir / name) << "x";
+  fs::create_directory(dir / "checkpoint_000000000200.h5");
+
+  const auto listed = listCheckpoints(dir);
+  std::vector<std::int64_t> steps;
+  for (const auto& f : listed) steps.push_back(f.step);
+  EXPECT_EQ(steps, (std::vector<std::int64_t>{0, 5, 10, 100, 1500}));
+
+  const auto deleted = pruneCheckpoints(dir, 2);
+  EXPECT_EQ(deleted.size(), 3u);
+  std::vector<std::string> expected = others;
+  expected.push_back("checkpoint_000000000100.h5");
+  expected.push_back("checkpoint_000000000200.h5");
+  expected.push_back("checkpoint_000000001500.h5");
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(entries(dir), expected);
+  EXPECT_TRUE(pruneCheckpoints(dir, 2).empty());
+  EXPECT_EQ(pruneCheckpoints(dir, 1).size(), 1u);
+  EXPECT_TRUE(fs::exists(checkpointFileName(dir, 1500)));
+  EXPECT_THROW(pruneCheckpoints(dir, 0), Error);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace polydem::io
