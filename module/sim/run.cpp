@@ -156,7 +156,8 @@ RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm) {
   if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
     io::writeJsonAtomic(options.out_dir + "/summary.json",
                         summaryJson(scene, sim, result, reason, timing));
-    log::info("wrote " + options.out_dir + "/summary.json, series.csv, snapshots.pvd");
+    log::info("wrote " + options.out_dir + "/summary.json, series.csv" +
+              (options.snapshots ? ", snapshots.pvd" : ""));
   }
   return result;
 }

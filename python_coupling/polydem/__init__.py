@@ -14,6 +14,7 @@ Importing polydem initialises MPI (unless mpi4py or another library did) and fin
 the interpreter exits, so a plain script runs on one rank and `mpirun -n 4 python3 script.py`
 runs one Simulation over all four. See docs/python.md.
 """
+import importlib as _importlib
 import os as _os
 import sys as _sys
 
@@ -85,10 +86,10 @@ def run(scene, out=None, steps=None, end_time=None, kernel=None, snapshots=True,
 
 
 def __getattr__(name):
-    # polydem.plots imports matplotlib: loaded on first use, not with the package.
+    # polydem.plots imports matplotlib: loaded on first use, not with the package. Through
+    # importlib, since `from . import plots` would look the attribute up here again (recursion).
     if name == "plots":
-        from . import plots
-        return plots
+        return _importlib.import_module(__name__ + ".plots")
     raise AttributeError("module 'polydem' has no attribute %r" % name)
 
 
