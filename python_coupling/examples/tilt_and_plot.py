@@ -127,7 +127,8 @@ def main(argv=None):
     print("wrote " + png)
     return {"png": png, "theta": theta, "slip": slip, "analytic": analytic,
             "rotation": series[args.label + "_rotation"], "onset_deg": onset,
-            "onset_analytic_deg": onset_analytic, "friction_angle_deg": math.degrees(phi)}
+            "onset_analytic_deg": onset_analytic, "friction_angle_deg": math.degrees(phi),
+            "state_hash": result["state_hash"], "steps": result["steps"], "time": result["time"]}
 
 
 if __name__ == "__main__":
