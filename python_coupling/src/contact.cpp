@@ -87,9 +87,10 @@ py::list contactCases() {
 void bindContact(py::module_& m) {
   m.def("kernels", &contact::kernelNames,
         "Names of the contact kernels, in the order reports list them (polydem kernels).");
-  m.def("collide", &collide, py::arg("a"), py::arg("b"), py::arg("kernel") = "gjk-epa-ipm",
-        py::arg("lp_rounding") = contact::KernelParams{}.lp_rounding,
-        R"(Resolves the contact between two convex polyhedra with one kernel, as `polydem contact` does.
+  m.def(
+      "collide", &collide, py::arg("a"), py::arg("b"), py::arg("kernel") = "gjk-epa-ipm",
+      py::arg("lp_rounding") = contact::KernelParams{}.lp_rounding,
+      R"(Resolves the contact between two convex polyhedra with one kernel, as `polydem contact` does.
 
 `a` and `b` are ConvexPolyhedron objects or (n, 3) arrays of world coordinates [m] (their convex
 hulls are taken). Returns {"contact": False} when they do not touch, otherwise

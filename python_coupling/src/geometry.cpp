@@ -60,7 +60,8 @@ shapes::Platonic platonicByName(const std::string& name) {
 }
 
 void bindPolyhedron(py::module_& m) {
-  py::class_<ConvexPolyhedron>(m, "ConvexPolyhedron", R"(A convex polyhedron: the convex hull of a point cloud.
+  py::class_<ConvexPolyhedron>(m, "ConvexPolyhedron",
+                               R"(A convex polyhedron: the convex hull of a point cloud.
 
 Faces are true polygons (coplanar triangles merged: a cube has 6 quads), counter-clockwise
 seen from outside. Vertices keep the order of the input points that are hull corners; points
@@ -149,7 +150,8 @@ polydem.GeometryError.)");
   s.def(
       "box_around",
       [](const py::handle& centre, const py::handle& half) {
-        return pointsArray(shapes::boxAround(toVec3(centre, "centre"), toVec3(half, "half_extents")));
+        return pointsArray(
+            shapes::boxAround(toVec3(centre, "centre"), toVec3(half, "half_extents")));
       },
       py::arg("centre"), py::arg("half_extents"),
       "Axis-aligned box centred at `centre` with the given half-extents.");
@@ -164,8 +166,8 @@ polydem.GeometryError.)");
   s.def(
       "ridge_prism",
       [](const py::handle& a, const py::handle& b, double half_width, double height) {
-        return pointsArray(shapes::ridgePrism(toVec3(a, "ridge_a"), toVec3(b, "ridge_b"),
-                                              half_width, height));
+        return pointsArray(
+            shapes::ridgePrism(toVec3(a, "ridge_a"), toVec3(b, "ridge_b"), half_width, height));
       },
       py::arg("ridge_a"), py::arg("ridge_b"), py::arg("base_half_width"), py::arg("height"),
       "Triangular prism with a horizontal ridge from ridge_a to ridge_b on top and its base\n"

@@ -30,8 +30,7 @@ PyObject* g_simulation_error = nullptr;
 
 PyObject* newException(py::module_& m, const char* name, const char* doc, py::tuple bases) {
   const std::string qualified = std::string("polydem.") + name;
-  PyObject* type =
-      PyErr_NewExceptionWithDoc(qualified.c_str(), doc, bases.ptr(), /*dict=*/nullptr);
+  PyObject* type = PyErr_NewExceptionWithDoc(qualified.c_str(), doc, bases.ptr(), /*dict=*/nullptr);
   if (type == nullptr) throw py::error_already_set();
   m.add_object(name, py::handle(type));
   return type;
@@ -145,12 +144,13 @@ ArrayIn toArray(const py::handle& object, const char* what, const char* expected
 std::vector<Vec3> toPoints(const py::handle& object, const char* what) {
   const ArrayIn a = toArray(object, what, "an (n, 3) array");
   if (a.ndim() != 2 || a.shape(1) != 3) {
-    throw py::value_error(cat(what, " must be an (n, 3) array of coordinates, got shape ",
-                              shapeText(a)));
+    throw py::value_error(
+        cat(what, " must be an (n, 3) array of coordinates, got shape ", shapeText(a)));
   }
   std::vector<Vec3> points(static_cast<std::size_t>(a.shape(0)));
   const double* d = a.data();
-  for (std::size_t i = 0; i < points.size(); ++i) points[i] = {d[3 * i], d[3 * i + 1], d[3 * i + 2]};
+  for (std::size_t i = 0; i < points.size(); ++i)
+    points[i] = {d[3 * i], d[3 * i + 1], d[3 * i + 2]};
   return points;
 }
 
@@ -225,8 +225,10 @@ PYBIND11_MODULE(_polydem, m) {
   initializeMpi();
   defineExceptions(m);
 
-  m.def("mpi_rank", [] { return mpi::rank(); }, "This process's rank in MPI_COMM_WORLD.");
-  m.def("mpi_size", [] { return mpi::size(); }, "The number of ranks in MPI_COMM_WORLD.");
+  m.def(
+      "mpi_rank", [] { return mpi::rank(); }, "This process's rank in MPI_COMM_WORLD.");
+  m.def(
+      "mpi_size", [] { return mpi::size(); }, "The number of ranks in MPI_COMM_WORLD.");
   m.def(
       "mpi_abort", [](int code) { MPI_Abort(MPI_COMM_WORLD, code); }, py::arg("code") = 1,
       "Ends every rank of the job at once (after an error on one rank, the others may be\n"

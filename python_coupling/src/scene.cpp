@@ -124,8 +124,8 @@ py::list checks(const Scene& s) {
 }
 
 std::string repr(const Scene& s) {
-  return cat("Scene('", s.id, "', ", s.particles.size(), " particles, kernel ", s.kernel,
-             ", dt ", num(s.dt), ")");
+  return cat("Scene('", s.id, "', ", s.particles.size(), " particles, kernel ", s.kernel, ", dt ",
+             num(s.dt), ")");
 }
 
 // Raises ValueError (listing the known kernels) for an unknown name.
@@ -171,8 +171,8 @@ py::dict checkDict(const io::CheckResult& c) {
 }
 
 py::dict runScene(const Scene& scene, const std::string& out, std::optional<std::int64_t> steps,
-                  std::optional<double> end_time, std::optional<std::string> kernel,
-                  bool snapshots, std::int64_t progress_every) {
+                  std::optional<double> end_time, std::optional<std::string> kernel, bool snapshots,
+                  std::int64_t progress_every) {
   const auto options = runOptions(out, steps, end_time, kernel, snapshots, progress_every);
   const sim::RunResult r = sim::runScene(scene, options, MPI_COMM_WORLD);
   py::list check_list;
@@ -191,7 +191,8 @@ py::dict runScene(const Scene& scene, const std::string& out, std::optional<std:
 }  // namespace
 
 void bindScene(py::module_& m) {
-  py::class_<Scene>(m, "Scene", R"(A scene as read from a scene file (docs/scene-format.md), in SI units.
+  py::class_<Scene>(m, "Scene",
+                    R"(A scene as read from a scene file (docs/scene-format.md), in SI units.
 
 A read-only view of its main fields, except the kernel and the stop condition, which may be
 overridden (as `polydem run --kernel/--steps/--end-time` do). Setting `steps` or `end_time`
@@ -260,19 +261,19 @@ replaces the scene's whole stop condition: the other one is cleared.)")
           "copy", [](const Scene& s) { return Scene(s); },
           "An independent copy (to override kernel or stop time without changing this one).")
       .def("__copy__", [](const Scene& s) { return Scene(s); })
-      .def("__deepcopy__", [](const Scene& s, const py::dict&) { return Scene(s); },
-           py::arg("memo"))
+      .def(
+          "__deepcopy__", [](const Scene& s, const py::dict&) { return Scene(s); }, py::arg("memo"))
       .def("__repr__", &repr);
 
-  m.def("read_scene", &io::readScene, py::arg("path"),
-        "Reads and checks a scene file. Raises polydem.InputError ('file:line: message', with\n"
-        "attributes file and line; line 0 for a file that cannot be opened) for the first problem.");
+  m.def(
+      "read_scene", &io::readScene, py::arg("path"),
+      "Reads and checks a scene file. Raises polydem.InputError ('file:line: message', with\n"
+      "attributes file and line; line 0 for a file that cannot be opened) for the first problem.");
   m.def("parse_scene", &io::parseScene, py::arg("text"), py::arg("name") = "<string>",
         "Reads a scene from TOML text; `name` is the file name messages carry.");
   m.def("run_scene", &runScene, py::arg("scene"), py::arg("out") = "",
         py::arg("steps") = py::none(), py::arg("end_time") = py::none(),
-        py::arg("kernel") = py::none(), py::arg("snapshots") = true,
-        py::arg("progress_every") = 0,
+        py::arg("kernel") = py::none(), py::arg("snapshots") = true, py::arg("progress_every") = 0,
         "sim::runScene: the run `polydem run` makes (use polydem.run, which takes paths too).");
 }
 

@@ -185,7 +185,8 @@ void bindSimulation(py::module_& m) {
   m.attr("FLAG_FIXED") = static_cast<std::uint32_t>(particles::kFixed);
   m.attr("FLAG_DRIVEN") = static_cast<std::uint32_t>(particles::kDriven);
 
-  py::class_<Simulation>(m, "Simulation", R"(A run of a scene on all ranks of MPI_COMM_WORLD, stepped from Python.
+  py::class_<Simulation>(m, "Simulation",
+                         R"(A run of a scene on all ranks of MPI_COMM_WORLD, stepped from Python.
 
 Built from a Scene (or a scene file's path) as `polydem run` builds it; step(n) advances it, the
 state is read with particles(), contacts(), monitors() and state_hash(). On several ranks
@@ -206,9 +207,10 @@ principal axes, see `shapes`) into the world.)")
       .def("run", &run,
            "Runs the main stage to the scene's end time or step count (collective); returns why\n"
            "it stopped ('end time', 'step limit', ...).")
-      .def("run_equilibrium", &Simulation::runEquilibrium,
-           "Runs the initial-equilibrium stage if the scene has one (collective); returns its step\n"
-           "count (0 without one). Call it before stepping the main stage, as polydem run does.")
+      .def(
+          "run_equilibrium", &Simulation::runEquilibrium,
+          "Runs the initial-equilibrium stage if the scene has one (collective); returns its step\n"
+          "count (0 without one). Call it before stepping the main stage, as polydem run does.")
       .def_property_readonly("time", &Simulation::time, "Simulated time [s].")
       .def_property_readonly("step_count", &Simulation::stepCount, "Steps taken in this stage.")
       .def_property_readonly("dt", &Simulation::dt, "Time step [s].")
@@ -253,8 +255,8 @@ force (n, 3) on the lower-uid particle [N], normal_force, shear_force (n,) [N].)
           "Hash of the whole state (collective), the same on any rank count; equal to the\n"
           "state_hash `polydem run` writes to summary.json after the same steps.")
       .def("__repr__", [](const Simulation& s) {
-        return cat("Simulation('", s.scene().id, "', step ", s.stepCount(), ", t = ",
-                   num(s.time()), " s)");
+        return cat("Simulation('", s.scene().id, "', step ", s.stepCount(), ", t = ", num(s.time()),
+                   " s)");
       });
 }
 
