@@ -40,8 +40,9 @@ nlohmann::json summaryJson(const io::Scene& scene, Simulation& sim, const RunRes
                         {"reached", sim.equilibriumReached()},
                         {"force_ratio", scene.equilibrium.force_ratio}};
   }
-  j["particles"] = mpi::allreduceSum(static_cast<std::int64_t>(sim.particles().localCount()),
-                                     sim.comm());
+  // From the state hash (each particle once, replicated bodies too), not an allreduce: this runs
+  // on rank 0 alone, where a collective call would wait for the other ranks forever.
+  j["particles"] = result.hash.particle_count;
   j["last_step"] = {{"candidate_pairs", stats.candidates},
                     {"evaluated_pairs", stats.evaluated},
                     {"touching_pairs", stats.touching},

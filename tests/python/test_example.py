@@ -8,7 +8,9 @@ The sliding phase itself (slip s(theta) of the example's docstring) is printed, 
 lp kernel of the scene slides more slowly than the rigid-block law (about 5 mm at 36 deg against
 71 mm), which is a finding about the contact model, not about the Python layer.
 
-Run by ctest (python_example) with PYTHONPATH=build/python and /usr/bin/python3.
+Run by ctest with PYTHONPATH=build/python and /usr/bin/python3: python_example on one rank,
+python_example_np2 under mpiexec -n 2 (every rank runs the scene, rank 0 writes and plots; the
+other ranks skip the checks, which read rank 0's files).
 """
 import importlib.util
 import json
@@ -48,10 +50,15 @@ class TiltExample(unittest.TestCase):
     def setUpClass(cls):
         polydem.set_log_level("warning")
         cls.example = load_example()
-        cls.out = os.path.join(WORK, "tilt_example")
-        shutil.rmtree(cls.out, ignore_errors=True)
+        cls.out = os.path.join(WORK, "tilt_example_np%d" % polydem.mpi_size())
+        if polydem.mpi_rank() == 0:
+            shutil.rmtree(cls.out, ignore_errors=True)  # before the run's first collective call
         cls.scene = polydem.read_scene(os.path.join(EXAMPLES, "tilt_table.toml"))
         cls.r = cls.example.main(["--out", cls.out])
+
+    def setUp(self):
+        if polydem.mpi_rank() != 0:
+            self.skipTest("rank 0 writes and checks the example's outputs")
 
     def test_files_agree_with_the_run(self):
         for name in ("series.csv", "summary.json", "tilt.png"):
