@@ -40,8 +40,9 @@ nlohmann::json summaryJson(const io::Scene& scene, Simulation& sim, const RunRes
                         {"reached", sim.equilibriumReached()},
                         {"force_ratio", scene.equilibrium.force_ratio}};
   }
-  j["particles"] = mpi::allreduceSum(static_cast<std::int64_t>(sim.particles().localCount()),
-                                     sim.comm());
+  // From the state hash (each particle once, replicated bodies too), not an allreduce: this runs
+  // on rank 0 alone, where a collective call would wait for the other ranks forever.
+  j["particles"] = result.hash.particle_count;
   j["last_step"] = {{"candidate_pairs", stats.candidates},
                     {"evaluated_pairs", stats.evaluated},
                     {"touching_pairs", stats.touching},
@@ -156,7 +157,8 @@ RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm) {
   if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
     io::writeJsonAtomic(options.out_dir + "/summary.json",
                         summaryJson(scene, sim, result, reason, timing));
-    log::info("wrote " + options.out_dir + "/summary.json, series.csv, snapshots.pvd");
+    log::info("wrote " + options.out_dir + "/summary.json, series.csv" +
+              (options.snapshots ? ", snapshots.pvd" : ""));
   }
   return result;
 }

@@ -10,6 +10,9 @@ The title names the scene and the verdict of its checks when RUN_DIR/summary.jso
 Runs with Debian's /usr/bin/python3 (matplotlib, numpy), headless (Agg backend):
 
     /usr/bin/python3 python_coupling/plots/plot_series.py RUN_DIR [--columns a,b] [--out f.png]
+
+The same functions are the module polydem.plots of the Python package (read_series, plot, ...);
+as functions they raise ValueError where the script exits with a message.
 """
 import argparse
 import csv
@@ -59,12 +62,13 @@ def label_of(name, units):
 
 
 def read_series(path):
+    """The columns of a series.csv: (header, {name: numpy array}); a torn last row is skipped."""
     with open(path, newline="") as f:
         reader = csv.reader(f)
         try:
             header = next(reader)
         except StopIteration:
-            sys.exit("plot_series: %s is empty" % path)
+            raise ValueError("%s is empty" % path) from None
         rows = [r for r in reader if len(r) == len(header)]  # a torn last row is skipped
     data = np.array([[float(v) for v in r] for r in rows], dtype=float).reshape(-1, len(header))
     return header, {name: data[:, i] for i, name in enumerate(header)}
@@ -132,12 +136,15 @@ def plot_panel(ax, x, name, series, units):
 
 
 def choose_columns(header, x_name, requested):
+    """The columns to plot: `requested` (a list, or names separated by commas) or all of them."""
     if requested:
-        chosen = [c.strip() for c in requested.split(",") if c.strip()]
+        if isinstance(requested, str):
+            requested = requested.split(",")
+        chosen = [c.strip() for c in requested if c.strip()]
         missing = [c for c in chosen if c not in header]
         if missing:
-            sys.exit("plot_series: no column %s in series.csv (columns: %s)"
-                     % (", ".join(missing), ", ".join(header)))
+            raise ValueError("no column %s in series.csv (columns: %s)"
+                             % (", ".join(missing), ", ".join(header)))
         return chosen
     chosen = [c for c in header if c not in (x_name, "step") and not c.endswith(ANALYTIC)]
     if len(chosen) > MAX_DEFAULT_PANELS:
@@ -147,32 +154,32 @@ def choose_columns(header, x_name, requested):
     return chosen
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("run_dir", help="directory of a run (holds series.csv)")
-    parser.add_argument("--columns", help="comma-separated columns to plot (default: all)")
-    parser.add_argument("--out", help="PNG to write (default: RUN_DIR/series.png)")
-    parser.add_argument("--x", default="time", help="column on the horizontal axis")
-    args = parser.parse_args(argv)
+def plot(run_dir, columns=None, out=None, x="time"):
+    """Draws columns of RUN_DIR/series.csv against `x`, one panel each, to a PNG.
 
-    header, series = read_series(os.path.join(args.run_dir, "series.csv"))
-    if args.x not in series:
-        sys.exit("plot_series: no column %s in series.csv" % args.x)
-    summary = read_summary(args.run_dir)
+    `columns`: a list of names (or one string of names separated by commas); default all but
+    `x`, step and the *_analytic columns, which are drawn beside their numerical column. `out`:
+    the PNG (default RUN_DIR/series.png). Returns the path written. Raises ValueError for a column
+    that is not in the file.
+    """
+    header, series = read_series(os.path.join(run_dir, "series.csv"))
+    if x not in series:
+        raise ValueError("no column %s in series.csv" % x)
+    summary = read_summary(run_dir)
     units = summary.get("series_units") if isinstance(summary.get("series_units"), dict) else {}
-    columns = choose_columns(header, args.x, args.columns)
+    columns = choose_columns(header, x, columns)
     if not columns:
-        sys.exit("plot_series: nothing to plot besides %s" % args.x)
+        raise ValueError("nothing to plot besides %s" % x)
 
     n = len(columns)
     ncols = 1 if n <= 3 else 2
     nrows = math.ceil(n / ncols)
     fig, axes = plt.subplots(nrows, ncols, sharex=True, squeeze=False,
                              figsize=(7.5 * ncols, 2.8 * nrows + 0.9))
-    x = series[args.x]
+    xs = series[x]
     for i, name in enumerate(columns):
         ax = axes[i // ncols][i % ncols]
-        drawn = plot_panel(ax, x, name, series, units)
+        drawn = plot_panel(ax, xs, name, series, units)
         ax.grid(True, which="major", alpha=0.35)
         ax.grid(True, which="minor", alpha=0.12)
         ax.minorticks_on()
@@ -184,13 +191,27 @@ def main(argv=None):
     for col in range(ncols):
         last = max(i for i in range(n) if i % ncols == col) if n > col else None
         if last is not None:
-            axes[last // ncols][col].set_xlabel(label_of(args.x, units))
+            axes[last // ncols][col].set_xlabel(label_of(x, units))
             axes[last // ncols][col].tick_params(labelbottom=True)
-    fig.suptitle(title_of(summary, args.run_dir), fontsize=11)
+    fig.suptitle(title_of(summary, run_dir), fontsize=11)
     fig.tight_layout()
-    out = args.out or os.path.join(args.run_dir, "series.png")
+    out = out or os.path.join(run_dir, "series.png")
     fig.savefig(out, dpi=150)
     plt.close(fig)
+    return out
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("run_dir", help="directory of a run (holds series.csv)")
+    parser.add_argument("--columns", help="comma-separated columns to plot (default: all)")
+    parser.add_argument("--out", help="PNG to write (default: RUN_DIR/series.png)")
+    parser.add_argument("--x", default="time", help="column on the horizontal axis")
+    args = parser.parse_args(argv)
+    try:
+        out = plot(args.run_dir, args.columns, args.out, args.x)
+    except ValueError as e:
+        sys.exit("plot_series: %s" % e)
     print(out)
     return 0
 

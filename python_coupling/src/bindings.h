@@ -1,0 +1,50 @@
+// Shared pieces of the _polydem extension: numpy conversions of the core types and the functions
+// that add each area's bindings to the module (one file per area: geometry, contact, scene,
+// simulation; module.cpp ties them together and owns MPI and the exception classes).
+//
+// Conventions of the Python API: coordinates and vectors are float64 numpy arrays, lists of points
+// are (n, 3), matrices (3, 3), quaternions (4,) as (w, x, y, z); every quantity is in SI units.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <span>
+#include <vector>
+
+#include "core/types.h"
+
+namespace polydem::python {
+
+namespace py = pybind11;
+
+/// (n, 3) points from anything numpy can read as such (array, list of triples). Throws
+/// py::value_error naming `what` for any other shape or for non-numeric entries.
+std::vector<Vec3> toPoints(const py::handle& object, const char* what);
+/// A 3-vector from any array-like of 3 numbers; py::value_error naming `what` otherwise.
+Vec3 toVec3(const py::handle& object, const char* what);
+/// A 3 x 3 matrix from any (3, 3) array-like; py::value_error naming `what` otherwise.
+Mat3 toMat3(const py::handle& object, const char* what);
+
+py::array_t<double> pointsArray(std::span<const Vec3> points);
+py::array_t<double> vec3Array(const Vec3& v);
+py::array_t<double> mat3Array(const Mat3& m);
+py::array_t<double> quatArray(const Quat& q);  // (w, x, y, z)
+
+/// An empty C-contiguous numpy array of the given shape, to be filled through data().
+template <typename T>
+py::array_t<T> emptyArray(std::vector<py::ssize_t> shape) {
+  return py::array_t<T>(std::move(shape));
+}
+
+/// Raises KeyboardInterrupt (through py::error_already_set) if Ctrl-C was pressed; called between
+/// steps of long runs, which hold the GIL.
+void checkSignals();
+
+void bindGeometry(py::module_& m);
+void bindContact(py::module_& m);
+void bindScene(py::module_& m);
+void bindSimulation(py::module_& m);
+
+}  // namespace polydem::python

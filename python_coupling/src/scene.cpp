@@ -1,0 +1,280 @@
+// Bindings of module/io's Scene (read a scene file, look at it, override kernel and stop time) and
+// of sim::runScene, the complete run `polydem run` makes.
+#include <optional>
+#include <string>
+
+#include "bindings.h"
+#include "contact/contact.h"
+#include "core/error.h"
+#include "core/strings.h"
+#include "io/scene.h"
+#include "io/scene_reader.h"
+#include "sim/run.h"
+
+namespace polydem::python {
+
+namespace {
+
+using io::Scene;
+
+py::list materials(const Scene& s) {
+  py::list out;
+  for (const auto& m : s.materials) {
+    py::dict d;
+    d["name"] = m.name;
+    d["density"] = m.density;
+    d["kn"] = m.kn;
+    d["ks"] = m.ks;
+    d["friction_angle"] = m.friction_angle;
+    d["cohesion"] = m.cohesion;
+    d["normal_damping"] = m.normal_damping;
+    d["local_damping"] = m.local_damping;
+    d["penalty"] = m.penalty;
+    out.append(d);
+  }
+  return out;
+}
+
+py::list shapes(const Scene& s) {
+  py::list out;
+  for (const auto& shape : s.shapes) {
+    py::dict d;
+    d["name"] = shape.name;
+    d["vertices"] = pointsArray(shape.vertices);
+    out.append(d);
+  }
+  return out;
+}
+
+py::dict particles(const Scene& s) {
+  const auto n = static_cast<py::ssize_t>(s.particles.size());
+  auto uid = emptyArray<std::uint64_t>({n});
+  auto shape = emptyArray<std::int32_t>({n});
+  auto material = emptyArray<std::int32_t>({n});
+  auto driver = emptyArray<std::int32_t>({n});
+  auto fixed = emptyArray<bool>({n});
+  auto position = emptyArray<double>({n, 3});
+  auto orientation = emptyArray<double>({n, 4});
+  auto velocity = emptyArray<double>({n, 3});
+  auto angular_velocity = emptyArray<double>({n, 3});
+  py::list labels;
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const auto& p = s.particles[i];
+    uid.mutable_data()[i] = p.uid;
+    shape.mutable_data()[i] = p.shape;
+    material.mutable_data()[i] = p.material;
+    driver.mutable_data()[i] = p.driver;
+    fixed.mutable_data()[i] = p.fixed;
+    for (int k = 0; k < 3; ++k) {
+      position.mutable_data()[3 * i + k] = p.position[k];
+      velocity.mutable_data()[3 * i + k] = p.velocity[k];
+      angular_velocity.mutable_data()[3 * i + k] = p.angular_velocity[k];
+    }
+    const double q[4] = {p.orientation.w(), p.orientation.x(), p.orientation.y(),
+                         p.orientation.z()};
+    for (int k = 0; k < 4; ++k) orientation.mutable_data()[4 * i + k] = q[k];
+    labels.append(p.label);
+  }
+  py::dict d;
+  d["uid"] = uid;
+  d["label"] = labels;
+  d["shape"] = shape;
+  d["material"] = material;
+  d["position"] = position;
+  d["orientation"] = orientation;
+  d["velocity"] = velocity;
+  d["angular_velocity"] = angular_velocity;
+  d["fixed"] = fixed;
+  d["driver"] = driver;
+  return d;
+}
+
+py::list drivers(const Scene& s) {
+  py::list out;
+  for (const auto& d : s.drivers) {
+    py::dict x;
+    x["name"] = d.name;
+    x["velocity"] = vec3Array(d.velocity);
+    x["angular_velocity"] = vec3Array(d.angular_velocity);
+    x["pivot"] = vec3Array(d.pivot);
+    x["oscillation"] = vec3Array(d.oscillation);
+    x["frequency"] = d.frequency;
+    x["phase"] = d.phase;
+    x["start_time"] = d.start_time;
+    x["end_time"] = d.end_time;
+    out.append(x);
+  }
+  return out;
+}
+
+py::list checks(const Scene& s) {
+  py::list out;
+  for (const auto& c : s.checks) {
+    py::dict d;
+    d["name"] = c.name;
+    d["kind"] = c.kind;
+    d["expected"] = c.expected;
+    d["tolerance"] = c.tolerance;
+    d["compare"] = c.compare;
+    d["reference"] = c.reference;
+    d["line"] = c.line;
+    out.append(d);
+  }
+  return out;
+}
+
+std::string repr(const Scene& s) {
+  return cat("Scene('", s.id, "', ", s.particles.size(), " particles, kernel ", s.kernel, ", dt ",
+             num(s.dt), ")");
+}
+
+// Raises ValueError (listing the known kernels) for an unknown name.
+void checkKernel(const std::string& name) {
+  try {
+    contact::makeKernel(name);
+  } catch (const Error& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+sim::RunOptions runOptions(const std::string& out, std::optional<std::int64_t> steps,
+                           std::optional<double> end_time, std::optional<std::string> kernel,
+                           bool snapshots, std::int64_t progress_every) {
+  if (steps && *steps <= 0) throw py::value_error(cat("steps must be positive, got ", *steps));
+  if (end_time && !(*end_time > 0)) {
+    throw py::value_error(cat("end_time must be > 0, got ", *end_time));
+  }
+  if (progress_every < 0) throw py::value_error("progress_every must be >= 0");
+  if (kernel) checkKernel(*kernel);
+  sim::RunOptions o;
+  o.out_dir = out;
+  o.steps = steps;
+  o.end_time = end_time;
+  o.kernel = kernel;
+  o.snapshots = snapshots;
+  o.progress_every = progress_every;
+  return o;
+}
+
+py::dict checkDict(const io::CheckResult& c) {
+  py::dict d;
+  d["name"] = c.name;
+  d["kind"] = c.kind;
+  d["value"] = c.value;
+  d["expected"] = c.expected;
+  d["tolerance"] = c.tolerance;
+  d["compare"] = c.compare;
+  d["pass"] = c.pass;
+  d["reference"] = c.reference;
+  d["note"] = c.note;
+  return d;
+}
+
+py::dict runScene(const Scene& scene, const std::string& out, std::optional<std::int64_t> steps,
+                  std::optional<double> end_time, std::optional<std::string> kernel, bool snapshots,
+                  std::int64_t progress_every) {
+  const auto options = runOptions(out, steps, end_time, kernel, snapshots, progress_every);
+  const sim::RunResult r = sim::runScene(scene, options, MPI_COMM_WORLD);
+  py::list check_list;
+  for (const auto& c : r.checks) check_list.append(checkDict(c));
+  py::dict d;
+  d["checks"] = check_list;
+  d["all_checks_pass"] = r.all_checks_pass();
+  d["state_hash"] = r.hash.hex();
+  d["steps"] = r.steps;
+  d["time"] = r.time;
+  d["equilibrium_steps"] = r.equilibrium_steps;
+  d["wall_seconds"] = r.wall_seconds;
+  return d;
+}
+
+}  // namespace
+
+void bindScene(py::module_& m) {
+  py::class_<Scene>(m, "Scene",
+                    R"(A scene as read from a scene file (docs/scene-format.md), in SI units.
+
+A read-only view of its main fields, except the kernel and the stop condition, which may be
+overridden (as `polydem run --kernel/--steps/--end-time` do). Setting `steps` or `end_time`
+replaces the scene's whole stop condition: the other one is cleared.)")
+      .def_readonly("file", &Scene::file, "Path of the scene file.")
+      .def_readonly("id", &Scene::id)
+      .def_readonly("title", &Scene::title)
+      .def_readonly("description", &Scene::description)
+      .def_readonly("source", &Scene::source)
+      .def_property(
+          "kernel", [](const Scene& s) { return s.kernel; },
+          [](Scene& s, const std::string& name) {
+            checkKernel(name);
+            s.kernel = name;
+          },
+          "Contact kernel name (one of polydem.kernels()).")
+      .def_readonly("broadphase", &Scene::broadphase)
+      .def_readonly("dt", &Scene::dt, "Time step [s].")
+      .def_property(
+          "steps", [](const Scene& s) { return s.steps; },
+          [](Scene& s, std::optional<std::int64_t> steps) {
+            if (!steps) return s.steps.reset();
+            sim::applyOverrides(s, runOptions("", steps, std::nullopt, std::nullopt, true, 0));
+          },
+          "Step count the run stops at, or None. Setting a count clears end_time.")
+      .def_property(
+          "end_time", [](const Scene& s) { return s.end_time; },
+          [](Scene& s, std::optional<double> end_time) {
+            if (!end_time) return s.end_time.reset();
+            sim::applyOverrides(s, runOptions("", std::nullopt, end_time, std::nullopt, true, 0));
+          },
+          "Simulated time the run stops at [s], or None. Setting a time clears steps.")
+      .def_property_readonly(
+          "gravity", [](const Scene& s) { return vec3Array(s.gravity); }, "[m/s^2]")
+      .def_readonly("contact_margin", &Scene::contact_margin,
+                    "Extra range of candidate pairs, relative to particle size.")
+      .def_property_readonly(
+          "num_particles", [](const Scene& s) { return s.particles.size(); },
+          "Number of particles (free, fixed and driven).")
+      .def_property_readonly("particles", &particles,
+                             "Initial particles as a dict of arrays: uid, label (list), shape and "
+                             "material (indices), position (n, 3), orientation (n, 4: w, x, y, "
+                             "z), velocity, angular_velocity (n, 3), fixed (bool), driver (index "
+                             "or -1).")
+      .def_property_readonly("materials", &materials,
+                             "Materials as dicts (name, density [kg/m^3], kn, ks [N/m], "
+                             "friction_angle [deg], cohesion [N], normal_damping, local_damping, "
+                             "penalty [Pa]).")
+      .def_property_readonly("shapes", &shapes,
+                             "Shapes as dicts {name, vertices}: the corners of each hull in the "
+                             "shape's own frame.")
+      .def_property_readonly("drivers", &drivers,
+                             "Prescribed motions as dicts (name, velocity [m/s], angular_velocity "
+                             "[rad/s], pivot [m], oscillation [m/s], frequency [Hz], phase [rad], "
+                             "start_time, end_time [s]); particles()['driver'] indexes them.")
+      .def_property_readonly("checks", &checks,
+                             "The expected results ([[check]]) as dicts (name, kind, expected, "
+                             "tolerance, compare, reference, line).")
+      .def_property_readonly(
+          "monitor", [](const Scene& s) { return s.output.monitor; },
+          "Labels of the particles whose state a run writes to series.csv.")
+      .def_property_readonly(
+          "equilibrium", [](const Scene& s) { return s.equilibrium.enabled; },
+          "Whether the run starts with the initial-equilibrium stage.")
+      .def(
+          "copy", [](const Scene& s) { return Scene(s); },
+          "An independent copy (to override kernel or stop time without changing this one).")
+      .def("__copy__", [](const Scene& s) { return Scene(s); })
+      .def(
+          "__deepcopy__", [](const Scene& s, const py::dict&) { return Scene(s); }, py::arg("memo"))
+      .def("__repr__", &repr);
+
+  m.def(
+      "read_scene", &io::readScene, py::arg("path"),
+      "Reads and checks a scene file. Raises polydem.InputError ('file:line: message', with\n"
+      "attributes file and line; line 0 for a file that cannot be opened) for the first problem.");
+  m.def("parse_scene", &io::parseScene, py::arg("text"), py::arg("name") = "<string>",
+        "Reads a scene from TOML text; `name` is the file name messages carry.");
+  m.def("run_scene", &runScene, py::arg("scene"), py::arg("out") = "",
+        py::arg("steps") = py::none(), py::arg("end_time") = py::none(),
+        py::arg("kernel") = py::none(), py::arg("snapshots") = true, py::arg("progress_every") = 0,
+        "sim::runScene: the run `polydem run` makes (use polydem.run, which takes paths too).");
+}
+
+}  // namespace polydem::python

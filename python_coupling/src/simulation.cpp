@@ -1,0 +1,263 @@
+// Bindings of sim::Simulation: step a scene from Python and read the particle state as numpy
+// arrays. All ranks of MPI_COMM_WORLD take part; the collective methods are marked so.
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "bindings.h"
+#include "core/mpi_env.h"
+#include "core/strings.h"
+#include "dynamics/driver.h"
+#include "dynamics/integrator.h"
+#include "io/scene.h"
+#include "io/scene_reader.h"
+#include "sim/simulation.h"
+
+namespace polydem::python {
+
+namespace {
+
+using sim::Simulation;
+
+// One particle as particles() reports it; plain data, so it can be gathered as bytes.
+struct ParticleRow {
+  Uid uid = 0;
+  std::int32_t shape = -1, material = -1;
+  std::uint32_t flags = 0;
+  double position[3], orientation[4], velocity[3], angular_velocity[3];
+};
+
+// The angular velocity of local particle i in the leapfrog's convention: free particles from their
+// angular momentum (half step t - dt/2) and orientation, driven ones their driver's w at t - dt/2.
+Vec3 angularVelocity(const Simulation& sim, std::size_t i) {
+  const auto& p = sim.particles()[i];
+  if (p.isFree()) {
+    return dynamics::angularVelocity(p.orientation, p.angular_momentum,
+                                     sim.massProperties(i).principal_inertia);
+  }
+  if (p.isDriven() && sim.stage() == sim::Stage::kMain) {
+    const double t_half = sim.time() - 0.5 * sim.dt();
+    return dynamics::driverState(sim.scene().drivers[p.driver], t_half).angular_velocity;
+  }
+  return Vec3::Zero();
+}
+
+ParticleRow rowOf(const Simulation& sim, std::size_t i) {
+  const auto& p = sim.particles()[i];
+  ParticleRow r;
+  r.uid = p.uid;
+  r.shape = p.shape;
+  r.material = p.material;
+  r.flags = p.flags;
+  const Vec3 w = angularVelocity(sim, i);
+  const double q[4] = {p.orientation.w(), p.orientation.x(), p.orientation.y(), p.orientation.z()};
+  for (int k = 0; k < 3; ++k) {
+    r.position[k] = p.position[k];
+    r.velocity[k] = p.velocity[k];
+    r.angular_velocity[k] = w[k];
+  }
+  std::copy(q, q + 4, r.orientation);
+  return r;
+}
+
+py::dict particleArrays(const Simulation& sim, bool gather) {
+  const auto& storage = sim.particles();
+  const bool root = mpi::rank(sim.comm()) == 0;
+  std::vector<ParticleRow> rows;
+  for (std::size_t i = 0; i < storage.localCount(); ++i) {
+    // Fixed and driven bodies are replicated on every rank: gathered, rank 0's copy stands.
+    if (gather && storage[i].isGlobal() && !root) continue;
+    rows.push_back(rowOf(sim, i));
+  }
+  if (gather) rows = mpi::allgatherv(rows, sim.comm());
+  std::sort(rows.begin(), rows.end(),
+            [](const ParticleRow& a, const ParticleRow& b) { return a.uid < b.uid; });
+
+  const auto n = static_cast<py::ssize_t>(rows.size());
+  auto uid = emptyArray<std::uint64_t>({n});
+  auto shape = emptyArray<std::int32_t>({n});
+  auto material = emptyArray<std::int32_t>({n});
+  auto flags = emptyArray<std::uint32_t>({n});
+  auto position = emptyArray<double>({n, 3});
+  auto orientation = emptyArray<double>({n, 4});
+  auto velocity = emptyArray<double>({n, 3});
+  auto angular_velocity = emptyArray<double>({n, 3});
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const ParticleRow& r = rows[i];
+    uid.mutable_data()[i] = r.uid;
+    shape.mutable_data()[i] = r.shape;
+    material.mutable_data()[i] = r.material;
+    flags.mutable_data()[i] = r.flags;
+    std::copy(r.position, r.position + 3, position.mutable_data() + 3 * i);
+    std::copy(r.orientation, r.orientation + 4, orientation.mutable_data() + 4 * i);
+    std::copy(r.velocity, r.velocity + 3, velocity.mutable_data() + 3 * i);
+    std::copy(r.angular_velocity, r.angular_velocity + 3, angular_velocity.mutable_data() + 3 * i);
+  }
+  py::dict d;
+  d["uid"] = uid;
+  d["position"] = position;
+  d["orientation"] = orientation;
+  d["velocity"] = velocity;
+  d["angular_velocity"] = angular_velocity;
+  d["shape"] = shape;
+  d["material"] = material;
+  d["flags"] = flags;
+  return d;
+}
+
+py::dict contactArrays(const Simulation& sim) {
+  std::vector<const sim::ContactRecord*> touching;
+  for (const auto& r : sim.contacts().records()) {
+    if (r.touching && r.a_is_local) touching.push_back(&r);
+  }
+  const auto n = static_cast<py::ssize_t>(touching.size());
+  auto uids = emptyArray<std::uint64_t>({n, 2});
+  auto point = emptyArray<double>({n, 3});
+  auto normal = emptyArray<double>({n, 3});
+  auto force = emptyArray<double>({n, 3});
+  auto normal_force = emptyArray<double>({n});
+  auto shear_force = emptyArray<double>({n});
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const auto& r = *touching[i];
+    uids.mutable_data()[2 * i] = r.key.lo;
+    uids.mutable_data()[2 * i + 1] = r.key.hi;
+    for (int k = 0; k < 3; ++k) {
+      point.mutable_data()[3 * i + k] = r.point[k];
+      normal.mutable_data()[3 * i + k] = r.normal[k];
+      force.mutable_data()[3 * i + k] = r.force[k];
+    }
+    normal_force.mutable_data()[i] = r.normal_force;
+    shear_force.mutable_data()[i] = r.shear_force;
+  }
+  py::dict d;
+  d["uids"] = uids;
+  d["point"] = point;
+  d["normal"] = normal;
+  d["force"] = force;
+  d["normal_force"] = normal_force;
+  d["shear_force"] = shear_force;
+  return d;
+}
+
+py::dict monitors(Simulation& sim) {
+  const sim::GlobalMonitors g = sim.monitors();
+  py::dict d;
+  d["time"] = sim.time();
+  d["step"] = sim.stepCount();
+  d["kinetic_energy"] = g.kinetic_energy;
+  d["force_ratio"] = g.force_ratio;
+  d["contacts"] = g.contacts;
+  d["particles"] = g.particles;
+  d["max_speed"] = g.max_speed;
+  d["mean_speed"] = g.mean_speed;
+  return d;
+}
+
+void step(Simulation& sim, std::int64_t n) {
+  if (n < 0) throw py::value_error(cat("step count must be >= 0, got ", n));
+  for (std::int64_t k = 0; k < n; ++k) {
+    sim.step();
+    checkSignals();  // between steps: the state stays whole
+  }
+}
+
+const char* run(Simulation& sim) {
+  if (!sim.scene().end_time && !sim.scene().steps) {
+    throw py::value_error("the scene has neither end_time nor steps: nothing tells run() to stop");
+  }
+  // Ctrl-C ends the run after the step it arrives in (on every rank: the loop requires the
+  // condition to agree, which it does when mpirun forwards the signal to all of them).
+  sim.loop().stopWhen("interrupt", [] { return PyErr_CheckSignals() != 0; });
+  const auto reason = sim.run();
+  if (PyErr_Occurred()) throw py::error_already_set();
+  return timeloop::toString(reason);
+}
+
+std::unique_ptr<Simulation> fromPath(const py::object& path) {
+  const std::string file = py::module_::import("os").attr("fspath")(path).cast<std::string>();
+  return std::make_unique<Simulation>(io::readScene(file), MPI_COMM_WORLD);
+}
+
+}  // namespace
+
+void bindSimulation(py::module_& m) {
+  m.attr("FLAG_GHOST") = static_cast<std::uint32_t>(particles::kGhost);
+  m.attr("FLAG_FIXED") = static_cast<std::uint32_t>(particles::kFixed);
+  m.attr("FLAG_DRIVEN") = static_cast<std::uint32_t>(particles::kDriven);
+
+  py::class_<Simulation>(m, "Simulation",
+                         R"(A run of a scene on all ranks of MPI_COMM_WORLD, stepped from Python.
+
+Built from a Scene (or a scene file's path) as `polydem run` builds it; step(n) advances it, the
+state is read with particles(), contacts(), monitors() and state_hash(). On several ranks
+(mpirun -n N python script.py) every rank must make the same calls in the same order: methods
+marked "collective" talk to the other ranks.
+
+The state follows polydem's leapfrog: positions and orientations at `time`, velocities at
+time - dt/2. `position` is the centroid and `orientation` turns the shape's body frame (its
+principal axes, see `shapes`) into the world.)")
+      .def(py::init([](const io::Scene& scene) {
+             return std::make_unique<Simulation>(scene, MPI_COMM_WORLD);
+           }),
+           py::arg("scene"), "Builds the simulation of `scene` (collective).")
+      .def(py::init(&fromPath), py::arg("path"),
+           "Reads the scene file at `path` and builds its simulation (collective).")
+      .def("step", &step, py::arg("n") = 1,
+           "Advances `n` steps of the current stage (collective). Ctrl-C stops between steps.")
+      .def("run", &run,
+           "Runs the main stage to the scene's end time or step count (collective); returns why\n"
+           "it stopped ('end time', 'step limit', ...).")
+      .def(
+          "run_equilibrium", &Simulation::runEquilibrium,
+          "Runs the initial-equilibrium stage if the scene has one (collective); returns its step\n"
+          "count (0 without one). Call it before stepping the main stage, as polydem run does.")
+      .def_property_readonly("time", &Simulation::time, "Simulated time [s].")
+      .def_property_readonly("step_count", &Simulation::stepCount, "Steps taken in this stage.")
+      .def_property_readonly("dt", &Simulation::dt, "Time step [s].")
+      .def_property_readonly(
+          "stage",
+          [](const Simulation& s) {
+            return s.stage() == sim::Stage::kEquilibrium ? "equilibrium" : "main";
+          },
+          "'equilibrium' or 'main'.")
+      .def_property_readonly("suggested_time_step", &Simulation::suggestedTimeStep,
+                             "The dt suggested by masses and stiffnesses [s].")
+      .def_property_readonly(
+          "scene", [](const Simulation& s) { return s.scene(); },
+          "A copy of the scene the simulation was built from.")
+      .def_property_readonly(
+          "shapes",
+          [](const Simulation& s) {
+            std::vector<geometry::ConvexPolyhedron> out;
+            for (const auto& shape : s.shapes()) out.push_back(shape.polyhedron);
+            return out;
+          },
+          "The shape table in body frames (centroid at the origin, principal axes), indexed by\n"
+          "particles()['shape']: world vertices = position + R(orientation) @ vertex.")
+      .def("particles", &particleArrays, py::arg("gather") = false,
+           R"(The particle state as a dict of numpy arrays, sorted by uid.
+
+uid (n,) uint64, position (n, 3) [m], orientation (n, 4) unit quaternions (w, x, y, z),
+velocity (n, 3) [m/s], angular_velocity (n, 3) [rad/s], shape and material (n,) int32 indices,
+flags (n,) uint32 (polydem.FLAG_FIXED, FLAG_DRIVEN). Without `gather`, this rank's local
+particles: those it owns plus the fixed and driven bodies every rank holds. With
+gather=True (collective), every particle of the simulation once, on every rank.)")
+      .def("contacts", &contactArrays,
+           R"(The touching contacts of the last step whose lower-uid particle is local to this rank.
+
+uids (n, 2) (lower, higher), point (n, 3), normal (n, 3) (from the higher into the lower uid),
+force (n, 3) on the lower-uid particle [N], normal_force, shear_force (n,) [N].)")
+      .def("monitors", &monitors,
+           "Global values (collective): time, step, kinetic_energy [J], force_ratio (Keissar\n"
+           "eq. 3.2), contacts, particles (free ones), max_speed, mean_speed [m/s].")
+      .def(
+          "state_hash", [](const Simulation& s) { return s.stateHash().hex(); },
+          "Hash of the whole state (collective), the same on any rank count; equal to the\n"
+          "state_hash `polydem run` writes to summary.json after the same steps.")
+      .def("__repr__", [](const Simulation& s) {
+        return cat("Simulation('", s.scene().id, "', step ", s.stepCount(), ", t = ", num(s.time()),
+                   " s)");
+      });
+}
+
+}  // namespace polydem::python
