@@ -9,18 +9,30 @@ import argparse
 import json
 import pathlib
 
-# The figure shown in a cell: the first check whose name contains one of these words, else the
-# first failing check, else the first check.
+# The figure shown in a passing cell: the first check whose name contains one of these words.
+# A failing cell shows its worst check instead (largest value / bound).
 HEADLINE = ("rotation", "drift", "displacement", "velocity", "energy", "steps")
 
 
+def worst(checks):
+    def excess(c):
+        v, e = c.get("value"), c.get("expected")
+        if v is None or e is None:
+            return float("inf")
+        return abs(v) / abs(e) if e else abs(v)
+    failing = [c for c in checks if not c["pass"]]
+    return max(failing, key=excess) if failing else None
+
+
 def headline(checks):
+    bad = worst(checks)
+    if bad:
+        return bad
     for word in HEADLINE:
         for c in checks:
             if word in c["name"]:
                 return c
-    failing = [c for c in checks if not c["pass"]]
-    return (failing or checks or [None])[0]
+    return checks[0] if checks else None
 
 
 def fmt(v):
