@@ -102,6 +102,8 @@ class DisplacementCheck : public Check {
     value_ = final_ ? now : std::max(value_, now);
   }
   double value(Simulation&) override { return value_; }
+  std::vector<double> state() const override { return {value_}; }
+  void restore(const std::vector<double>& v) override { value_ = v.at(0); }
 
  private:
   std::vector<Uid> uids_;
@@ -127,6 +129,8 @@ class RotationCheck : public Check {
     }
   }
   double value(Simulation&) override { return value_; }
+  std::vector<double> state() const override { return {value_}; }
+  void restore(const std::vector<double>& v) override { value_ = v.at(0); }
 
  private:
   std::vector<Uid> uids_;
@@ -152,6 +156,11 @@ class LateralDriftCheck : public Check {
   double value(Simulation&) override {
     note = cat("lateral drift ", drift_, " m over a travel of ", travel_, " m");
     return travel_ > 0 ? drift_ / travel_ : kNaN;
+  }
+  std::vector<double> state() const override { return {drift_, travel_}; }
+  void restore(const std::vector<double>& v) override {
+    drift_ = v.at(0);
+    travel_ = v.at(1);
   }
 
  private:
@@ -191,6 +200,13 @@ class CurveCheck : public Check {
     const std::string base = columnName(spec_.name);
     return {{base, numeric_}, {base + "_analytic", exact_}};
   }
+  std::vector<double> state() const override { return {numeric_, exact_, error_, scale_}; }
+  void restore(const std::vector<double>& v) override {
+    numeric_ = v.at(0);
+    exact_ = v.at(1);
+    error_ = v.at(2);
+    scale_ = v.at(3);
+  }
 
  private:
   Uid uid_;
@@ -203,8 +219,7 @@ class CurveCheck : public Check {
 
 // Zhao eqs. 41-42: launched up an incline at u0, decelerated by gravity and friction, then either
 // held by friction (tan(theta) <= mu) or sliding back down. s and u along `direction` (up-slope).
-std::unique_ptr<Check> slidingBlock(const io::Scene& scene, const io::CheckSpec& spec,
-                                    Tracker& t) {
+std::unique_ptr<Check> slidingBlock(const io::Scene& scene, const io::CheckSpec& spec, Tracker& t) {
   Params p(scene, spec);
   const Uid uid = p.particles(t).front();
   const double theta = degToRad(p.number("theta"));
@@ -270,6 +285,12 @@ class EnergyRatioCheck : public Check {
     note = cat("kinetic energy ", before_, " J before contact, ", after_, " J after separation");
     return after_ / before_;
   }
+  std::vector<double> state() const override { return {double(phase_), before_, after_}; }
+  void restore(const std::vector<double>& v) override {
+    phase_ = static_cast<int>(v.at(0));
+    before_ = v.at(1);
+    after_ = v.at(2);
+  }
 
  private:
   Uid uid_ = 0;
@@ -291,6 +312,11 @@ class SeparationCheck : public Check {
   double value(Simulation&) override {
     if (std::isnan(time_)) note = touched_ ? "still in contact at the end" : "never in contact";
     return time_;
+  }
+  std::vector<double> state() const override { return {touched_ ? 1.0 : 0.0, time_}; }
+  void restore(const std::vector<double>& v) override {
+    touched_ = v.at(0) != 0.0;
+    time_ = v.at(1);
   }
 
  private:
@@ -345,8 +371,8 @@ double maxContactForce(Simulation& sim, const std::optional<Vec3>& axis, std::st
   w.allreduce(sim.comm());
   const auto n = mpi::allreduceSum(free_particles, sim.comm());
   const double mean_weight = n > 0 ? w.value() / static_cast<double>(n) : kNaN;
-  note = cat("largest contact force across the axis ", largest, " N; mean weight ", mean_weight,
-             " N");
+  note =
+      cat("largest contact force across the axis ", largest, " N; mean weight ", mean_weight, " N");
   return largest / mean_weight;
 }
 
@@ -389,13 +415,13 @@ std::vector<std::unique_ptr<Check>> makeChecks(const io::Scene& scene, Tracker& 
     } else if (k == "max_contact_force") {
       const auto axis = p.vector("axis");
       checks.push_back(std::make_unique<FinalCheck>(
-          spec, [axis](Simulation& sim, std::string& note) {
-            return maxContactForce(sim, axis, note);
-          }));
+          spec,
+          [axis](Simulation& sim, std::string& note) { return maxContactForce(sim, axis, note); }));
     } else {
-      p.fail("unknown kind; known kinds: displacement, rotation, lateral_drift, sliding_block, "
-             "wedge_slide, kinetic_energy_ratio, separation_time, equilibrium_steps, mean_speed, "
-             "max_speed, max_contact_force");
+      p.fail(
+          "unknown kind; known kinds: displacement, rotation, lateral_drift, sliding_block, "
+          "wedge_slide, kinetic_energy_ratio, separation_time, equilibrium_steps, mean_speed, "
+          "max_speed, max_contact_force");
     }
   }
   return checks;
