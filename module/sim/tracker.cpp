@@ -12,8 +12,7 @@
 namespace polydem::sim {
 
 namespace {
-constexpr int kDoubles =
-    15;  // position 3, orientation 4, velocity 3, angular velocity 3, ke, contacts
+constexpr int kDoubles = 15;  // position 3, orientation 4, velocity 3, angular velocity 3, ke, contacts
 }
 
 void Tracker::track(Uid uid) {
@@ -45,27 +44,19 @@ void Tracker::gather(const Simulation& sim) {
     const auto& p = storage[i];
     if (p.isGlobal() && !root) continue;  // replicated: rank 0 reports it
     double* b = &buffer_[k * kDoubles];
-    const Vec3 w = p.isFixed() ? Vec3::Zero()
-                   : sim.massProperties(i).mass > 0
-                       ? dynamics::angularVelocity(p.orientation, p.angular_momentum,
-                                                   sim.massProperties(i).principal_inertia)
-                       : Vec3::Zero();
-    const double values[kDoubles] = {
-        p.position.x(),
-        p.position.y(),
-        p.position.z(),
-        p.orientation.w(),
-        p.orientation.x(),
-        p.orientation.y(),
-        p.orientation.z(),
-        p.velocity.x(),
-        p.velocity.y(),
-        p.velocity.z(),
-        w.x(),
-        w.y(),
-        w.z(),
-        p.isFree() ? dynamics::kineticEnergy(p, sim.massProperties(i)) : 0.0,
-        0.0};
+    const Vec3 w = p.isFixed() ? Vec3::Zero() : sim.massProperties(i).mass > 0
+                                                    ? dynamics::angularVelocity(
+                                                          p.orientation, p.angular_momentum,
+                                                          sim.massProperties(i).principal_inertia)
+                                                    : Vec3::Zero();
+    const double values[kDoubles] = {p.position.x(),    p.position.y(),    p.position.z(),
+                                     p.orientation.w(), p.orientation.x(), p.orientation.y(),
+                                     p.orientation.z(), p.velocity.x(),    p.velocity.y(),
+                                     p.velocity.z(),    w.x(),             w.y(),
+                                     w.z(),             p.isFree() ? dynamics::kineticEnergy(
+                                                                         p, sim.massProperties(i))
+                                                                   : 0.0,
+                                     0.0};
     std::copy(values, values + kDoubles, b);
   }
   // A pair between two ranks is held by both: count each particle's contacts on its owner only.
@@ -108,15 +99,14 @@ std::vector<double> Tracker::initialState() const {
 }
 
 void Tracker::restoreInitial(const std::vector<double>& values) {
-  constexpr std::size_t kPer = 15;
   if (values.empty()) return;  // not gathered yet when the state was saved
-  if (values.size() != uids_.size() * kPer) {
-    throw Error(cat("tracker state of ", values.size() / kPer, " particles for ", uids_.size(),
-                    " tracked ones"));
+  if (values.size() != uids_.size() * kDoubles) {
+    throw Error(cat("tracker state of ", values.size() / kDoubles, " particles for ",
+                    uids_.size(), " tracked ones"));
   }
   initial_.resize(uids_.size());
   for (std::size_t k = 0; k < uids_.size(); ++k) {
-    const double* b = &values[k * kPer];
+    const double* b = &values[k * kDoubles];
     TrackedState& s = initial_[k];
     s.position = {b[0], b[1], b[2]};
     s.orientation = Quat(b[3], b[4], b[5], b[6]);
