@@ -29,6 +29,9 @@ n=$(ls a/checkpoints | wc -l)
 [ -f "$(ckpt a 150)" ] && [ ! -f "$(ckpt a 100)" ] || fail "pruning kept the wrong files"
 run 1 run --restart "$(ckpt a 250)" --out r1 || fail "restart on 1 rank"
 [ "$(hash_of r1)" = "$(hash_of ref)" ] || fail "restart on 1 rank: other bits"
+# The checks' values (accumulated over the whole run, restored from /run/state) agree too.
+[ "$(field r1/summary.json checks)" = "$(field ref/summary.json checks)" ] ||
+  fail "restart on 1 rank: check values differ"
 run 2 run --checkpoint-keep 100 --checkpoint-every 50 --out eq "$scene" --steps 1 > /dev/null
 cp "$(ckpt eq 50)" eq50.h5 || fail "no checkpoint in the equilibrium stage"
 run 3 run --restart eq50.h5 "$scene" --out r3 || fail "restart on 3 ranks from the equilibrium stage"
