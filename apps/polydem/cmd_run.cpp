@@ -1,5 +1,7 @@
-// polydem run SCENE --out DIR: runs a scene file (on as many ranks as mpirun gives).
+// polydem run SCENE --out DIR: runs a scene file (on as many ranks as mpirun gives), or continues
+// a run from a checkpoint (--restart FILE).
 #include <cstdio>
+#include <filesystem>
 
 #include "commands.h"
 #include "core/error.h"
@@ -9,11 +11,24 @@
 
 namespace polydem::app {
 
+namespace {
+
+std::string programPath() {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string("polydem") : exe.string();
+}
+
+}  // namespace
+
 int runCommand(int argc, char** argv) {
   Args args(argc, argv, {"help", "no-snapshots", "quiet", "check"});
-  if (args.flag("help") || args.positional().empty()) {
+  const auto restart = args.value("restart");
+  if (args.flag("help") || (args.positional().empty() && !restart)) {
     std::printf(
         "usage: [mpirun -n N] polydem run SCENE.toml --out DIR [options]\n"
+        "       [mpirun -n N] polydem run --restart CHECKPOINT.h5 [SCENE.toml] --out DIR "
+        "[options]\n"
         "  --steps N         run N steps (replaces the scene's end condition)\n"
         "  --end-time T      run until simulated time T (replaces the scene's end condition)\n"
         "  --kernel NAME     use another contact kernel (polydem kernels lists them)\n"
@@ -21,7 +36,18 @@ int runCommand(int argc, char** argv) {
         "  --no-snapshots    do not write ParaView snapshots\n"
         "  --check           exit with status 3 if a check of the scene fails\n"
         "  --quiet           only warnings and errors\n"
-        "writes DIR/summary.json, DIR/series.csv and DIR/snapshots.pvd (+ snapshots/)\n");
+        "checkpoints (docs/checkpoint.md), written to DIR/checkpoints/checkpoint_<step>.h5:\n"
+        "  --checkpoint-every N     every N steps (overrides [checkpoint] every_steps)\n"
+        "  --checkpoint-seconds T   every T seconds of wall clock (overrides every_seconds)\n"
+        "  --checkpoint-keep K      keep the newest K (overrides keep, default 2)\n"
+        "  --restart FILE    continue the run of checkpoint FILE on any rank count; the scene is\n"
+        "                    the stored one, or SCENE.toml if given (it may differ only in\n"
+        "                    end_time/steps, [output] and [checkpoint]); --steps/--end-time\n"
+        "                    extend the run (they count from the start of the main stage)\n"
+        "SIGTERM or SIGUSR1 (e.g. kill -TERM <mpirun pid>): a checkpoint at the end of the step,\n"
+        "then exit 0 with the command that continues the run.\n"
+        "writes DIR/summary.json, DIR/series.csv and DIR/snapshots.pvd (+ snapshots/); after\n"
+        "--restart they hold the continued part of the run only\n");
     return args.flag("help") ? 0 : 2;
   }
   sim::RunOptions options;
@@ -32,16 +58,45 @@ int runCommand(int argc, char** argv) {
   options.kernel = args.value("kernel");
   options.progress_every = args.integer("progress", 0);
   options.snapshots = !args.flag("no-snapshots");
+  if (args.value("checkpoint-every"))
+    options.checkpoint_every = args.integer("checkpoint-every", 0);
+  if (args.value("checkpoint-seconds")) {
+    options.checkpoint_seconds = args.number("checkpoint-seconds", 0.0);
+  }
+  if (args.value("checkpoint-keep")) {
+    options.checkpoint_keep = static_cast<int>(args.integer("checkpoint-keep", 2));
+  }
   const bool check = args.flag("check");
   if (args.flag("quiet")) log::setLevel(log::Level::kWarning);
   args.rejectUnknown();
-  if (args.positional().size() != 1) throw UsageError("polydem run takes one scene file");
+  if (args.positional().size() > 1) throw UsageError("polydem run takes one scene file");
   if (options.steps && *options.steps <= 0) throw UsageError("--steps must be positive");
   if (options.end_time && !(*options.end_time > 0)) throw UsageError("--end-time must be > 0");
+  if (options.checkpoint_every && *options.checkpoint_every < 0) {
+    throw UsageError("--checkpoint-every must be >= 0");
+  }
+  if (options.checkpoint_seconds && !(*options.checkpoint_seconds >= 0)) {
+    throw UsageError("--checkpoint-seconds must be >= 0");
+  }
+  if (options.checkpoint_keep && *options.checkpoint_keep < 1) {
+    throw UsageError("--checkpoint-keep must be >= 1");
+  }
+  if (options.kernel && restart) throw UsageError("--kernel cannot change a restarted run");
+  options.stop_on_signals = true;
+  options.code_version = version();
+  options.program = programPath();
 
-  const io::Scene scene = io::readScene(args.positional()[0]);
+  if (restart) {
+    std::optional<std::string> scene_file;
+    if (!args.positional().empty()) scene_file = args.positional()[0];
+    const auto result = sim::continueRun(*restart, scene_file, options, MPI_COMM_WORLD);
+    return check && result.stop_signal.empty() && !result.all_checks_pass() ? 3 : 0;
+  }
+  const std::string path = args.positional()[0];
+  options.scene_text = io::readSceneText(path);
+  const io::Scene scene = io::parseScene(options.scene_text, path);
   const auto result = sim::runScene(scene, options, MPI_COMM_WORLD);
-  return check && !result.all_checks_pass() ? 3 : 0;
+  return check && result.stop_signal.empty() && !result.all_checks_pass() ? 3 : 0;
 }
 
 }  // namespace polydem::app

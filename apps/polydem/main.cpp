@@ -17,6 +17,8 @@ void usage() {
       "usage: polydem <command> [options]\n\n"
       "commands:\n"
       "  run SCENE --out DIR      run a scene file (mpirun -n N polydem run ... for N ranks)\n"
+      "  run --restart FILE --out DIR   continue a run from a checkpoint (any rank count)\n"
+      "  checkpoint info FILE     verify a checkpoint and print its summary\n"
       "  contact --kernel NAME    resolve contacts of vertex lists given as JSON lines\n"
       "  report contact-types     the contact-type table of every kernel (BENCHMARKS.md C)\n"
       "  bench kernels|scaling    benchmarks (see README)\n"
@@ -40,6 +42,7 @@ int main(int argc, char** argv) {
   try {
     if (command == "run") return polydem::app::runCommand(sub_argc, sub_argv);
     if (command == "contact") return polydem::app::contactCommand(sub_argc, sub_argv);
+    if (command == "checkpoint") return polydem::app::checkpointCommand(sub_argc, sub_argv);
     if (command == "report") return polydem::app::reportCommand(sub_argc, sub_argv);
     if (command == "bench") return polydem::app::benchCommand(sub_argc, sub_argv);
     if (command == "kernels") return polydem::app::kernelsCommand(sub_argc, sub_argv);
@@ -54,6 +57,10 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const polydem::InputError& e) {
     // Every rank reads the same input and stops at the same error: finish MPI normally.
+    if (polydem::mpi::rank() == 0) polydem::log::error(e.what());
+    return 1;
+  } catch (const polydem::CheckpointError& e) {
+    // Checkpoints are read, verified and written collectively: every rank throws the same error.
     if (polydem::mpi::rank() == 0) polydem::log::error(e.what());
     return 1;
   } catch (const std::exception& e) {

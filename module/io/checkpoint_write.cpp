@@ -4,6 +4,8 @@
 #include <sys/statvfs.h>
 #include <unistd.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <system_error>
 
@@ -114,6 +116,18 @@ void syncDirectory(const fs::path& dir) {
   ::close(fd);
 }
 
+/// Test hook: POLYDEM_CHECKPOINT_PAUSE_BEFORE_RENAME=S makes rank 0 announce the complete
+/// temporary file on stderr and sleep S seconds before the rename, so that a test can kill the
+/// process exactly there (tests/apps/checkpoint_cli_test.sh).
+void pauseBeforeRename(const fs::path& temporary) {
+  const char* pause = std::getenv("POLYDEM_CHECKPOINT_PAUSE_BEFORE_RENAME");
+  if (pause == nullptr || *pause == '\0') return;
+  std::fprintf(stderr, "checkpoint: %s written, pausing %s s before the rename\n",
+               temporary.c_str(), pause);
+  std::fflush(stderr);
+  ::sleep(static_cast<unsigned>(std::atoi(pause)));
+}
+
 }  // namespace
 
 const char* toString(CheckpointStage stage) {
@@ -145,6 +159,7 @@ void writeCheckpoint(const fs::path& path, const CheckpointData& data, MPI_Comm 
   MPI_Barrier(comm);
   if (rank == 0) {
     std::error_code ec;
+    if (!failure) pauseBeforeRename(temporary);
     if (!failure) {
       fs::rename(temporary, path, ec);  // atomic on POSIX: readers see the old or the new file
       if (ec) {

@@ -368,13 +368,17 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
   return scene;
 }
 
-Scene readScene(const std::string& path) {
+std::string readSceneText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open the scene file");
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw InputError(path, 0, "cannot read the scene file");
-  return parseScene(text.str(), path);
+  return text.str();
+}
+
+Scene readScene(const std::string& path) {
+  return parseScene(readSceneText(path), path);
 }
 
 }  // namespace polydem::io

@@ -13,10 +13,20 @@
 
 namespace polydem::io {
 
+/// The text of the scene file at `path` (InputError if it cannot be read).
+std::string readSceneText(const std::string& path);
+
 /// Reads and checks the scene file at `path`.
 Scene readScene(const std::string& path);
 
 /// Parses scene text; `name_for_messages` is the file name errors and Scene::file carry.
 Scene parseScene(std::string_view text, const std::string& name_for_messages);
+
+/// Empty if two scene texts describe the same run up to its stop settings ([simulation] end_time
+/// and steps) and its [output] and [checkpoint] tables, which may change when a run continues from
+/// a checkpoint; otherwise the first table or key that differs, e.g. "[simulation] dt" or
+/// "[[particle]]". Throws InputError if either text is not TOML.
+std::string sceneDifference(std::string_view stored, const std::string& stored_name,
+                            std::string_view given, const std::string& given_name);
 
 }  // namespace polydem::io

@@ -102,6 +102,8 @@ class DisplacementCheck : public Check {
     value_ = final_ ? now : std::max(value_, now);
   }
   double value(Simulation&) override { return value_; }
+  std::vector<double> state() const override { return {value_}; }
+  void restore(const std::vector<double>& v) override { value_ = v.at(0); }
 
  private:
   std::vector<Uid> uids_;
@@ -127,6 +129,8 @@ class RotationCheck : public Check {
     }
   }
   double value(Simulation&) override { return value_; }
+  std::vector<double> state() const override { return {value_}; }
+  void restore(const std::vector<double>& v) override { value_ = v.at(0); }
 
  private:
   std::vector<Uid> uids_;
@@ -152,6 +156,11 @@ class LateralDriftCheck : public Check {
   double value(Simulation&) override {
     note = cat("lateral drift ", drift_, " m over a travel of ", travel_, " m");
     return travel_ > 0 ? drift_ / travel_ : kNaN;
+  }
+  std::vector<double> state() const override { return {drift_, travel_}; }
+  void restore(const std::vector<double>& v) override {
+    drift_ = v.at(0);
+    travel_ = v.at(1);
   }
 
  private:
@@ -190,6 +199,13 @@ class CurveCheck : public Check {
   std::vector<std::pair<std::string, double>> seriesColumns(const Simulation&) const override {
     const std::string base = columnName(spec_.name);
     return {{base, numeric_}, {base + "_analytic", exact_}};
+  }
+  std::vector<double> state() const override { return {numeric_, exact_, error_, scale_}; }
+  void restore(const std::vector<double>& v) override {
+    numeric_ = v.at(0);
+    exact_ = v.at(1);
+    error_ = v.at(2);
+    scale_ = v.at(3);
   }
 
  private:
@@ -270,6 +286,12 @@ class EnergyRatioCheck : public Check {
     note = cat("kinetic energy ", before_, " J before contact, ", after_, " J after separation");
     return after_ / before_;
   }
+  std::vector<double> state() const override { return {double(phase_), before_, after_}; }
+  void restore(const std::vector<double>& v) override {
+    phase_ = static_cast<int>(v.at(0));
+    before_ = v.at(1);
+    after_ = v.at(2);
+  }
 
  private:
   Uid uid_ = 0;
@@ -291,6 +313,11 @@ class SeparationCheck : public Check {
   double value(Simulation&) override {
     if (std::isnan(time_)) note = touched_ ? "still in contact at the end" : "never in contact";
     return time_;
+  }
+  std::vector<double> state() const override { return {touched_ ? 1.0 : 0.0, time_}; }
+  void restore(const std::vector<double>& v) override {
+    touched_ = v.at(0) != 0.0;
+    time_ = v.at(1);
   }
 
  private:

@@ -39,6 +39,10 @@ class Check {
   virtual std::vector<std::pair<std::string, double>> seriesColumns(const Simulation&) const {
     return {};
   }
+  /// What the check has accumulated so far, as numbers, and back: a checkpoint stores it so that
+  /// a restarted run ends with the values of a run that never stopped.
+  virtual std::vector<double> state() const { return {}; }
+  virtual void restore(const std::vector<double>& /*state*/) {}
   const io::CheckSpec& spec() const { return spec_; }
   std::string note;  // anything a reader needs to judge the value
 

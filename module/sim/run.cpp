@@ -10,7 +10,10 @@
 #include "core/mpi_env.h"
 #include "core/state_hash.h"
 #include "core/strings.h"
+#include "io/checkpoint.h"
+#include "io/scene_reader.h"
 #include "sim/checks.h"
+#include "sim/run_checkpoint.h"
 #include "sim/run_output.h"
 #include "sim/simulation.h"
 
@@ -19,7 +22,8 @@ namespace polydem::sim {
 namespace {
 
 nlohmann::json summaryJson(const io::Scene& scene, Simulation& sim, const RunResult& result,
-                           timeloop::StopReason reason, const std::vector<TimingPool::Reduced>& t) {
+                           timeloop::StopReason reason, const std::vector<TimingPool::Reduced>& t,
+                           std::int64_t particles) {
   using nlohmann::json;
   const auto& stats = sim.contactStats();
   json j;
@@ -40,15 +44,10 @@ nlohmann::json summaryJson(const io::Scene& scene, Simulation& sim, const RunRes
                         {"reached", sim.equilibriumReached()},
                         {"force_ratio", scene.equilibrium.force_ratio}};
   }
-  // From the state hash (each particle once, replicated bodies too), not an allreduce: this runs
-  // on rank 0 alone, where a collective call would wait for the other ranks forever.
-  j["particles"] = result.hash.particle_count;
-  j["last_step"] = {{"candidate_pairs", stats.candidates},
-                    {"evaluated_pairs", stats.evaluated},
-                    {"touching_pairs", stats.touching},
-                    {"not_converged", stats.not_converged},
-                    {"degenerate", stats.degenerate},
-                    {"inner_domain", stats.inner_domain}};
+  j["particles"] = particles;
+  j["last_step"] = {{"candidate_pairs", stats.candidates}, {"evaluated_pairs", stats.evaluated},
+                    {"touching_pairs", stats.touching},    {"not_converged", stats.not_converged},
+                    {"degenerate", stats.degenerate},      {"inner_domain", stats.inner_domain}};
   j["timing"] = io::timingJson(t, result.steps);
   j["checks"] = io::checksJson(result.checks);
   j["state_hash"] = result.hash.hex();
@@ -91,14 +90,28 @@ void applyOverrides(io::Scene& scene, const RunOptions& options) {
   }
 }
 
-RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm) {
+namespace {
+
+io::CheckpointSpec checkpointSpec(const io::Scene& scene, const RunOptions& options) {
+  io::CheckpointSpec spec = scene.checkpoint;
+  if (options.checkpoint_every) spec.every_steps = *options.checkpoint_every;
+  if (options.checkpoint_seconds) spec.every_seconds = *options.checkpoint_seconds;
+  if (options.checkpoint_keep) spec.keep = *options.checkpoint_keep;
+  return spec;
+}
+
+// A new run (`restart` null) or the continuation of a checkpoint's.
+RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
+                  const io::CheckpointData* restart, const std::string& restart_file) {
   applyOverrides(scene, options);
   const auto wall0 = std::chrono::steady_clock::now();
   log::info(cat("scene ", scene.id, " (", scene.file, "): ", scene.particles.size(),
                 " particles, kernel ", scene.kernel, ", ", mpi::size(comm), " rank(s)"));
-  Simulation sim(scene, comm);
-  const std::int64_t every = options.progress_every > 0 ? options.progress_every
-                                                        : scene.output.progress_every;
+  const auto sim_ptr = restart ? std::make_unique<Simulation>(scene, *restart, restart_file, comm)
+                               : std::make_unique<Simulation>(scene, comm);
+  Simulation& sim = *sim_ptr;
+  const std::int64_t every =
+      options.progress_every > 0 ? options.progress_every : scene.output.progress_every;
   sim.loop().setProgressInterval(every, every > 0 ? 0.0 : 5.0);
 
   Tracker tracker;
@@ -109,10 +122,19 @@ RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm) {
     tracker.track(uid);
     monitored.emplace_back(uid, label);
   }
+  if (restart) restoreRunState(restart->run_state, restart_file, tracker, checks);
+  const std::string scene_text =
+      options.scene_text.empty() && restart ? restart->scene_toml : options.scene_text;
+  CheckpointSchedule schedule(checkpointSpec(scene, options), options.out_dir, scene_text,
+                              scene.file, options.code_version, tracker, checks, comm);
+  if (options.stop_on_signals) installStopSignals();
+  sim.setStepHook([&] { return schedule.afterStep(sim); });
 
   RunResult result;
   result.equilibrium_steps = sim.runEquilibrium();
-  if (!tracker.empty()) tracker.gather(sim);  // the initial state of the main stage
+  auto reason = timeloop::StopReason::kUserCondition;
+  const bool stopped_early = schedule.stopSignal() != 0;
+  if (!tracker.empty() && sim.stage() == Stage::kMain) tracker.gather(sim);  // main stage start
 
   std::unique_ptr<RunOutput> output;
   if (!options.out_dir.empty()) {
@@ -131,11 +153,15 @@ RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm) {
     if (step % series_every == 0) output->writeSeries(sim, tracker, checks);
     if (snapshot_every > 0 && step % snapshot_every == 0) output->writeSnapshot(sim);
   });
-  const auto reason = sim.run();
+  if (!stopped_early) reason = sim.run();
   if (output) {
     output->writeSeries(sim, tracker, checks);
     output->writeSnapshot(sim);
     output->close();
+  }
+  if (schedule.stopSignal() != 0) {
+    result.stop_signal = signalName(schedule.stopSignal());
+    if (!options.out_dir.empty()) result.checkpoint = schedule.write(sim).string();
   }
 
   result.checks = evaluateChecks(checks, sim);
@@ -154,13 +180,64 @@ RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm) {
     log::warning(cat(result.hash.history_conflicts,
                      " pair histories differ between ranks: please report this as a bug"));
   }
+  // Collective, so outside the rank-0 branch below; replicated particles counted once.
+  std::int64_t mine = 0;
+  for (std::size_t i = 0; i < sim.particles().localCount(); ++i) {
+    mine += sim.particles()[i].isFree() || mpi::rank(comm) == 0;
+  }
+  const std::int64_t particles = mpi::allreduceSum(mine, comm);
   if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
-    io::writeJsonAtomic(options.out_dir + "/summary.json",
-                        summaryJson(scene, sim, result, reason, timing));
+    auto summary = summaryJson(scene, sim, result, reason, timing, particles);
+    summary["stopped_by_signal"] =
+        result.stop_signal.empty() ? nlohmann::json() : nlohmann::json(result.stop_signal);
+    if (!result.checkpoint.empty()) summary["checkpoint"] = result.checkpoint;
+    if (restart) summary["restarted_from"] = restart_file;
+    io::writeJsonAtomic(options.out_dir + "/summary.json", summary);
     log::info("wrote " + options.out_dir + "/summary.json, series.csv" +
               (options.snapshots ? ", snapshots.pvd" : ""));
   }
+  if (!result.stop_signal.empty() && mpi::rank(comm) == 0) {
+    const std::string where =
+        result.checkpoint.empty() ? std::string("no checkpoint (no --out)") : result.checkpoint;
+    log::info(cat("stopped by ", result.stop_signal, " at the end of ",
+                  sim.stage() == Stage::kEquilibrium ? "equilibrium" : "main", " step ",
+                  result.steps, "; checkpoint: ", where));
+    if (!result.checkpoint.empty()) {
+      log::info(cat("to continue: mpirun -n ", mpi::size(comm), " ", options.program,
+                    " run --restart ", result.checkpoint, " --out ", options.out_dir,
+                    "  (any rank count; use another --out to keep this part's files)"));
+    }
+  }
   return result;
+}
+
+}  // namespace
+
+RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm) {
+  return runWith(std::move(scene), options, comm, nullptr, "");
+}
+
+RunResult continueRun(const std::string& file, const std::optional<std::string>& scene_file,
+                      RunOptions options, MPI_Comm comm) {
+  const io::CheckpointData data = io::readCheckpoint(file, comm);
+  io::Scene scene;
+  if (scene_file) {
+    const std::string text = io::readSceneText(*scene_file);
+    const std::string diff =
+        io::sceneDifference(data.scene_toml, data.scene_file, text, *scene_file);
+    if (!diff.empty()) {
+      throw CheckpointError(cat(file, ": scene ", *scene_file, " differs from the scene stored in ",
+                                "the checkpoint (", data.scene_file, ") in ", diff,
+                                "; only [simulation] end_time/steps, [output] and [checkpoint] ",
+                                "may change when a run continues"));
+    }
+    scene = io::parseScene(text, *scene_file);
+    options.scene_text = text;  // later checkpoints store the scene this part runs
+  } else {
+    scene = io::parseScene(data.scene_toml, data.scene_file);
+    options.scene_text = data.scene_toml;
+  }
+  return runWith(std::move(scene), options, comm, &data, file);
 }
 
 }  // namespace polydem::sim

@@ -29,6 +29,7 @@ void Simulation::registerSteps() {
   loop_.add("integrate", [this] { integrate(); });
   loop_.add("communicate", [this] { communicate(); });
   loop_.add("observe", [this] { observe(); });
+  loop_.stopWhen("interruption requested", [this] { return step_hook_ && step_hook_(); });
   loop_.setMonitor([this] {
     const auto m = monitors();
     return timeloop::Monitor{m.contacts, m.kinetic_energy, m.force_ratio};
@@ -93,9 +94,8 @@ void Simulation::integrate() {
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
     auto& p = storage_[i];
     if (p.isFree()) {
-      const double alpha = stage_ == Stage::kEquilibrium
-                               ? scene_.equilibrium.local_damping
-                               : materials_[p.material].local_damping;
+      const double alpha = stage_ == Stage::kEquilibrium ? scene_.equilibrium.local_damping
+                                                         : materials_[p.material].local_damping;
       dynamics::advanceFree(p, massProperties(i), forces_[i].force, forces_[i].torque, dt(), alpha);
     } else if (p.isDriven() && stage_ == Stage::kMain) {
       dynamics::advanceDriven(p, scene_.drivers[p.driver], time(), dt());
@@ -129,7 +129,8 @@ void Simulation::rebalance() {
   const auto old_map = forest_->rankMap();
   forest_->setRankMap(rankMap(weights), ranks_);
   int blocks_moved = 0;
-  for (int b = 0; b < forest_->numBlocks(); ++b) blocks_moved += old_map[b] != forest_->rankOfBlock(b);
+  for (int b = 0; b < forest_->numBlocks(); ++b)
+    blocks_moved += old_map[b] != forest_->rankOfBlock(b);
   const double after = domain::imbalance(forest_->rankMap(), global, ranks_);
   const auto moved = exchange_.migrate(*forest_, storage_, history_, loop_.step());
   migrated_histories_ += moved.histories_received;
@@ -159,28 +160,38 @@ void Simulation::startLeapfrog() {
   exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
 }
 
-void Simulation::step() { loop_.singleStep(); }
+void Simulation::step() {
+  loop_.singleStep();
+}
 
-std::int64_t Simulation::runEquilibrium() {
-  if (!scene_.equilibrium.enabled) return 0;
-  stage_ = Stage::kEquilibrium;
-  timeloop::TimeLoop eq(comm_);
-  std::swap(eq, loop_);  // the equilibrium stage runs in its own loop, with the same steps
+// The equilibrium stage runs in its own loop, with the same steps; the main stage's loop is parked
+// meanwhile.
+void Simulation::enterEquilibrium() {
+  std::swap(parked_loop_, loop_);
+  loop_ = timeloop::TimeLoop(comm_);
   registerSteps();
   loop_.stopWhenForceRatioBelow(scene_.equilibrium.force_ratio,
                                 [this] { return monitors().force_ratio; });
   loop_.stopAtStep(scene_.equilibrium.max_steps);
+  stage_ = Stage::kEquilibrium;
+}
+
+std::int64_t Simulation::runEquilibrium() {
+  if (!scene_.equilibrium.enabled || equilibrium_done_) return equilibrium_steps_;
+  if (stage_ != Stage::kEquilibrium) enterEquilibrium();
   log::info(cat("initial equilibrium: local damping ", scene_.equilibrium.local_damping,
                 ", friction ", scene_.equilibrium.friction_angle, " deg, until R < ",
                 scene_.equilibrium.force_ratio));
   const auto reason = loop_.run();
   equilibrium_steps_ = loop_.step();
+  if (reason == timeloop::StopReason::kUserCondition) return equilibrium_steps_;  // interrupted
   equilibrium_reached_ = reason == timeloop::StopReason::kForceRatio;
-  log::info(cat("initial equilibrium ", equilibrium_reached_ ? "reached" : "NOT reached",
-                " after ", equilibrium_steps_, " steps (", loop_.stopMessage(), ")"));
+  log::info(cat("initial equilibrium ", equilibrium_reached_ ? "reached" : "NOT reached", " after ",
+                equilibrium_steps_, " steps (", loop_.stopMessage(), ")"));
   equilibrium_timing_ = loop_.timing();
-  std::swap(eq, loop_);
+  std::swap(parked_loop_, loop_);
   stage_ = Stage::kMain;
+  equilibrium_done_ = true;
   if (scene_.equilibrium.reset_velocities) {
     for (std::size_t i = 0; i < storage_.localCount(); ++i) {
       auto& p = storage_[i];

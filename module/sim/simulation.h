@@ -23,6 +23,7 @@
 #include "domain/block_forest.h"
 #include "dynamics/contact_law.h"
 #include "dynamics/monitors.h"
+#include "io/checkpoint.h"
 #include "io/scene.h"
 #include "particles/contact_history.h"
 #include "particles/material.h"
@@ -40,7 +41,7 @@ enum class Stage { kEquilibrium, kMain };
 struct GlobalMonitors {
   double kinetic_energy = 0.0;
   double force_ratio = 0.0;
-  std::int64_t contacts = 0;  // touching pairs, each counted once
+  std::int64_t contacts = 0;   // touching pairs, each counted once
   std::int64_t particles = 0;  // free particles
   double max_speed = 0.0;
   double mean_speed = 0.0;
@@ -49,11 +50,22 @@ struct GlobalMonitors {
 class Simulation {
  public:
   Simulation(const io::Scene& scene, MPI_Comm comm);
+  /// Continues the run a checkpoint holds (collective, on any number of ranks): `checkpoint` is
+  /// what io::readCheckpoint returned on this rank, `scene` the scene it was written from (its
+  /// stop settings may differ). The particles move to their owners by position, the pair
+  /// histories to the owners of their particles, and step, exact time, stage and leapfrog
+  /// velocities are taken as stored, so that stepping on gives the same bits as a run that never
+  /// stopped (sim/simulation_checkpoint.cpp). Throws CheckpointError naming `file` if the shapes
+  /// built from `scene` differ from the stored ones, or the time step does.
+  Simulation(const io::Scene& scene, const io::CheckpointData& checkpoint, const std::string& file,
+             MPI_Comm comm);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  /// Runs the initial-equilibrium stage if the scene asks for it; returns its step count.
+  /// Runs (or, after a restart in that stage, continues) the initial-equilibrium stage if the
+  /// scene asks for it and it has not ended yet; returns its step count so far. A stage stopped
+  /// by the step hook stays open (stage() == kEquilibrium) and may be continued by calling again.
   std::int64_t runEquilibrium();
   /// Runs the main stage until the scene's end time or step count (or a stop callback).
   timeloop::StopReason run();
@@ -94,6 +106,17 @@ class Simulation {
 
   /// Called after every step (all ranks), e.g. by checks and output.
   void addObserver(std::function<void()> observer) { observers_.push_back(std::move(observer)); }
+  /// Called on every rank after every step of either stage, once the step is complete (step
+  /// count and time advanced, particles migrated, ghosts fresh): the place to write a
+  /// checkpoint. Returning true (the same on every rank) stops the current stage's loop with
+  /// StopReason::kUserCondition; the stage can be continued or checkpointed.
+  void setStepHook(std::function<bool()> hook) { step_hook_ = std::move(hook); }
+
+  /// This rank's part of a checkpoint of the current state (not collective): replicated tables,
+  /// this rank's free particles (and the fixed/driven ones on rank 0), each pair history once
+  /// over all ranks. Call between steps. `scene_toml` and `scene_file` are stored as given.
+  io::CheckpointData checkpoint(const std::string& scene_toml, const std::string& scene_file,
+                                const std::string& run_state) const;
 
   /// Recomputes the block -> rank map from the particle counts and moves particles (collective).
   void rebalance();
@@ -109,6 +132,10 @@ class Simulation {
   void buildLaws();
   void registerSteps();
   void startLeapfrog();
+  void enterEquilibrium();
+  domain::Aabb computeExtents();
+  void suggestTimeStep();
+  void restoreParticles(const io::CheckpointData& checkpoint, const std::string& file);
 
   void updateDerived();
   void findCandidates();
@@ -123,6 +150,7 @@ class Simulation {
   Stage stage_ = Stage::kMain;
   std::int64_t equilibrium_steps_ = 0;
   bool equilibrium_reached_ = false;
+  bool equilibrium_done_ = false;  // the stage has ended (or never was), never to run again
   TimingPool equilibrium_timing_;
 
   struct ShapeFrame {
@@ -138,8 +166,8 @@ class Simulation {
   std::unique_ptr<broadphase::BroadPhase> broadphase_;
   std::unique_ptr<domain::BlockForest> forest_;
   comm::ParticleExchange exchange_;
-  double ghost_range_ = 0.0;   // largest free circumradius + margin
-  double margin_ = 0.0;        // absolute contact margin
+  double ghost_range_ = 0.0;  // largest free circumradius + margin
+  double margin_ = 0.0;       // absolute contact margin
   double suggested_dt_ = 0.0;
 
   particles::ParticleStorage storage_;
@@ -157,7 +185,9 @@ class Simulation {
   std::vector<std::uint8_t> active_;
 
   timeloop::TimeLoop loop_;
+  timeloop::TimeLoop parked_loop_;  // the main stage's loop while the equilibrium stage runs
   std::vector<std::function<void()>> observers_;
+  std::function<bool()> step_hook_;
 };
 
 }  // namespace polydem::sim

@@ -20,11 +20,13 @@ Simulation::Simulation(const io::Scene& scene, MPI_Comm comm)
       rank_(mpi::rank(comm)),
       ranks_(mpi::size(comm)),
       exchange_(comm),
-      loop_(comm) {
+      loop_(comm),
+      parked_loop_(comm) {
   buildTables();
   buildLaws();
   buildDomain();
   placeParticles();
+  suggestTimeStep();
   registerSteps();
   exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
   startLeapfrog();
@@ -80,7 +82,7 @@ void Simulation::buildLaws() {
   }
 }
 
-void Simulation::buildDomain() {
+domain::Aabb Simulation::computeExtents() {
   // Particle extents: the domain defaults to their bounding box, grown by half its largest edge
   // on every side so that falling and sliding particles stay inside.
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
@@ -104,8 +106,13 @@ void Simulation::buildDomain() {
     const double grow = 0.5 * (hi - lo).maxCoeff();
     box = {lo - Vec3::Constant(grow), hi + Vec3::Constant(grow)};
   }
-  const auto counts = scene_.domain.blocks ? *scene_.domain.blocks
-                                           : domain::chooseBlockCounts(box, ranks_, 8);
+  return box;
+}
+
+void Simulation::buildDomain() {
+  const domain::Aabb box = computeExtents();
+  const auto counts =
+      scene_.domain.blocks ? *scene_.domain.blocks : domain::chooseBlockCounts(box, ranks_, 8);
   forest_ = std::make_unique<domain::BlockForest>(box, counts, scene_.domain.periodic);
   // Every rank checks (so that all of them stop on an error); rank 0 alone counts the weights.
   std::vector<double> weights(forest_->numBlocks(), 0.0);
@@ -125,8 +132,9 @@ void Simulation::buildDomain() {
 std::vector<int> Simulation::rankMap(std::span<const double> weights) const {
   if (scene_.domain.balancer == "cyclic") {
     if (forest_->numBlocks() < ranks_) {
-      throw InputError(scene_.file, 0, cat("[domain] has ", forest_->numBlocks(),
-                                           " blocks for ", ranks_, " ranks"));
+      throw InputError(
+          scene_.file, 0,
+          cat("[domain] has ", forest_->numBlocks(), " blocks for ", ranks_, " ranks"));
     }
     std::vector<int> map(forest_->numBlocks());
     for (int b = 0; b < forest_->numBlocks(); ++b) map[b] = b % ranks_;
@@ -138,7 +146,6 @@ std::vector<int> Simulation::rankMap(std::span<const double> weights) const {
 }
 
 void Simulation::placeParticles() {
-  std::vector<dynamics::TimeStepParticle> dt_particles;
   for (const auto& spec : scene_.particles) {
     // The spec places the shape's own frame; the body frame sits at the shape's centroid, turned
     // by its principal axes.
@@ -152,17 +159,24 @@ void Simulation::placeParticles() {
     p.position = spec.position + spec.orientation * frame.centroid;
     p.orientation = (spec.orientation * frame.rotation).normalized();
     p.velocity = spec.fixed ? Vec3::Zero() : spec.velocity;
-    const auto& s = shapes_[spec.shape];
-    const double density = densities_[spec.material];
     if (p.isFree()) {
-      p.angular_momentum = dynamics::angularMomentum(p.orientation, spec.angular_velocity,
-                                                     density * s.principal_moments);
-      const auto& props = materials_.pair(spec.material, spec.material);
-      dt_particles.push_back({p.uid, density * s.volume, density * s.principal_moments,
-                              s.circumradius, std::max(props.kn, props.ks),
-                              props.normal_damping});
+      const double density = densities_[spec.material];
+      p.angular_momentum = dynamics::angularMomentum(
+          p.orientation, spec.angular_velocity, density * shapes_[spec.shape].principal_moments);
     }
     if (p.isGlobal() || forest_->ownerOf(p.position) == rank_) storage_.addLocal(p);
+  }
+}
+
+void Simulation::suggestTimeStep() {
+  std::vector<dynamics::TimeStepParticle> dt_particles;
+  for (const auto& spec : scene_.particles) {
+    if (spec.fixed || spec.driver >= 0) continue;
+    const auto& s = shapes_[spec.shape];
+    const double density = densities_[spec.material];
+    const auto& props = materials_.pair(spec.material, spec.material);
+    dt_particles.push_back({spec.uid, density * s.volume, density * s.principal_moments,
+                            s.circumradius, std::max(props.kn, props.ks), props.normal_damping});
   }
   const auto suggestion = dynamics::suggestTimeStep(dt_particles);
   suggested_dt_ = suggestion.dt;

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.h"
 #include "core/mpi_env.h"
+#include "core/strings.h"
 #include "dynamics/monitors.h"
 #include "sim/simulation.h"
 
@@ -79,6 +81,41 @@ void Tracker::gather(const Simulation& sim) {
     initial_ = states_;
     have_initial_ = true;
   }
+}
+
+std::vector<double> Tracker::initialState() const {
+  std::vector<double> v;
+  if (!have_initial_) return v;
+  for (const TrackedState& s : initial_) {
+    const Quat& q = s.orientation;
+    for (double x : {s.position.x(), s.position.y(), s.position.z(), q.w(), q.x(), q.y(), q.z(),
+                     s.velocity.x(), s.velocity.y(), s.velocity.z(), s.angular_velocity.x(),
+                     s.angular_velocity.y(), s.angular_velocity.z(), s.kinetic_energy,
+                     static_cast<double>(s.contacts)}) {
+      v.push_back(x);
+    }
+  }
+  return v;
+}
+
+void Tracker::restoreInitial(const std::vector<double>& values) {
+  if (values.empty()) return;  // not gathered yet when the state was saved
+  if (values.size() != uids_.size() * kDoubles) {
+    throw Error(cat("tracker state of ", values.size() / kDoubles, " particles for ",
+                    uids_.size(), " tracked ones"));
+  }
+  initial_.resize(uids_.size());
+  for (std::size_t k = 0; k < uids_.size(); ++k) {
+    const double* b = &values[k * kDoubles];
+    TrackedState& s = initial_[k];
+    s.position = {b[0], b[1], b[2]};
+    s.orientation = Quat(b[3], b[4], b[5], b[6]);
+    s.velocity = {b[7], b[8], b[9]};
+    s.angular_velocity = {b[10], b[11], b[12]};
+    s.kinetic_energy = b[13];
+    s.contacts = static_cast<int>(b[14]);
+  }
+  have_initial_ = true;
 }
 
 double rotationAngle(const Quat& from, const Quat& to) {

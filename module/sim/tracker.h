@@ -33,6 +33,9 @@ class Tracker {
   void gather(const Simulation& sim);
   const std::vector<TrackedState>& states() const { return states_; }
   const std::vector<TrackedState>& initial() const { return initial_; }
+  /// The initial states (of the main stage) as numbers, and back (a checkpoint's run state).
+  std::vector<double> initialState() const;
+  void restoreInitial(const std::vector<double>& values);
 
  private:
   std::vector<Uid> uids_;

@@ -1,0 +1,158 @@
+#include "sim/run_checkpoint.h"
+
+#include <csignal>
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/logging.h"
+#include "core/mpi_env.h"
+#include "core/strings.h"
+#include "io/checkpoint.h"
+
+namespace polydem::sim {
+
+namespace {
+
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void onStopSignal(int signal) {
+  g_stop_signal = signal;
+}
+
+// Doubles as their bit patterns: exact, and NaN survives (JSON has no NaN).
+std::vector<std::uint64_t> toBits(const std::vector<double>& values) {
+  std::vector<std::uint64_t> bits(values.size());
+  std::memcpy(bits.data(), values.data(), values.size() * sizeof(double));
+  return bits;
+}
+
+std::vector<double> fromBits(const std::vector<std::uint64_t>& bits) {
+  std::vector<double> values(bits.size());
+  std::memcpy(values.data(), bits.data(), bits.size() * sizeof(double));
+  return values;
+}
+
+// Checkpoints are numbered by the steps of both stages, so that names sort in run order.
+std::int64_t runSteps(const Simulation& sim) {
+  return sim.stage() == Stage::kEquilibrium ? sim.stepCount()
+                                            : sim.equilibriumSteps() + sim.stepCount();
+}
+
+}  // namespace
+
+void installStopSignals() {
+  struct sigaction action {};
+  action.sa_handler = onStopSignal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  sigaction(SIGTERM, &action, nullptr);
+  sigaction(SIGUSR1, &action, nullptr);
+}
+
+int stopSignalReceived() {
+  return g_stop_signal;
+}
+
+std::string signalName(int signal) {
+  if (signal == SIGTERM) return "SIGTERM";
+  if (signal == SIGUSR1) return "SIGUSR1";
+  return cat("signal ", signal);
+}
+
+std::string runStateJson(const Tracker& tracker,
+                         const std::vector<std::unique_ptr<Check>>& checks) {
+  nlohmann::json j;
+  j["tracker_initial_bits"] = toBits(tracker.initialState());
+  nlohmann::json c = nlohmann::json::object();
+  for (const auto& check : checks) c[check->spec().name] = toBits(check->state());
+  j["checks_bits"] = c;
+  return j.dump();
+}
+
+void restoreRunState(const std::string& json, const std::string& file, Tracker& tracker,
+                     std::vector<std::unique_ptr<Check>>& checks) {
+  try {
+    const auto j = nlohmann::json::parse(json);
+    tracker.restoreInitial(
+        fromBits(j.at("tracker_initial_bits").get<std::vector<std::uint64_t>>()));
+    const auto& c = j.at("checks_bits");
+    for (auto& check : checks) {
+      const auto it = c.find(check->spec().name);
+      if (it == c.end()) {
+        throw Error(cat("no state for [[check]] '", check->spec().name, "'"));
+      }
+      const auto state = fromBits(it->get<std::vector<std::uint64_t>>());
+      if (state.size() != check->state().size()) {
+        throw Error(cat("[[check]] '", check->spec().name, "' has ", state.size(),
+                        " stored values, expected ", check->state().size()));
+      }
+      check->restore(state);
+    }
+  } catch (const std::exception& e) {
+    throw CheckpointError(cat(file, ": /run/state does not fit the scene: ", e.what()));
+  }
+}
+
+CheckpointSchedule::CheckpointSchedule(const io::CheckpointSpec& spec, std::filesystem::path dir,
+                                       std::string scene_toml, std::string scene_file,
+                                       std::string code_version, const Tracker& tracker,
+                                       const std::vector<std::unique_ptr<Check>>& checks,
+                                       MPI_Comm comm)
+    : spec_(spec),
+      dir_(std::move(dir)),
+      scene_toml_(std::move(scene_toml)),
+      scene_file_(std::move(scene_file)),
+      code_version_(std::move(code_version)),
+      tracker_(tracker),
+      checks_(checks),
+      comm_(comm) {}
+
+bool CheckpointSchedule::afterStep(Simulation& sim) {
+  const bool by_steps = spec_.every_steps > 0 && runSteps(sim) % spec_.every_steps == 0;
+  bool by_wall = false;
+  if (mpi::rank(comm_) == 0 && spec_.every_seconds > 0.0) {
+    const auto now = std::chrono::steady_clock::now();
+    by_wall = std::chrono::duration<double>(now - last_wall_).count() >= spec_.every_seconds;
+  }
+  // One allreduce: any rank's signal, and rank 0's clock.
+  int local[2] = {stopSignalReceived(), by_wall ? 1 : 0};
+  int global[2] = {0, 0};
+  MPI_Allreduce(local, global, 2, MPI_INT, MPI_MAX, comm_);
+  if (global[0] != 0) {
+    stop_signal_ = global[0];
+    return true;  // the caller writes the checkpoint once the stage has stopped
+  }
+  if (dir_.empty() || !(by_steps || global[1] != 0)) return false;
+  // A checkpoint in the equilibrium stage at the step where the force ratio ends it would,
+  // restarted, take one more equilibrium step: that step's checkpoint is left out.
+  if (sim.stage() == Stage::kEquilibrium &&
+      sim.monitors().force_ratio < sim.scene().equilibrium.force_ratio) {
+    return false;
+  }
+  write(sim);
+  return false;
+}
+
+std::filesystem::path CheckpointSchedule::write(Simulation& sim) {
+  const auto path = io::checkpointFileName(dir_ / "checkpoints", runSteps(sim));
+  if (mpi::rank(comm_) == 0) std::filesystem::create_directories(path.parent_path());
+  MPI_Barrier(comm_);
+  io::CheckpointData data =
+      sim.checkpoint(scene_toml_, scene_file_, runStateJson(tracker_, checks_));
+  data.code_version = code_version_;
+  io::writeCheckpoint(path, data, comm_);
+  if (mpi::rank(comm_) == 0) {
+    io::pruneCheckpoints(path.parent_path(), spec_.keep);
+    log::info(
+        cat("checkpoint ", path.string(), " (",
+            io::toString(sim.stage() == Stage::kEquilibrium ? io::CheckpointStage::kEquilibrium
+                                                            : io::CheckpointStage::kMain),
+            " stage, step ", sim.stepCount(), ")"));
+  }
+  last_ = path;
+  last_wall_ = std::chrono::steady_clock::now();
+  return path;
+}
+
+}  // namespace polydem::sim

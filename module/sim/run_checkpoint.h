@@ -1,0 +1,68 @@
+// Checkpoints of a run as `polydem run` takes them: on a schedule (every N steps, every T seconds
+// of wall clock) and when the process is asked to stop (SIGTERM, SIGUSR1), into
+// <out>/checkpoints/checkpoint_<step>.h5, keeping the newest K. See docs/checkpoint.md.
+#pragma once
+
+#include <mpi.h>
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/scene.h"
+#include "sim/checks.h"
+#include "sim/simulation.h"
+#include "sim/tracker.h"
+
+namespace polydem::sim {
+
+/// Makes SIGTERM and SIGUSR1 set a flag (async-signal-safe) instead of ending the process.
+void installStopSignals();
+/// The signal number received since installStopSignals() on this process, or 0.
+int stopSignalReceived();
+/// "SIGTERM", "SIGUSR1" or "signal N".
+std::string signalName(int signal);
+
+/// The run state a checkpoint stores besides the simulation (io::CheckpointData::run_state):
+/// the tracker's initial states and every check's accumulated values, bit for bit (JSON).
+std::string runStateJson(const Tracker& tracker, const std::vector<std::unique_ptr<Check>>& checks);
+/// Puts them back; throws CheckpointError naming `file` if they do not fit the scene's checks.
+void restoreRunState(const std::string& json, const std::string& file, Tracker& tracker,
+                     std::vector<std::unique_ptr<Check>>& checks);
+
+class CheckpointSchedule {
+ public:
+  /// `scene_toml`: the scene text the checkpoints store. `dir`: where they go (empty: nowhere,
+  /// but a stop signal still stops the run).
+  CheckpointSchedule(const io::CheckpointSpec& spec, std::filesystem::path dir,
+                     std::string scene_toml, std::string scene_file, std::string code_version,
+                     const Tracker& tracker, const std::vector<std::unique_ptr<Check>>& checks,
+                     MPI_Comm comm);
+
+  /// The simulation's step hook (collective, once per step): writes a checkpoint when one is
+  /// due, and returns true when some rank received a stop signal (one allreduce decides both,
+  /// with rank 0's wall clock).
+  bool afterStep(Simulation& sim);
+  /// Writes a checkpoint of the current state and prunes old ones (collective); its path.
+  std::filesystem::path write(Simulation& sim);
+
+  /// The signal that stopped the run (0: none).
+  int stopSignal() const { return stop_signal_; }
+  const std::filesystem::path& lastWritten() const { return last_; }
+
+ private:
+  io::CheckpointSpec spec_;
+  std::filesystem::path dir_;
+  std::string scene_toml_, scene_file_, code_version_;
+  const Tracker& tracker_;
+  const std::vector<std::unique_ptr<Check>>& checks_;
+  MPI_Comm comm_;
+  int stop_signal_ = 0;
+  std::chrono::steady_clock::time_point last_wall_ = std::chrono::steady_clock::now();
+  std::filesystem::path last_;
+};
+
+}  // namespace polydem::sim

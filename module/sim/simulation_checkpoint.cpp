@@ -1,0 +1,167 @@
+// A Simulation to and from a checkpoint (io/checkpoint.h): capture between two steps, and a
+// restore on any number of ranks that continues with the same bits as a run that never stopped.
+//
+// What a step reads besides the scene: particle poses and leapfrog velocities (stored as they
+// are, at t - dt/2, so the leapfrog is not restarted), the pair histories (shear force, normal,
+// kernel warm start), step and exact time of the current stage's loop, and the stage itself.
+// Everything else (derived particle data, candidate pairs, ghosts, forces) is recomputed from
+// these at the start of the next step, and is the same on any rank count (contact_phase.h).
+#include <algorithm>
+
+#include "comm/history_routing.h"
+#include "core/error.h"
+#include "core/logging.h"
+#include "core/mpi_env.h"
+#include "core/strings.h"
+#include "domain/rebalance.h"
+#include "sim/simulation.h"
+
+namespace polydem::sim {
+
+namespace {
+
+// The rank that writes a pair history: every evaluated pair has a free member, and the history
+// follows each free member to its owner, so the owner of the lower-uid free member holds it (other
+// ranks may hold stale copies from before a migration; they are left out).
+bool writesPair(const particles::ParticleStorage& storage, const particles::PairKey& key,
+                int rank) {
+  for (Uid uid : {key.lo, key.hi}) {
+    const int i = storage.indexOf(uid);
+    if (i >= 0 && static_cast<std::size_t>(i) < storage.localCount()) {
+      if (storage[i].isFree()) return true;
+      continue;  // replicated: the other member decides
+    }
+    // Not held here as a local particle: a free particle owned elsewhere, or an unknown one.
+    if (i < 0 || !storage[i].isGlobal()) return false;
+  }
+  return rank == 0;  // both replicated (never evaluated, but kept once if present)
+}
+
+}  // namespace
+
+io::CheckpointData Simulation::checkpoint(const std::string& scene_toml,
+                                          const std::string& scene_file,
+                                          const std::string& run_state) const {
+  io::CheckpointData d;
+  d.scene_toml = scene_toml;
+  d.scene_file = scene_file;
+  d.step = loop_.step();
+  d.time_digits = loop_.exactTime().digits();
+  d.time = loop_.time();
+  d.dt = dt();
+  d.stage = stage_ == Stage::kEquilibrium ? io::CheckpointStage::kEquilibrium
+                                          : io::CheckpointStage::kMain;
+  d.equilibrium_steps = stage_ == Stage::kEquilibrium ? loop_.step() : equilibrium_steps_;
+  d.equilibrium_reached = equilibrium_reached_;
+  d.shapes = io::shapeRecords(shapes_);
+  d.materials = scene_.materials;
+  d.interactions = scene_.interactions;
+  d.domain.lo = forest_->domain().lo;
+  d.domain.hi = forest_->domain().hi;
+  d.domain.blocks = forest_->counts();
+  d.domain.periodic = forest_->periodic();
+  d.domain.rank_map = forest_->rankMap();
+  d.domain.ranks = ranks_;
+  d.run_state = run_state;
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    const auto& p = storage_[i];
+    if (p.isGlobal() && rank_ != 0) continue;  // replicated: rank 0's copy only
+    d.particles.push_back(p);
+  }
+  const auto keys = history_.keys();
+  const auto entries = history_.entries();
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    if (!writesPair(storage_, keys[k], rank_)) continue;
+    d.pair_keys.push_back(keys[k]);
+    d.pair_histories.push_back(entries[k]);
+  }
+  return d;
+}
+
+Simulation::Simulation(const io::Scene& scene, const io::CheckpointData& checkpoint,
+                       const std::string& file, MPI_Comm comm)
+    : scene_(scene),
+      comm_(comm),
+      rank_(mpi::rank(comm)),
+      ranks_(mpi::size(comm)),
+      exchange_(comm),
+      loop_(comm),
+      parked_loop_(comm) {
+  buildTables();
+  // The shapes are rebuilt by the code that built them in the first run; a change in that code
+  // or in the scene would silently change the continued run.
+  if (const std::string diff = io::shapeMismatch(checkpoint.shapes, shapes_); !diff.empty()) {
+    throw CheckpointError(cat(file, ": the shapes built from scene '", scene_.file,
+                              "' differ from the stored ones (", diff, ")"));
+  }
+  if (checkpoint.dt != scene_.dt) {
+    throw CheckpointError(cat(file, ": stored time step ", num(checkpoint.dt),
+                              " s differs from the scene's ", num(scene_.dt), " s"));
+  }
+  if (checkpoint.materials.size() != materials_.size()) {
+    throw CheckpointError(cat(file, ": ", checkpoint.materials.size(),
+                              " stored materials, the scene has ", materials_.size()));
+  }
+  buildLaws();
+  computeExtents();
+  restoreParticles(checkpoint, file);
+  suggestTimeStep();
+  registerSteps();
+  equilibrium_steps_ = checkpoint.equilibrium_steps;
+  equilibrium_reached_ = checkpoint.equilibrium_reached;
+  const ExactSum time = ExactSum::fromDigits(checkpoint.time_digits);
+  if (checkpoint.stage == io::CheckpointStage::kEquilibrium) {
+    if (!scene_.equilibrium.enabled) {
+      throw CheckpointError(cat(file, ": written in the equilibrium stage, but scene '",
+                                scene_.file, "' has no [equilibrium] stage"));
+    }
+    enterEquilibrium();
+  } else {
+    equilibrium_done_ = true;
+  }
+  loop_.restore(checkpoint.step, time);
+  exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+}
+
+// The stored domain box and periodicity (they decide wrapping and what leaves the domain); the
+// writer's blocks and rank map when the rank count is the same, else blocks for this rank count
+// balanced on the stored particles. Then every particle to its owner and every history to the
+// owners of its particles.
+void Simulation::restoreParticles(const io::CheckpointData& checkpoint, const std::string& file) {
+  const auto& dom = checkpoint.domain;
+  const domain::Aabb box{dom.lo, dom.hi};
+  const bool same_ranks = dom.ranks == ranks_ && !dom.rank_map.empty();
+  const auto counts = same_ranks             ? dom.blocks
+                      : scene_.domain.blocks ? *scene_.domain.blocks
+                                             : domain::chooseBlockCounts(box, ranks_, 8);
+  forest_ = std::make_unique<domain::BlockForest>(box, counts, dom.periodic);
+  for (const auto& p : checkpoint.particles) {
+    if (p.shape < 0 || p.shape >= static_cast<int>(shapes_.size()) || p.material < 0 ||
+        p.material >= static_cast<int>(materials_.size()) ||
+        (p.isDriven() && (p.driver < 0 || p.driver >= static_cast<int>(scene_.drivers.size())))) {
+      throw CheckpointError(cat(file, ": particle ", p.uid,
+                                " names a shape, material or driver the scene does not have"));
+    }
+    particles::Particle q = p;
+    q.flags &= ~particles::kGhost;
+    storage_.addLocal(q);
+  }
+  if (same_ranks) {
+    forest_->setRankMap(dom.rank_map, ranks_);
+  } else {
+    std::vector<double> weights(forest_->numBlocks(), 0.0);
+    for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+      if (!storage_[i].isFree()) continue;
+      const int b = forest_->blockOf(forest_->wrap(storage_[i].position));
+      if (b >= 0) weights[b] += 1.0;  // outside: migrate() reports it
+    }
+    forest_->setRankMap(rankMap(weights), ranks_);
+  }
+  exchange_.migrate(*forest_, storage_, history_, checkpoint.step);
+  history_ = comm::routeHistories(checkpoint.pair_keys, checkpoint.pair_histories, storage_, comm_);
+  log::info(cat("restored step ", checkpoint.step, " (", io::toString(checkpoint.stage),
+                " stage) from ", file, ", written by ", dom.ranks, " rank(s), on ", ranks_,
+                " rank(s)"));
+}
+
+}  // namespace polydem::sim

@@ -1,0 +1,127 @@
+#!/bin/bash
+# Checkpoint/restart through the polydem executable (docs/checkpoint.md):
+#  1. checkpoints every 50 steps, pruned to --checkpoint-keep; restarts from the equilibrium and
+#     the main stage on other rank counts end with the state hash of an uninterrupted run;
+#  2. `polydem checkpoint info` verifies a file on any rank count;
+#  3. a scene that differs (other than its stop settings) is refused, nothing is written;
+#  4. kill -9 between the collective write and the rename leaves the previous checkpoint intact;
+#  5. corrupt files (truncated, flipped byte, wrong version, missing dataset) are refused;
+#  6. SIGUSR1 and SIGTERM to mpirun: exit 0, a checkpoint, and the restart reaches the same bits.
+# usage: checkpoint_cli_test.sh POLYDEM MPIEXEC SCENE WORKDIR
+set -u
+polydem=$1; mpiexec="$2 --oversubscribe"; scene=$3; work=$4
+[ "$(id -u)" = 0 ] && mpiexec="$mpiexec --allow-run-as-root"
+rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+field() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$@"; }
+hash_of() { field "$1/summary.json" state_hash 2> /dev/null; }
+mp() { timeout 120 $mpiexec -n "$1" "$polydem" "${@:2}"; }
+run() { mp "$@" --no-snapshots --quiet; }
+ckpt() { printf '%s/checkpoints/checkpoint_%012d.h5' "$1" "$2"; }
+
+# 1. Reference and checkpoints (eq. stage: 100 steps, then 200 main steps = 300 in all).
+run 2 run "$scene" --out ref || fail "reference run"
+run 2 run "$scene" --out a --checkpoint-every 50 --checkpoint-keep 4 || fail "checkpointed run"
+[ "$(hash_of a)" = "$(hash_of ref)" ] || fail "checkpoints changed the run"
+n=$(ls a/checkpoints | wc -l)
+[ "$n" = 4 ] || fail "expected 4 checkpoints after pruning, found $n"
+[ -f "$(ckpt a 150)" ] && [ ! -f "$(ckpt a 100)" ] || fail "pruning kept the wrong files"
+run 1 run --restart "$(ckpt a 250)" --out r1 || fail "restart on 1 rank"
+[ "$(hash_of r1)" = "$(hash_of ref)" ] || fail "restart on 1 rank: other bits"
+# The checks' values (accumulated over the whole run, restored from /run/state) agree too.
+[ "$(field r1/summary.json checks)" = "$(field ref/summary.json checks)" ] ||
+  fail "restart on 1 rank: check values differ"
+run 2 run --checkpoint-keep 100 --checkpoint-every 50 --out eq "$scene" --steps 1 > /dev/null
+cp "$(ckpt eq 50)" eq50.h5 || fail "no checkpoint in the equilibrium stage"
+run 3 run --restart eq50.h5 "$scene" --out r3 || fail "restart on 3 ranks from the equilibrium stage"
+[ "$(hash_of r3)" = "$(hash_of ref)" ] || fail "restart from the equilibrium stage: other bits"
+# A longer run continued by --steps.
+run 1 run "$scene" --out long --steps 260 || fail "longer reference"
+run 2 run --restart "$(ckpt a 300)" --out ext --steps 260 || fail "extended restart"
+[ "$(hash_of ext)" = "$(hash_of long)" ] || fail "extended restart: other bits"
+
+# 2. info
+mp 3 checkpoint info "$(ckpt a 300)" > info.txt || fail "checkpoint info"
+grep -q "^step: 200" info.txt || fail "checkpoint info does not show the step"
+
+# 3. A scene that differs in dt: refused, no output written.
+sed 's/^dt = .*/dt = "5e-5 s"/' "$scene" > other.toml
+run 2 run --restart "$(ckpt a 300)" other.toml --out bad > bad.log 2>&1 && fail "other dt accepted"
+grep -q "\[simulation\] dt" bad.log || fail "mismatch message does not name the key: $(cat bad.log)"
+[ ! -e bad/summary.json ] || fail "a refused restart wrote output"
+sed 's/^steps = .*/steps = 260/' "$scene" > longer.toml
+run 1 run --restart "$(ckpt a 300)" longer.toml --out ext2 || fail "longer scene refused"
+[ "$(hash_of ext2)" = "$(hash_of long)" ] || fail "restart with a longer scene: other bits"
+
+# 4. kill -9 between the collective write and the rename.
+mkdir -p k/checkpoints; cp "$(ckpt a 250)" "$(ckpt k 250)"; before=$(cksum < "$(ckpt k 250)")
+POLYDEM_CHECKPOINT_PAUSE_BEFORE_RENAME=60 "$polydem" run "$scene" --out k --checkpoint-every 50 \
+  --checkpoint-keep 1 --no-snapshots --quiet 2> k.log &
+pid=$!
+for _ in $(seq 600); do grep -q pausing k.log && break; sleep 0.1; done
+grep -q pausing k.log || fail "the writer never reached the rename"
+kill -9 $pid; wait $pid 2> /dev/null
+[ "$(cksum < "$(ckpt k 250)")" = "$before" ] || fail "kill -9 changed the previous checkpoint"
+[ ! -e "$(ckpt k 50)" ] || fail "a half-written checkpoint has the final name"
+mp 2 checkpoint info "$(ckpt k 250)" > /dev/null || fail "previous checkpoint does not verify"
+
+# 5. Corrupt files: non-zero exit, the file named, nothing written.
+good=$(ckpt a 300)
+refuse() {  # name file
+  run 2 run --restart "$2" --out "c_$1" > "c_$1.log" 2>&1 && fail "$1 accepted"
+  grep -q "$2" "c_$1.log" || fail "$1: message does not name the file: $(cat "c_$1.log")"
+  [ ! -e "c_$1/summary.json" ] || fail "$1: output written"
+  mp 1 checkpoint info "$2" > /dev/null 2>&1 && fail "$1: checkpoint info accepted it"
+}
+head -c $(( $(stat -c %s "$good") / 2 )) "$good" > truncated.h5; refuse truncated truncated.h5
+if /usr/bin/python3 -c "import h5py" 2> /dev/null; then
+  /usr/bin/python3 - "$good" << 'PY'
+import shutil, sys, h5py
+good = sys.argv[1]
+for name in ("flipped", "version", "missing"):
+    shutil.copy(good, name + ".h5")
+with h5py.File("flipped.h5", "r") as f:
+    offset = f["/particles/position"].id.get_offset()
+with open("flipped.h5", "r+b") as f:
+    f.seek(offset + 8); b = f.read(1); f.seek(offset + 8); f.write(bytes([b[0] ^ 0x10]))
+with h5py.File("version.h5", "r+") as f:
+    f.attrs["format_version"] = f.attrs["format_version"] + 1
+with h5py.File("missing.h5", "r+") as f:
+    del f["/contacts/shear_force"]
+PY
+  refuse flipped flipped.h5; refuse version version.h5; refuse missing missing.h5
+else
+  echo "h5py missing: flipped byte, version and missing dataset cases left to io_checkpoint_errors"
+fi
+
+# 6. Signals, long end time: a checkpoint at the end of the step, exit 0, same bits on restart.
+# Open MPI's mpirun forwards SIGUSR1 to the ranks and waits for them: its exit status is theirs.
+# On SIGTERM it forwards SIGTERM too and the ranks stop the same way with status 0, but mpirun
+# itself then exits with 1 (it was signalled): status 0 is checked on a process without mpirun.
+signal_case() {  # name signal launcher...
+  local name=$1 sig=$2 launcher=$3; shift 2
+  "$@" "$polydem" run "$scene" --out "$name" --steps 100000000 --no-snapshots > "$name.log" 2>&1 &
+  local pid=$!
+  for _ in $(seq 600); do [ -s "$name/series.csv" ] && break; sleep 0.1; done
+  sleep 1; kill -"$sig" $pid; wait $pid; local rc=$?
+  if [ "$launcher" = env ] || [ "$sig" = USR1 ]; then
+    [ $rc = 0 ] || fail "$name: exit status $rc"
+  fi
+  grep -q "to continue: mpirun -n [0-9]* .*polydem run --restart .* --out $name" "$name.log" ||
+    fail "$name: no restart command printed"
+  [ "$(field "$name/summary.json" stopped_by_signal)" = "SIG$sig" ] || fail "$name: summary"
+  local file steps
+  file=$(field "$name/summary.json" checkpoint)
+  steps=$(field "$name/summary.json" steps)
+  [ -f "$file" ] || { fail "$name: no checkpoint"; return; }
+  run 1 run --restart "$file" --out "${name}_r" --steps $((steps + 50)) || fail "$name: restart"
+  run 2 run "$scene" --out "${name}_ref" --steps $((steps + 50)) || fail "$name: reference"
+  [ "$(hash_of "${name}_r")" = "$(hash_of "${name}_ref")" ] || fail "$name: restart differs"
+}
+signal_case usr1_mpirun USR1 $mpiexec -n 2
+signal_case term_mpirun TERM $mpiexec -n 2
+signal_case term_plain TERM env
+
+[ $failures = 0 ] && echo "all checkpoint CLI checks passed"
+exit $((failures > 0))

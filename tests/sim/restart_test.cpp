@@ -1,0 +1,192 @@
+// Checkpoint and restart of a Simulation: N steps, a checkpoint file, a restart, M more steps end
+// in the same bits (hash of every particle and pair history) as N + M uninterrupted steps, in the
+// equilibrium stage and in the main stage, on the same and on other rank counts. The scene is
+// the one of rank_determinism_test: a heap sliding across many small blocks, so that pairs with
+// tangential histories cross rank borders.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/logging.h"
+#include "core/mpi_env.h"
+#include "io/checkpoint.h"
+#include "sim/pile_scene.h"
+#include "sim/simulation.h"
+
+namespace polydem::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::int64_t kFirst = 400;  // steps before the checkpoint
+constexpr std::int64_t kSecond = 300;  // steps after it
+
+io::Scene crossingScene(bool equilibrium) {
+  PileOptions o;
+  o.particles = 120;
+  o.layers = 3;
+  o.shapes = "cubes";  // a lattice only 2% apart: contacts from the first steps
+  o.gap = 0.02;
+  o.initial_speed = 3.0;  // particles collide at once and stay in contact as a sliding heap
+  o.seed = 11;
+  io::Scene s = makePileScene(o);
+  s.dt = 1e-4;
+  s.steps = kFirst + kSecond;
+  s.end_time.reset();
+  s.materials[0].friction_angle = 25;
+  s.materials[0].normal_damping = 0.1;
+  s.materials[0].local_damping = 0.2;
+  s.domain.blocks = std::array<int, 3>{16, 16, 4};
+  s.domain.balancer = "cyclic";
+  s.gravity = Vec3(4.0, 2.5, -9.81);
+  if (equilibrium) {
+    // A stage that ends by its step limit, after the checkpoint, then a short main stage.
+    s.equilibrium.enabled = true;
+    s.equilibrium.force_ratio = 1e-300;
+    s.equilibrium.max_steps = kFirst + kSecond;
+    s.equilibrium.reset_velocities = false;
+    s.steps = 60;
+  }
+  return s;
+}
+
+/// A communicator of the first `n` ranks of the world (MPI_COMM_NULL on the others).
+MPI_Comm firstRanks(int n) {
+  MPI_Comm c;
+  MPI_Comm_split(MPI_COMM_WORLD, mpi::rank() < n ? 0 : MPI_UNDEFINED, mpi::rank(), &c);
+  return c;
+}
+
+/// Runs `f` on the first `n` ranks and broadcasts its result from rank 0 to all.
+template <typename F>
+std::uint64_t onFirst(int n, F f) {
+  std::uint64_t result = 0;
+  MPI_Comm c = firstRanks(n);
+  if (c != MPI_COMM_NULL) {
+    result = f(c);
+    MPI_Comm_free(&c);
+  }
+  MPI_Bcast(&result, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+  return result;
+}
+
+/// The uninterrupted run: both stages to the end.
+std::uint64_t straight(const io::Scene& scene, MPI_Comm comm) {
+  Simulation sim(scene, comm);
+  sim.runEquilibrium();
+  sim.run();
+  const auto h = sim.stateHash();
+  EXPECT_EQ(h.history_conflicts, 0);
+  EXPECT_GT(h.pair_count, 10) << "the scene should have many contact histories";
+  return h.combined;
+}
+
+fs::path sharedPath(const std::string& name) {
+  // The same on every rank: rank 0's pid.
+  long pid = static_cast<long>(getpid());
+  MPI_Bcast(&pid, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+  return fs::temp_directory_path() / ("polydem_restart_" + std::to_string(pid) + "_" + name);
+}
+
+/// Runs the scene on `comm` until `kFirst` steps of the scene's first stage, then writes `path`.
+void writeAfterFirst(const io::Scene& scene, const fs::path& path, MPI_Comm comm) {
+  Simulation sim(scene, comm);
+  sim.setStepHook([&sim] { return sim.stepCount() == kFirst; });
+  if (scene.equilibrium.enabled) {
+    sim.runEquilibrium();
+    ASSERT_EQ(sim.stage(), Stage::kEquilibrium) << "the hook should interrupt the stage";
+  } else {
+    EXPECT_EQ(sim.run(), timeloop::StopReason::kUserCondition);
+  }
+  ASSERT_EQ(sim.stepCount(), kFirst);
+  const io::CheckpointData data = sim.checkpoint("", scene.file, "{}");
+  std::int64_t sliding = 0;  // touching pairs with a tangential force to carry over
+  for (const auto& h : data.pair_histories) sliding += h.touching && h.shear_force.norm() > 0;
+  EXPECT_GT(mpi::allreduceSum(sliding, comm), 10) << "the checkpoint should hold shear histories";
+  io::writeCheckpoint(path, data, comm);
+}
+
+/// Reads `path` on `comm` and runs both stages to the end.
+std::uint64_t restartFrom(const io::Scene& scene, const fs::path& path, MPI_Comm comm) {
+  const io::CheckpointData data = io::readCheckpoint(path, comm);
+  Simulation sim(scene, data, path.string(), comm);
+  EXPECT_EQ(sim.stepCount(), kFirst);
+  EXPECT_EQ(sim.stage(), scene.equilibrium.enabled ? Stage::kEquilibrium : Stage::kMain);
+  sim.runEquilibrium();
+  sim.run();
+  const auto h = sim.stateHash();
+  EXPECT_EQ(h.history_conflicts, 0);
+  return h.combined;
+}
+
+void expectRestartSameBits(const io::Scene& scene, const std::string& name) {
+  log::setLevel(log::Level::kWarning);
+  const int p = mpi::size();
+  const std::uint64_t reference = onFirst(1, [&](MPI_Comm c) { return straight(scene, c); });
+  const fs::path path = sharedPath(name + ".h5");
+  // Written and read on all ranks.
+  writeAfterFirst(scene, path, MPI_COMM_WORLD);
+  EXPECT_EQ(restartFrom(scene, path, MPI_COMM_WORLD), reference) << "restart on " << p << " ranks";
+  // Written on all ranks, read on one and on P - 1.
+  EXPECT_EQ(onFirst(1, [&](MPI_Comm c) { return restartFrom(scene, path, c); }), reference)
+      << "written on " << p << " ranks, read on 1";
+  if (p > 2) {
+    EXPECT_EQ(onFirst(p - 1, [&](MPI_Comm c) { return restartFrom(scene, path, c); }), reference)
+        << "written on " << p << " ranks, read on " << p - 1;
+  }
+  // Written on two ranks, read on three.
+  if (p >= 3) {
+    onFirst(2, [&](MPI_Comm c) {
+      writeAfterFirst(scene, path, c);
+      return std::uint64_t{0};
+    });
+    EXPECT_EQ(onFirst(3, [&](MPI_Comm c) { return restartFrom(scene, path, c); }), reference)
+        << "written on 2 ranks, read on 3";
+  }
+  if (mpi::rank() == 0) fs::remove(path);
+}
+
+TEST(Restart, MainStageSameBitsOnAnyRankCount) {
+  expectRestartSameBits(crossingScene(false), "main");
+}
+
+TEST(Restart, EquilibriumStageSameBitsOnAnyRankCount) {
+  expectRestartSameBits(crossingScene(true), "equilibrium");
+}
+
+TEST(Restart, RefusesShapesThatDoNotMatch) {
+  log::setLevel(log::Level::kWarning);
+  io::Scene scene = crossingScene(false);
+  const fs::path path = sharedPath("shapes.h5");
+  writeAfterFirst(scene, path, MPI_COMM_WORLD);
+  const io::CheckpointData data = io::readCheckpoint(path, MPI_COMM_WORLD);
+  io::Scene moved = scene;
+  moved.shapes[0].vertices[0] *= 1.0 + 1e-12;  // one bit is enough
+  try {
+    Simulation sim(moved, data, path.string(), MPI_COMM_WORLD);
+    ADD_FAILURE() << "a checkpoint with other shapes was accepted";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("shape"), std::string::npos) << e.what();
+  }
+  io::Scene other_dt = scene;
+  other_dt.dt *= 0.5;
+  EXPECT_THROW(Simulation(other_dt, data, path.string(), MPI_COMM_WORLD), CheckpointError);
+  io::Scene no_equilibrium = crossingScene(true);
+  no_equilibrium.equilibrium.enabled = false;
+  const fs::path eq_path = sharedPath("eq.h5");
+  writeAfterFirst(crossingScene(true), eq_path, MPI_COMM_WORLD);
+  const io::CheckpointData eq_data = io::readCheckpoint(eq_path, MPI_COMM_WORLD);
+  EXPECT_THROW(Simulation(no_equilibrium, eq_data, eq_path.string(), MPI_COMM_WORLD),
+               CheckpointError);
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (mpi::rank() == 0) {
+    fs::remove(path);
+    fs::remove(eq_path);
+  }
+}
+
+}  // namespace
+}  // namespace polydem::sim
