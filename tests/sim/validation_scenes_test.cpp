@@ -70,6 +70,9 @@ INSTANTIATE_TEST_SUITE_P(
     Scenes, ValidationScene,
     ::testing::Values(
         // Zhao eqs. 41-42, within 1 %: mu = 0.2 and 0.4 slide back, mu = 0.6 stops (t1 < 0.72 s).
+        // fcp takes its point from the deepest features, so a tilt moves it at once (a restoring
+        // moment): it rocks less and stays within 1 %.
+        Case{"D-SLIDING-BLOCK", "fcp", 1.2},
         Case{"D-SLIDING-BLOCK", "fcp-ipm", 1.2, "mu 0.6", kRocking},
         Case{"D-SLIDING-BLOCK", "gjk-epa-ipm", 1.2, "mu 0.6", kRocking},
         Case{"D-SLIDING-BLOCK-KN", "fcp-ipm", 1.2, "kn 1.5e+07|kn 1.5e+09", kRocking},
