@@ -5,7 +5,9 @@
 
 namespace polydem::app {
 
-const char* version() { return "0.1.0"; }
+const char* version() {
+  return "0.1.0";
+}
 
 Args::Args(int argc, char** argv, std::vector<std::string> flags) {
   for (int i = 0; i < argc; ++i) {

@@ -84,7 +84,9 @@ Query parseLine(const std::string& text, int line) {
   return q;
 }
 
-json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+json vec(const Vec3& v) {
+  return json::array({v.x(), v.y(), v.z()});
+}
 
 json resolve(const contact::Kernel& kernel, const Query& q) {
   std::vector<Vec3> va, vb;

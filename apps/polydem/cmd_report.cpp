@@ -55,8 +55,8 @@ int reportCommand(int argc, char** argv) {
   if (mpi::rank() != 0) return 0;
 
   const auto rows = contactTypeRows(kernels, poses, seed);
-  const std::string md = "# Contact types (BENCHMARKS.md section C)\n\n" +
-                         contactTypeMarkdown(rows, kernels);
+  const std::string md =
+      "# Contact types (BENCHMARKS.md section C)\n\n" + contactTypeMarkdown(rows, kernels);
   std::filesystem::create_directories(out_dir);
   writeFile(std::filesystem::path(out_dir) / "contact-types.md", md);
   writeFile(std::filesystem::path(out_dir) / "contact-types.json",

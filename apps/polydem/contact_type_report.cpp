@@ -57,7 +57,8 @@ void poseStudy(const contact::Kernel& kernel, const contact::ContactCase& c, int
     }
     const Vec3 n_back = r.transpose() * res.normal;
     const Vec3 p_back = r.transpose() * (res.point - t);
-    row.pose_normal_rad = std::max(row.pose_normal_rad, contact::angleBetween(n_back, row.result.normal));
+    row.pose_normal_rad =
+        std::max(row.pose_normal_rad, contact::angleBetween(n_back, row.result.normal));
     row.pose_point_rel = std::max(row.pose_point_rel, (p_back - row.result.point).norm() / c.size);
     if (row.result.depth > 0) {
       row.pose_depth_rel =
@@ -121,20 +122,26 @@ std::string contactTypeMarkdown(const std::vector<CaseRow>& rows,
       for (const auto& r : rows) {
         if (r.kernel != k || r.case_id != c.id) continue;
         std::string cell = r.evaluation.correct() ? "**right**" : "wrong";
-        if (!r.result.touching) cell += " (no contact)";
-        else if (!r.evaluation.normal_ok) cell += " (normal " + sci(r.evaluation.normal_error_rad) + " rad)";
-        else if (!r.evaluation.point_ok) cell += " (point " + sci(r.evaluation.point_error) + ")";
-        else if (!r.evaluation.depth_ok) cell += " (depth " + sci(r.evaluation.depth_error) + ")";
+        if (!r.result.touching)
+          cell += " (no contact)";
+        else if (!r.evaluation.normal_ok)
+          cell += " (normal " + sci(r.evaluation.normal_error_rad) + " rad)";
+        else if (!r.evaluation.point_ok)
+          cell += " (point " + sci(r.evaluation.point_error) + ")";
+        else if (!r.evaluation.depth_ok)
+          cell += " (depth " + sci(r.evaluation.depth_error) + ")";
         md += " " + cell + " |";
       }
     }
     md += "\n";
   }
-  md += "\nright = normal within 1e-6 rad, point within 1e-6 of the particle size, depth within "
-        "1e-3 relative (BENCHMARKS.md section C). Analytical answer in every case: normal "
-        "(0,0,1), point (0,0,-5e-06), depth 1e-05.\n\n";
-  md += "| kernel | case | normal | point | depth | pose dependence of the point | right in all "
-        "poses | right at 1e-3 / 1e3 scale | us/call |\n|---|---|---|---|---|---|---|---|---|\n";
+  md +=
+      "\nright = normal within 1e-6 rad, point within 1e-6 of the particle size, depth within "
+      "1e-3 relative (BENCHMARKS.md section C). Analytical answer in every case: normal "
+      "(0,0,1), point (0,0,-5e-06), depth 1e-05.\n\n";
+  md +=
+      "| kernel | case | normal | point | depth | pose dependence of the point | right in all "
+      "poses | right at 1e-3 / 1e3 scale | us/call |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     char us[32];
     std::snprintf(us, sizeof us, "%.3f", 1e6 * r.seconds_per_call);

@@ -38,8 +38,8 @@ int ownerAfterWrap(const domain::BlockForest& forest, Particle& p, std::int64_t 
     throw SimulationError(cat("particle ", p.uid, " left the domain at (", p.position.x(), ", ",
                               p.position.y(), ", ", p.position.z(), ") at step ", step,
                               "; the domain is [", box.lo.x(), ", ", box.hi.x(), "] x [",
-                              box.lo.y(), ", ", box.hi.y(), "] x [", box.lo.z(), ", ",
-                              box.hi.z(), "]: enlarge [domain] min/max in the scene"));
+                              box.lo.y(), ", ", box.hi.y(), "] x [", box.lo.z(), ", ", box.hi.z(),
+                              "]: enlarge [domain] min/max in the scene"));
   }
   return forest.rankOfBlock(block);
 }

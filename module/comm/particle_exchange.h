@@ -4,7 +4,8 @@
 //  1. migrate(): a free particle whose centroid left this rank's blocks goes to the rank owning
 //     the block it is now in, together with the contact history of every pair it belongs to
 //     (along periodic axes the centroid is wrapped back into the domain first);
-//  2. refreshGhosts(): every free particle is copied, as a ghost, to every other rank owning a block
+//  2. refreshGhosts(): every free particle is copied, as a ghost, to every other rank owning a
+//  block
 //     within its ghost radius (own circumradius + the largest circumradius of any free particle +
 //     the contact margin), and to this rank itself as a shifted image across periodic faces.
 // Fixed and driven particles are replicated on all ranks and never move between them.

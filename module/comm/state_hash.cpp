@@ -32,7 +32,9 @@ std::uint64_t historyHash(const particles::PairKey& key, const particles::PairHi
 
 }  // namespace
 
-std::string StateHash::hex() const { return BitHasher::hex(combined); }
+std::string StateHash::hex() const {
+  return BitHasher::hex(combined);
+}
 
 std::uint64_t particleHash(const particles::Particle& p) {
   BitHasher h;
@@ -99,8 +101,12 @@ StateHash globalStateHash(const particles::ParticleStorage& storage,
     out[5] = static_cast<std::uint64_t>(conflicts);
   }
   MPI_Bcast(out, 6, MPI_UINT64_T, 0, comm);
-  return {out[0], out[1], out[2], static_cast<std::int64_t>(out[3]),
-          static_cast<std::int64_t>(out[4]), static_cast<std::int64_t>(out[5])};
+  return {out[0],
+          out[1],
+          out[2],
+          static_cast<std::int64_t>(out[3]),
+          static_cast<std::int64_t>(out[4]),
+          static_cast<std::int64_t>(out[5])};
 }
 
 }  // namespace polydem::comm

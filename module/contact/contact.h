@@ -35,8 +35,8 @@ struct Body {
 };
 
 /// Builds a Body whose world vertices live in `storage` (kept alive by the caller).
-Body placeBody(const geometry::ConvexPolyhedron& shape, const Vec3& position,
-               const Mat3& rotation, std::vector<Vec3>& storage);
+Body placeBody(const geometry::ConvexPolyhedron& shape, const Vec3& position, const Mat3& rotation,
+               std::vector<Vec3>& storage);
 
 /// Per-pair memory kept between steps. Plain data, so it can be sent and checkpointed as bytes.
 struct PairState {

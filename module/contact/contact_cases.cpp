@@ -53,8 +53,8 @@ std::vector<Vec3> box(const Vec3& lo, const Vec3& hi) {
 
 ContactCase make(std::string id, std::string description, std::vector<Vec3> a,
                  std::vector<Vec3> b) {
-  return {std::move(id), std::move(description), std::move(a), std::move(b),
-          Vec3(0, 0, 1),  Vec3(0, 0, -0.5 * kGap),   kGap,         1.0};
+  return {std::move(id), std::move(description),  std::move(a), std::move(b),
+          Vec3(0, 0, 1), Vec3(0, 0, -0.5 * kGap), kGap,         1.0};
 }
 
 }  // namespace
@@ -73,8 +73,8 @@ std::vector<ContactCase> contactTypeCases() {
            ridgeAlongY()),
       make("C-EF", "edge-face: turned cube on an off-centre box", turnedCube(),
            box({-0.8, -2, -1}, {3.2, 2, 0})),
-      make("C-FF", "face-face: cube on an off-centre box", box({-0.5, -0.5, -kGap}, {0.5, 0.5, 1 - kGap}),
-           box({-1.2, -1.5, -1}, {2.8, 2.5, 0})),
+      make("C-FF", "face-face: cube on an off-centre box",
+           box({-0.5, -0.5, -kGap}, {0.5, 0.5, 1 - kGap}), box({-1.2, -1.5, -1}, {2.8, 2.5, 0})),
   };
 }
 

@@ -13,13 +13,13 @@
 namespace polydem::contact {
 
 struct ContactCase {
-  std::string id;           // C-VV, C-VE, C-VF, C-EEp, C-EEx, C-EF, C-FF
+  std::string id;  // C-VV, C-VE, C-VF, C-EEp, C-EEx, C-EF, C-FF
   std::string description;
-  std::vector<Vec3> a, b;   // world vertices of A (above) and B (below)
-  Vec3 normal;              // analytical answer
+  std::vector<Vec3> a, b;  // world vertices of A (above) and B (below)
+  Vec3 normal;             // analytical answer
   Vec3 point;
   double depth = 0.0;
-  double size = 1.0;        // particle size the point tolerance is relative to
+  double size = 1.0;  // particle size the point tolerance is relative to
 };
 
 /// The seven cases at unit size.
@@ -31,9 +31,9 @@ ContactCase transformed(const ContactCase& c, const Mat3& rotation, const Vec3& 
 
 /// Correctness criteria of BENCHMARKS.md section C.
 struct Criteria {
-  static constexpr double kNormalRad = 1e-6;    // normal within 1e-6 rad
-  static constexpr double kPointRel = 1e-6;     // point within 1e-6 of the particle size
-  static constexpr double kDepthRel = 1e-3;     // depth within 1e-3 relative
+  static constexpr double kNormalRad = 1e-6;  // normal within 1e-6 rad
+  static constexpr double kPointRel = 1e-6;   // point within 1e-6 of the particle size
+  static constexpr double kDepthRel = 1e-3;   // depth within 1e-3 relative
 };
 
 struct CaseEvaluation {

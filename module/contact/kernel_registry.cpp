@@ -35,7 +35,8 @@ std::unique_ptr<Kernel> makeKernel(std::string_view name, const KernelParams& pa
   for (const auto& e : registry()) {
     if (name == e.name) return e.make(params);
   }
-  throw Error(cat("unknown contact kernel '", name, "'; known kernels: ", join(kernelNames(), ", ")));
+  throw Error(
+      cat("unknown contact kernel '", name, "'; known kernels: ", join(kernelNames(), ", ")));
 }
 
 }  // namespace polydem::contact

@@ -6,7 +6,7 @@
 namespace polydem {
 
 namespace {
-constexpr int kMinExponent = -1074;           // weight of bit 0 of digit 0
+constexpr int kMinExponent = -1074;  // weight of bit 0 of digit 0
 constexpr std::int64_t kDigitBase = 1LL << 32;
 constexpr std::int64_t kMaxPending = 1LL << 29;  // headroom before a carry propagation
 __extension__ using UInt128 = unsigned __int128;

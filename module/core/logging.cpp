@@ -14,9 +14,15 @@ void print(std::FILE* stream, const std::string& prefix, const std::string& mess
 }
 }  // namespace
 
-void setLevel(Level level) { g_level = level; }
-Level level() { return g_level; }
-void setRank(int rank) { g_rank = rank; }
+void setLevel(Level level) {
+  g_level = level;
+}
+Level level() {
+  return g_level;
+}
+void setRank(int rank) {
+  g_rank = rank;
+}
 
 void info(const std::string& message) {
   if (g_rank == 0 && g_level >= Level::kInfo) print(stdout, "", message);
@@ -36,6 +42,8 @@ void rankWarning(const std::string& message) {
   }
 }
 
-void error(const std::string& message) { print(stderr, "error: ", message); }
+void error(const std::string& message) {
+  print(stderr, "error: ", message);
+}
 
 }  // namespace polydem::log

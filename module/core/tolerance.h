@@ -18,6 +18,8 @@ struct RelTol {
 };
 
 /// Absolute tolerance for a quantity of length scale `scale`.
-inline double absTol(double scale, double rel) { return std::abs(scale) * rel; }
+inline double absTol(double scale, double rel) {
+  return std::abs(scale) * rel;
+}
 
 }  // namespace polydem

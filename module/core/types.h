@@ -18,7 +18,11 @@ using Uid = std::uint64_t;
 
 inline constexpr double kPi = 3.14159265358979323846;
 
-inline double degToRad(double deg) { return deg * kPi / 180.0; }
-inline double radToDeg(double rad) { return rad * 180.0 / kPi; }
+inline double degToRad(double deg) {
+  return deg * kPi / 180.0;
+}
+inline double radToDeg(double rad) {
+  return rad * 180.0 / kPi;
+}
 
 }  // namespace polydem

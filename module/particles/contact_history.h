@@ -1,8 +1,8 @@
 // Contact history: per-pair memory kept between steps, keyed by the ordered uid pair.
 //
 // It holds the tangential (shear) force, the previous contact normal (to rotate the shear force
-// onto the new contact plane, Zhao eqs. 33-34) and the kernel's warm start (previous common plane or
-// separating axis). It lives outside the kernels so that it can migrate with particles and be
+// onto the new contact plane, Zhao eqs. 33-34) and the kernel's warm start (previous common plane
+// or separating axis). It lives outside the kernels so that it can migrate with particles and be
 // written to checkpoints.
 //
 // Storage is a vector sorted by key. The narrow phase visits candidate pairs in the same key order,
@@ -27,7 +27,9 @@ struct PairKey {
   bool involves(Uid uid) const { return lo == uid || hi == uid; }
 };
 
-inline PairKey makeKey(Uid a, Uid b) { return a < b ? PairKey{a, b} : PairKey{b, a}; }
+inline PairKey makeKey(Uid a, Uid b) {
+  return a < b ? PairKey{a, b} : PairKey{b, a};
+}
 
 struct PairHistory {
   Vec3 shear_force = Vec3::Zero();  // tangential force on the lower-uid particle, world frame

@@ -48,7 +48,8 @@ void MaterialTable::finalize() {
   for (std::size_t a = 0; a < n; ++a) {
     for (std::size_t b = 0; b < n; ++b) {
       const auto it = explicit_.find({std::min(a, b), std::max(a, b)});
-      table_[a * n + b] = it != explicit_.end() ? it->second : combine(materials_[a], materials_[b]);
+      table_[a * n + b] =
+          it != explicit_.end() ? it->second : combine(materials_[a], materials_[b]);
     }
   }
 }

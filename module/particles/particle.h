@@ -23,7 +23,7 @@ struct Particle {
   std::uint32_t flags = 0;
   std::int32_t driver = -1;  // index into the scene's drivers, for kDriven particles
 
-  Vec3 position = Vec3::Zero();        // centroid, world frame
+  Vec3 position = Vec3::Zero();         // centroid, world frame
   Quat orientation = Quat::Identity();  // body -> world
   // Leapfrog state: velocities are taken half a step behind the positions (t - dt/2).
   Vec3 velocity = Vec3::Zero();          // of the centroid
@@ -32,8 +32,8 @@ struct Particle {
   bool isGhost() const { return flags & kGhost; }
   bool isFixed() const { return flags & kFixed; }
   bool isDriven() const { return flags & kDriven; }
-  /// Fixed and driven particles are replicated on every rank (waLBerla's "global" bodies): each rank
-  /// moves them identically, they are never ghosted nor migrated.
+  /// Fixed and driven particles are replicated on every rank (waLBerla's "global" bodies): each
+  /// rank moves them identically, they are never ghosted nor migrated.
   bool isGlobal() const { return flags & (kFixed | kDriven); }
   /// Moved by forces: neither fixed nor driven.
   bool isFree() const { return !isGlobal(); }

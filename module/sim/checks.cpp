@@ -219,8 +219,7 @@ class CurveCheck : public Check {
 
 // Zhao eqs. 41-42: launched up an incline at u0, decelerated by gravity and friction, then either
 // held by friction (tan(theta) <= mu) or sliding back down. s and u along `direction` (up-slope).
-std::unique_ptr<Check> slidingBlock(const io::Scene& scene, const io::CheckSpec& spec,
-                                    Tracker& t) {
+std::unique_ptr<Check> slidingBlock(const io::Scene& scene, const io::CheckSpec& spec, Tracker& t) {
   Params p(scene, spec);
   const Uid uid = p.particles(t).front();
   const double theta = degToRad(p.number("theta"));
@@ -372,8 +371,8 @@ double maxContactForce(Simulation& sim, const std::optional<Vec3>& axis, std::st
   w.allreduce(sim.comm());
   const auto n = mpi::allreduceSum(free_particles, sim.comm());
   const double mean_weight = n > 0 ? w.value() / static_cast<double>(n) : kNaN;
-  note = cat("largest contact force across the axis ", largest, " N; mean weight ", mean_weight,
-             " N");
+  note =
+      cat("largest contact force across the axis ", largest, " N; mean weight ", mean_weight, " N");
   return largest / mean_weight;
 }
 
@@ -416,13 +415,13 @@ std::vector<std::unique_ptr<Check>> makeChecks(const io::Scene& scene, Tracker& 
     } else if (k == "max_contact_force") {
       const auto axis = p.vector("axis");
       checks.push_back(std::make_unique<FinalCheck>(
-          spec, [axis](Simulation& sim, std::string& note) {
-            return maxContactForce(sim, axis, note);
-          }));
+          spec,
+          [axis](Simulation& sim, std::string& note) { return maxContactForce(sim, axis, note); }));
     } else {
-      p.fail("unknown kind; known kinds: displacement, rotation, lateral_drift, sliding_block, "
-             "wedge_slide, kinetic_energy_ratio, separation_time, equilibrium_steps, mean_speed, "
-             "max_speed, max_contact_force");
+      p.fail(
+          "unknown kind; known kinds: displacement, rotation, lateral_drift, sliding_block, "
+          "wedge_slide, kinetic_energy_ratio, separation_time, equilibrium_steps, mean_speed, "
+          "max_speed, max_contact_force");
     }
   }
   return checks;

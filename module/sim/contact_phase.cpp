@@ -106,10 +106,10 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
     const double reach = sa.circumradius + sb.circumradius + setup.margin;
     if ((xb - xa).squaredNorm() > reach * reach) continue;
     const bool unshifted = storage.shift(c.a).isZero(0.0) && storage.shift(c.b).isZero(0.0);
-    const auto va = unshifted ? storage.worldVertices(c.a)
-                              : verticesAt(storage, shapes, c.a, xa, scratch_a_);
-    const auto vb = unshifted ? storage.worldVertices(c.b)
-                              : verticesAt(storage, shapes, c.b, xb, scratch_b_);
+    const auto va =
+        unshifted ? storage.worldVertices(c.a) : verticesAt(storage, shapes, c.a, xa, scratch_a_);
+    const auto vb =
+        unshifted ? storage.worldVertices(c.b) : verticesAt(storage, shapes, c.b, xb, scratch_b_);
     if (!boxesOverlap(va, vb, setup.margin)) continue;
 
     ++stats.evaluated;
@@ -131,11 +131,11 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
     const double ma = storage.mass(c.a), mb = storage.mass(c.b);
     const double m_eff = pa.isFree() && pb.isFree() ? ma * mb / (ma + mb) : (pa.isFree() ? ma : mb);
     const auto& law = (*setup.law)[pa.material * setup.materials + pb.material];
-    const Vec3 v_rel =
-        contact.touching ? dynamics::relativeVelocity(contact.point, a.position, a.velocity_half,
-                                                      a.angular_velocity, b.position,
-                                                      b.velocity_half, b.angular_velocity)
-                         : Vec3::Zero();
+    const Vec3 v_rel = contact.touching
+                           ? dynamics::relativeVelocity(contact.point, a.position, a.velocity_half,
+                                                        a.angular_velocity, b.position,
+                                                        b.velocity_half, b.angular_velocity)
+                           : Vec3::Zero();
     const auto f = dynamics::contactForce(contact, v_rel, m_eff, setup.dt, law, h);
     next_.appendSorted(c.key, h);
     if (contact.touching) {

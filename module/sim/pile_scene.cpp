@@ -48,15 +48,17 @@ io::Scene makePileScene(const PileOptions& o) {
 
   const bool cubes = o.shapes == "cubes";
   if (cubes) {
-    s.shapes.push_back(shape("cube", geometry::shapes::box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5))));
+    s.shapes.push_back(
+        shape("cube", geometry::shapes::box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5))));
   } else if (o.shapes == "mixed") {
     // Circumradii all about 0.5: cube 0.6, tetrahedron 0.85, octahedron 0.72 (edges).
-    s.shapes.push_back(shape("cube", geometry::shapes::box(Vec3(-0.3, -0.3, -0.3), Vec3(0.3, 0.3, 0.3))));
+    s.shapes.push_back(
+        shape("cube", geometry::shapes::box(Vec3(-0.3, -0.3, -0.3), Vec3(0.3, 0.3, 0.3))));
     s.shapes.push_back(shape("tetrahedron", centred(geometry::shapes::tetrahedron(0.85))));
     s.shapes.push_back(shape("octahedron", centred(geometry::shapes::octahedron(0.72))));
     for (int n : {8, 16, 40}) {
-      s.shapes.push_back(shape("random" + std::to_string(n),
-                               centred(geometry::shapes::randomConvex(n, 7 + n, Vec3(0.5, 0.4, 0.35)))));
+      s.shapes.push_back(shape("random" + std::to_string(n), centred(geometry::shapes::randomConvex(
+                                                                 n, 7 + n, Vec3(0.5, 0.4, 0.35)))));
     }
   } else {
     throw Error("pile: shapes must be \"mixed\" or \"cubes\", not \"" + o.shapes + "\"");
@@ -76,8 +78,10 @@ io::Scene makePileScene(const PileOptions& o) {
   // Floor and walls: fixed boxes around the footprint [0, width]^2.
   const int wall_shape = static_cast<int>(s.shapes.size());
   const double t = 1.0, h = static_cast<double>(layers) * pitch + 2.0;
-  s.shapes.push_back(shape("floor", geometry::shapes::box(Vec3(-t, -t, -t), Vec3(width + t, width + t, 0))));
-  s.shapes.push_back(shape("wall_x", geometry::shapes::box(Vec3(-t, -t, 0), Vec3(0, width + t, h))));
+  s.shapes.push_back(
+      shape("floor", geometry::shapes::box(Vec3(-t, -t, -t), Vec3(width + t, width + t, 0))));
+  s.shapes.push_back(
+      shape("wall_x", geometry::shapes::box(Vec3(-t, -t, 0), Vec3(0, width + t, h))));
   s.shapes.push_back(shape("wall_y", geometry::shapes::box(Vec3(0, -t, 0), Vec3(width, 0, h))));
   Uid uid = 1;
   auto fixed = [&](int shape_index, const Vec3& offset) {
@@ -104,8 +108,9 @@ io::Scene makePileScene(const PileOptions& o) {
     p.uid = uid++;
     p.shape = cubes ? 0 : static_cast<int>(i % wall_shape);
     p.material = 0;
-    p.position = Vec3((static_cast<double>(ix) + 0.5) * pitch, (static_cast<double>(iy) + 0.5) * pitch,
-                      (static_cast<double>(iz) + 0.5) * pitch + 0.01);
+    p.position =
+        Vec3((static_cast<double>(ix) + 0.5) * pitch, (static_cast<double>(iy) + 0.5) * pitch,
+             (static_cast<double>(iz) + 0.5) * pitch + 0.01);
     if (!cubes) {
       p.orientation = Quat(gauss(rng), gauss(rng), gauss(rng), gauss(rng)).normalized();
     }

@@ -15,11 +15,11 @@ struct PileOptions {
   std::string shapes = "mixed";  // "mixed": cubes, tetrahedra, octahedra, random polyhedra of
                                  // 8, 16 and 40 vertices; "cubes": aligned unit cubes
   std::string kernel = "gjk-epa-ipm";
-  std::int64_t layers = 10;      // lattice layers; the footprint is square
-  double gap = 0.05;             // lattice gap, relative to the particle size
+  std::int64_t layers = 10;  // lattice layers; the footprint is square
+  double gap = 0.05;         // lattice gap, relative to the particle size
   std::uint64_t seed = 1;
   std::int64_t steps = 200;
-  double initial_speed = 0.0;    // random initial velocities up to this (m/s)
+  double initial_speed = 0.0;  // random initial velocities up to this (m/s)
 };
 
 io::Scene makePileScene(const PileOptions& options);

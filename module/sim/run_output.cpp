@@ -64,9 +64,9 @@ void RunOutput::writeSeries(Simulation& sim, const Tracker& tracker,
   for (const auto& [uid, label] : monitored_) {
     const auto& s = tracker.states()[tracker.slot(uid)];
     const auto& s0 = tracker.initial()[tracker.slot(uid)];
-    row_.insert(row_.end(), {s.position.x(), s.position.y(), s.position.z(), s.velocity.x(),
-                             s.velocity.y(), s.velocity.z(),
-                             rotationAngle(s0.orientation, s.orientation)});
+    row_.insert(row_.end(),
+                {s.position.x(), s.position.y(), s.position.z(), s.velocity.x(), s.velocity.y(),
+                 s.velocity.z(), rotationAngle(s0.orientation, s.orientation)});
   }
   for (const auto& c : checks) {
     for (const auto& [name, value] : c->seriesColumns(sim)) row_.push_back(value);

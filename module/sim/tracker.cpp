@@ -12,7 +12,8 @@
 namespace polydem::sim {
 
 namespace {
-constexpr int kDoubles = 15;  // position 3, orientation 4, velocity 3, angular velocity 3, ke, contacts
+constexpr int kDoubles =
+    15;  // position 3, orientation 4, velocity 3, angular velocity 3, ke, contacts
 }
 
 void Tracker::track(Uid uid) {
@@ -44,19 +45,27 @@ void Tracker::gather(const Simulation& sim) {
     const auto& p = storage[i];
     if (p.isGlobal() && !root) continue;  // replicated: rank 0 reports it
     double* b = &buffer_[k * kDoubles];
-    const Vec3 w = p.isFixed() ? Vec3::Zero() : sim.massProperties(i).mass > 0
-                                                    ? dynamics::angularVelocity(
-                                                          p.orientation, p.angular_momentum,
-                                                          sim.massProperties(i).principal_inertia)
-                                                    : Vec3::Zero();
-    const double values[kDoubles] = {p.position.x(),    p.position.y(),    p.position.z(),
-                                     p.orientation.w(), p.orientation.x(), p.orientation.y(),
-                                     p.orientation.z(), p.velocity.x(),    p.velocity.y(),
-                                     p.velocity.z(),    w.x(),             w.y(),
-                                     w.z(),             p.isFree() ? dynamics::kineticEnergy(
-                                                                         p, sim.massProperties(i))
-                                                                   : 0.0,
-                                     0.0};
+    const Vec3 w = p.isFixed() ? Vec3::Zero()
+                   : sim.massProperties(i).mass > 0
+                       ? dynamics::angularVelocity(p.orientation, p.angular_momentum,
+                                                   sim.massProperties(i).principal_inertia)
+                       : Vec3::Zero();
+    const double values[kDoubles] = {
+        p.position.x(),
+        p.position.y(),
+        p.position.z(),
+        p.orientation.w(),
+        p.orientation.x(),
+        p.orientation.y(),
+        p.orientation.z(),
+        p.velocity.x(),
+        p.velocity.y(),
+        p.velocity.z(),
+        w.x(),
+        w.y(),
+        w.z(),
+        p.isFree() ? dynamics::kineticEnergy(p, sim.massProperties(i)) : 0.0,
+        0.0};
     std::copy(values, values + kDoubles, b);
   }
   // A pair between two ranks is held by both: count each particle's contacts on its owner only.
@@ -101,8 +110,8 @@ std::vector<double> Tracker::initialState() const {
 void Tracker::restoreInitial(const std::vector<double>& values) {
   if (values.empty()) return;  // not gathered yet when the state was saved
   if (values.size() != uids_.size() * kDoubles) {
-    throw Error(cat("tracker state of ", values.size() / kDoubles, " particles for ",
-                    uids_.size(), " tracked ones"));
+    throw Error(cat("tracker state of ", values.size() / kDoubles, " particles for ", uids_.size(),
+                    " tracked ones"));
   }
   initial_.resize(uids_.size());
   for (std::size_t k = 0; k < uids_.size(); ++k) {

@@ -109,8 +109,9 @@ TEST(ParticleExchange, MigrationKeepsEveryParticleOnceWithItsHistories) {
 
 // Brute force: ranks that must receive a ghost of p (sphere of radius r + range reaches one of
 // their blocks, under any periodic image), with the image shifts.
-std::set<std::pair<int, std::array<double, 3>>> expectedGhostTargets(
-    const domain::BlockForest& f, const Particle& p, double radius) {
+std::set<std::pair<int, std::array<double, 3>>> expectedGhostTargets(const domain::BlockForest& f,
+                                                                     const Particle& p,
+                                                                     double radius) {
   std::set<std::pair<int, std::array<double, 3>>> out;
   const Vec3 len = f.domain().hi - f.domain().lo;
   for (int ix = -1; ix <= 1; ++ix) {
@@ -154,17 +155,20 @@ void checkGhosts(std::array<bool, 3> periodic) {
   }
   std::set<std::pair<Uid, std::array<double, 3>>> want;
   for (const auto& p : all) {
-    for (const auto& [rank, shift] :
-         expectedGhostTargets(f, p, shapes[0].circumradius + range)) {
+    for (const auto& [rank, shift] : expectedGhostTargets(f, p, shapes[0].circumradius + range)) {
       if (rank == mpi::rank()) want.insert({p.uid, shift});
     }
   }
   EXPECT_EQ(got, want);
 }
 
-TEST(ParticleExchange, GhostsAreExactlyTheParticlesInRange) { checkGhosts({false, false, false}); }
+TEST(ParticleExchange, GhostsAreExactlyTheParticlesInRange) {
+  checkGhosts({false, false, false});
+}
 
-TEST(ParticleExchange, PeriodicGhostsCarryTheirImageShift) { checkGhosts({true, false, true}); }
+TEST(ParticleExchange, PeriodicGhostsCarryTheirImageShift) {
+  checkGhosts({true, false, true});
+}
 
 TEST(StateHash, IndependentOfDistributionAndSensitiveToOneBit) {
   const domain::Aabb box{Vec3(0, 0, 0), Vec3(4, 3, 2)};

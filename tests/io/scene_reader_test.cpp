@@ -14,7 +14,6 @@
 #include "geometry/convex_polyhedron.h"
 #include "scene_test_support.h"
 
-
 namespace polydem::io {
 namespace {
 

@@ -83,7 +83,9 @@ void expectSameBits(const io::Scene& scene) {
   EXPECT_EQ(all.hash, reference.hash) << "state differs between 1 and " << mpi::size() << " ranks";
 }
 
-TEST(RankDeterminism, SameBitsOnAnyRankCount) { expectSameBits(crossingScene(false)); }
+TEST(RankDeterminism, SameBitsOnAnyRankCount) {
+  expectSameBits(crossingScene(false));
+}
 
 TEST(RankDeterminism, RebalancingChangesTheMapNotTheTrajectory) {
   io::Scene s = crossingScene(false);
@@ -94,7 +96,9 @@ TEST(RankDeterminism, RebalancingChangesTheMapNotTheTrajectory) {
   EXPECT_EQ(run(s, MPI_COMM_WORLD).hash, run(plain, MPI_COMM_WORLD).hash);
 }
 
-TEST(RankDeterminism, SameBitsAcrossPeriodicBoundaries) { expectSameBits(crossingScene(true)); }
+TEST(RankDeterminism, SameBitsAcrossPeriodicBoundaries) {
+  expectSameBits(crossingScene(true));
+}
 
 TEST(RankDeterminism, ParticlesReallyCrossBorders) {
   // Guard against a scene too calm to test anything: count particles that changed block.

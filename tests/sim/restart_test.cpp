@@ -20,7 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::int64_t kFirst = 400;  // steps before the checkpoint
+constexpr std::int64_t kFirst = 400;   // steps before the checkpoint
 constexpr std::int64_t kSecond = 300;  // steps after it
 
 io::Scene crossingScene(bool equilibrium) {
