@@ -186,12 +186,19 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
     mine += sim.particles()[i].isFree() || mpi::rank(comm) == 0;
   }
   const std::int64_t particles = mpi::allreduceSum(mine, comm);
+  // Communication volume of the whole run, all ranks (collective, so here too).
+  const auto& sent = sim.exchangeTotals();
+  const nlohmann::json communication = {
+      {"bytes_sent", mpi::allreduceSum(sent.bytes_sent, comm)},
+      {"particles_sent", mpi::allreduceSum(sent.particles_sent, comm)},
+      {"histories_sent", mpi::allreduceSum(sent.histories_sent, comm)}};
   if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
     auto summary = summaryJson(scene, sim, result, reason, timing, particles);
     summary["stopped_by_signal"] =
         result.stop_signal.empty() ? nlohmann::json() : nlohmann::json(result.stop_signal);
     if (!result.checkpoint.empty()) summary["checkpoint"] = result.checkpoint;
     if (restart) summary["restarted_from"] = restart_file;
+    summary["communication"] = communication;
     io::writeJsonAtomic(options.out_dir + "/summary.json", summary);
     log::info("wrote " + options.out_dir + "/summary.json, series.csv" +
               (options.snapshots ? ", snapshots.pvd" : ""));

@@ -114,6 +114,11 @@ void Simulation::communicate() {
   exchange_stats_.particles_sent += ghosts.particles_sent;
   exchange_stats_.particles_received += ghosts.particles_received;
   exchange_stats_.bytes_sent += ghosts.bytes_sent;
+  exchange_totals_.particles_sent += exchange_stats_.particles_sent;
+  exchange_totals_.particles_received += exchange_stats_.particles_received;
+  exchange_totals_.histories_sent += exchange_stats_.histories_sent;
+  exchange_totals_.histories_received += exchange_stats_.histories_received;
+  exchange_totals_.bytes_sent += exchange_stats_.bytes_sent;
 }
 
 void Simulation::rebalance() {

@@ -91,6 +91,8 @@ class Simulation {
   const ContactPhase& contacts() const { return contact_phase_; }
   const ContactPhaseStats& contactStats() const { return contact_stats_; }
   const comm::ExchangeStats& exchangeStats() const { return exchange_stats_; }
+  /// This rank's exchanges summed over the steps since the start (or the restart).
+  const comm::ExchangeStats& exchangeTotals() const { return exchange_totals_; }
   /// Pair histories this rank received with migrating particles since the start.
   std::int64_t migratedHistories() const { return migrated_histories_; }
   timeloop::TimeLoop& loop() { return loop_; }
@@ -175,6 +177,7 @@ class Simulation {
   ContactPhase contact_phase_;
   ContactPhaseStats contact_stats_;
   comm::ExchangeStats exchange_stats_;
+  comm::ExchangeStats exchange_totals_;
   std::int64_t migrated_histories_ = 0;
   std::vector<dynamics::ForceAccumulator> forces_;  // parallel to storage_ during a step only
   dynamics::ForceRatio ratio_local_;  // this rank's share of Keissar eq. 3.2, last contact phase

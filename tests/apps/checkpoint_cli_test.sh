@@ -22,6 +22,9 @@ ckpt() { printf '%s/checkpoints/checkpoint_%012d.h5' "$1" "$2"; }
 
 # 1. Reference and checkpoints (eq. stage: 100 steps, then 200 main steps = 300 in all).
 run 2 run "$scene" --out ref || fail "reference run"
+# Its particles cross the rank border: summary.json reports the communication volume.
+python3 -c "import json,sys; c=json.load(open(sys.argv[1]))['communication']; sys.exit(not (c['bytes_sent'] > 0 and c['particles_sent'] > 0))" ref/summary.json ||
+  fail "summary.json: no communication volume on 2 ranks"
 run 2 run "$scene" --out a --checkpoint-every 50 --checkpoint-keep 4 || fail "checkpointed run"
 [ "$(hash_of a)" = "$(hash_of ref)" ] || fail "checkpoints changed the run"
 n=$(ls a/checkpoints | wc -l)
