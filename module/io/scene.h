@@ -111,6 +111,10 @@ struct Scene {
   std::string kernel = "gjk-epa-ipm";
   contact::KernelParams kernel_params;
   std::string broadphase = "multilevel";
+  // Where a contact's force acts: "kernel" (the kernel's point) or "overlap-centroid" (the
+  // centroid of the overlap volume, the centre of pressure of a linear bed;
+  // contact/overlap_point.h)
+  std::string contact_point = "kernel";
   double dt = 0.0;
   std::optional<double> end_time;
   std::optional<std::int64_t> steps;

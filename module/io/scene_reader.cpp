@@ -48,9 +48,12 @@ void readSimulation(const Context& ctx, const toml::table& root, Scene& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "simulation");
   if (!s)
     ctx.fail(0, "missing the [simulation] table (it needs at least dt and end_time or steps)");
-  s->allowOnly({"kernel", "broadphase", "dt", "end_time", "steps", "gravity", "contact_margin"});
+  s->allowOnly({"kernel", "broadphase", "contact_point", "dt", "end_time", "steps", "gravity",
+                "contact_margin"});
   scene.kernel = s->choice("kernel", contact::kernelNames(), scene.kernel);
   scene.broadphase = s->choice("broadphase", {"multilevel", "nbs", "all-pairs"}, scene.broadphase);
+  scene.contact_point =
+      s->choice("contact_point", {"kernel", "overlap-centroid"}, scene.contact_point);
   scene.dt = s->requiredNumber("dt", Quantity::kTime, Range::kPositive);
   if (const auto t = s->number("end_time", Quantity::kTime, Range::kPositive)) scene.end_time = *t;
   if (const auto n = s->integer("steps", Range::kPositive)) scene.steps = *n;

@@ -117,7 +117,8 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
     if (const auto* previous = old.seek(c.key)) h = *previous;
     contact::Body body_a{&sa.polyhedron, xa, storage.rotation(c.a), va};
     contact::Body body_b{&sb.polyhedron, xb, storage.rotation(c.b), vb};
-    const contact::Contact contact = setup.kernel->collide(body_a, body_b, &h.kernel);
+    contact::Contact contact = setup.kernel->collide(body_a, body_b, &h.kernel);
+    if (setup.overlap_centroid) contact = overlap_.apply(body_a, body_b, contact);
 
     ContactRecord rec;
     rec.key = c.key;

@@ -18,6 +18,7 @@
 
 #include "broadphase/broad_phase.h"
 #include "contact/contact.h"
+#include "contact/overlap_point.h"
 #include "dynamics/contact_law.h"
 #include "dynamics/monitors.h"
 #include "io/scene.h"
@@ -34,6 +35,8 @@ struct ContactSetup {
   const std::vector<dynamics::LawCoefficients>* law = nullptr;
   int materials = 0;
   const std::vector<io::DriverSpec>* drivers = nullptr;
+  // Move each touching contact's point to the centroid of the overlap volume (overlap_point.h).
+  bool overlap_centroid = false;
   double margin = 0.0;  // absolute: pairs with centroid distance <= rA + rB + margin are evaluated
   double dt = 0.0;
   double time = 0.0;  // t_n: forces are computed at t_n with velocities at t_n - dt/2
@@ -84,6 +87,7 @@ class ContactPhase {
   std::vector<ContactRecord> records_;
   particles::ContactHistory next_;
   std::vector<Vec3> scratch_a_, scratch_b_;
+  contact::OverlapCentroid overlap_;
 };
 
 }  // namespace polydem::sim

@@ -78,6 +78,7 @@ void Simulation::computeContacts() {
   setup.law = stage_ == Stage::kEquilibrium ? &law_equilibrium_ : &law_main_;
   setup.materials = static_cast<int>(materials_.size());
   setup.drivers = &scene_.drivers;
+  setup.overlap_centroid = scene_.contact_point == "overlap-centroid";
   setup.margin = margin_;
   setup.dt = dt();
   setup.time = stage_ == Stage::kEquilibrium ? 0.0 : time();

@@ -168,6 +168,8 @@ TEST(SceneReaderErrors, NamesOutsideTheirLists) {
       << e.what();
   expectError(replaced(kBase, "steps = 10", "steps = 10\nbroadphase = \"octree\"  # <-"),
               {"'octree' is not one of multilevel, nbs, all-pairs"});
+  expectError(replaced(kBase, "steps = 10", "steps = 10\ncontact_point = \"ipm\"  # <-"),
+              {"'ipm' is not one of kernel, overlap-centroid"});
   expectError(replaced(kBase, "type = \"cube\"", "type = \"sphere\"  # <-"),
               {"type: 'sphere' is not one of box, vertices"});
   expectError(kBase +

@@ -29,6 +29,7 @@ description = "round trip"
 [simulation]
 kernel = "fcp"
 broadphase = "nbs"
+contact_point = "overlap-centroid"
 dt = "50 us"
 end_time = "2 s"
 steps = 4e4
@@ -189,6 +190,7 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
 
   EXPECT_EQ(s.kernel, "fcp");
   EXPECT_EQ(s.broadphase, "nbs");
+  EXPECT_EQ(s.contact_point, "overlap-centroid");
   EXPECT_EQ(s.dt, 50e-6);
   EXPECT_EQ(s.end_time, 2.0);
   EXPECT_EQ(s.steps, 40000);
@@ -333,6 +335,7 @@ TEST(SceneReader, DefaultsFromTheSceneStruct) {
   const Scene defaults;
   EXPECT_EQ(s.kernel, "gjk-epa-ipm");
   EXPECT_EQ(s.broadphase, defaults.broadphase);
+  EXPECT_EQ(s.contact_point, "kernel");
   EXPECT_EQ(s.gravity, defaults.gravity);
   EXPECT_FALSE(s.end_time);
   EXPECT_FALSE(s.equilibrium.enabled);
