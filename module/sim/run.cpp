@@ -22,8 +22,7 @@ namespace polydem::sim {
 namespace {
 
 nlohmann::json summaryJson(const io::Scene& scene, Simulation& sim, const RunResult& result,
-                           timeloop::StopReason reason, const std::vector<TimingPool::Reduced>& t,
-                           std::int64_t particles) {
+                           timeloop::StopReason reason, const std::vector<TimingPool::Reduced>& t) {
   using nlohmann::json;
   const auto& stats = sim.contactStats();
   json j;
@@ -44,7 +43,7 @@ nlohmann::json summaryJson(const io::Scene& scene, Simulation& sim, const RunRes
                         {"reached", sim.equilibriumReached()},
                         {"force_ratio", scene.equilibrium.force_ratio}};
   }
-  j["particles"] = particles;
+  j["particles"] = result.hash.particle_count;  // every particle once, replicated ones too
   j["last_step"] = {{"candidate_pairs", stats.candidates}, {"evaluated_pairs", stats.evaluated},
                     {"touching_pairs", stats.touching},    {"not_converged", stats.not_converged},
                     {"degenerate", stats.degenerate},      {"inner_domain", stats.inner_domain}};
@@ -180,20 +179,14 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
     log::warning(cat(result.hash.history_conflicts,
                      " pair histories differ between ranks: please report this as a bug"));
   }
-  // Collective, so outside the rank-0 branch below; replicated particles counted once.
-  std::int64_t mine = 0;
-  for (std::size_t i = 0; i < sim.particles().localCount(); ++i) {
-    mine += sim.particles()[i].isFree() || mpi::rank(comm) == 0;
-  }
-  const std::int64_t particles = mpi::allreduceSum(mine, comm);
-  // Communication volume of the whole run, all ranks (collective, so here too).
-  const auto& sent = sim.exchangeTotals();
+  // Communication volume of the whole run, all ranks (collective, so outside the rank-0 branch).
+  const auto& totals = sim.exchangeTotals();
+  std::int64_t sent[3] = {totals.bytes_sent, totals.particles_sent, totals.histories_sent};
+  MPI_Allreduce(MPI_IN_PLACE, sent, 3, MPI_INT64_T, MPI_SUM, comm);
   const nlohmann::json communication = {
-      {"bytes_sent", mpi::allreduceSum(sent.bytes_sent, comm)},
-      {"particles_sent", mpi::allreduceSum(sent.particles_sent, comm)},
-      {"histories_sent", mpi::allreduceSum(sent.histories_sent, comm)}};
+      {"bytes_sent", sent[0]}, {"particles_sent", sent[1]}, {"histories_sent", sent[2]}};
   if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
-    auto summary = summaryJson(scene, sim, result, reason, timing, particles);
+    auto summary = summaryJson(scene, sim, result, reason, timing);
     summary["stopped_by_signal"] =
         result.stop_signal.empty() ? nlohmann::json() : nlohmann::json(result.stop_signal);
     if (!result.checkpoint.empty()) summary["checkpoint"] = result.checkpoint;
