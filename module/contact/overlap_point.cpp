@@ -10,7 +10,7 @@ void OverlapCentroid::worldPlanes(const Body& body, std::vector<WorldPlane>& pla
   const auto& faces = body.shape->faces();
   planes.resize(faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f) {
-    const Vec3 n = body.rotation * faces[f].normal;
+    const Vec3 n = body.faceNormal(static_cast<int>(f));
     planes[f] = {n, n.dot(body.vertices[faces[f].vertices[0]])};
   }
 }
