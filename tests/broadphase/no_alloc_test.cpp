@@ -1,29 +1,9 @@
 // Once warm, a search allocates nothing: the broad phase runs every step on every rank.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
 #include "broadphase/broad_phase.h"
 #include "broadphase/scenes.h"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-// Counting replacements of the global allocation functions (this test binary only).
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
+#include "common/allocation_counter.h"
 
 namespace polydem::broadphase {
 namespace {
@@ -41,10 +21,10 @@ TEST(BroadPhaseAllocations, NoneOnceWarm) {
     out.reserve(2 * pairs);  // the caller's buffer: room for a few more pairs
     // Particles move a little: same buffers suffice.
     for (auto& c : s.centers) c.x() += 1e-3;
-    const long before = g_allocations.load();
+    const long before = polydem::testing::allocationCount();
     bp->findPairs(s.view(), 0.01, out);
     bp->findPairs(s.view(), 0.01, out);
-    EXPECT_EQ(g_allocations.load() - before, 0) << name;
+    EXPECT_EQ(polydem::testing::allocationCount() - before, 0) << name;
     EXPECT_GT(pairs, 0u);
   }
 }

@@ -6,40 +6,18 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
-#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <memory>
-#include <new>
 #include <random>
 
+#include "common/allocation_counter.h"
 #include "contact/contact_cases.h"
 #include "contact/lp.h"
 #include "contact/lp_test_util.h"
 #include "geometry/shapes.h"
-
-// Counts operator new calls, to check that warm calls allocate nothing. GCC cannot tell that
-// these replacements pair malloc with free themselves, hence the pragma.
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size > 0 ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-#pragma GCC diagnostic pop
 
 namespace polydem::contact {
 namespace {
@@ -357,9 +335,9 @@ TEST(LpKernelRandom, DeterministicAndAllocationFreeOnceWarm) {
     }
   };
   sweep();  // grows the per-thread buffers to the largest pair
-  const long before = g_allocations.load();
+  const long before = polydem::testing::allocationCount();
   sweep();
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(polydem::testing::allocationCount(), before);
 }
 
 }  // namespace

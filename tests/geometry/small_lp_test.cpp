@@ -9,39 +9,17 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <new>
 #include <random>
 #include <sstream>
 #include <vector>
 
+#include "common/allocation_counter.h"
 #include "core/error.h"
 #include "geometry/convex_polyhedron.h"
 #include "geometry/shapes.h"
-
-// Counts operator new calls, to check that the solver allocates nothing. GCC cannot tell that
-// these replacements pair malloc with free themselves, hence the pragma.
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size > 0 ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-#pragma GCC diagnostic pop
 
 namespace polydem::geometry {
 namespace {
@@ -496,16 +474,16 @@ TEST(SmallLp, DeterministicAndAllocationFreeOnceWarm) {
     Lp lp;
     addPolytopeAround(lp, rng, gaussian(rng), 0.3, m, false);
     lp.c = gaussian(rng);
-    long before = g_allocations.load();
+    long before = polydem::testing::allocationCount();
     const SmallLpResult first = lp.solve();
     if (m <= 64) {
-      EXPECT_EQ(g_allocations.load(), before) << m << " rows";
+      EXPECT_EQ(polydem::testing::allocationCount(), before) << m << " rows";
     }
-    before = g_allocations.load();
+    before = polydem::testing::allocationCount();
     const SmallLpResult second = lp.solve();
-    EXPECT_EQ(g_allocations.load(), before) << m << " rows";
+    EXPECT_EQ(polydem::testing::allocationCount(), before) << m << " rows";
     const SmallLpResult warm = solveSmallLp(lp.rows, lp.b, lp.c, first.basis);
-    EXPECT_EQ(g_allocations.load(), before) << m << " rows";
+    EXPECT_EQ(polydem::testing::allocationCount(), before) << m << " rows";
     EXPECT_EQ(warm.iterations, 0);
     EXPECT_EQ(first.status, Status::kOptimal) << m << " rows";
     EXPECT_EQ(first.status, second.status);
