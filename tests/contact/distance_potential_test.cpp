@@ -242,17 +242,7 @@ TEST(DistancePotential, VertexOfAnIrregularTetrahedronIsPushedAlongTheFaceNormal
 // included when the torsion is kept.
 
 TEST(DistancePotential, WorkAlongClosedPathsVanishes) {
-  auto b = place(shapes::randomConvex(20, 5, {1, 0.8, 0.6}, 0.2));
-  const auto a_points = shapes::randomConvex(14, 6, {0.6, 0.5, 0.4}, 0.2);
-  const Vec3 centre =
-      testing::overlappingPosition(a_points, b, Vec3(0.3, 0.2, 1).normalized(), 0.15);
-  for (double turn : {0.0, 0.15}) {
-    const LoopWork w = testing::loopWork(kKernel, a_points, b, centre, 0.06, turn, 720);
-    std::printf("turn %.2f: closed-loop work / path integral %.2e (torsion dropped: %.2e)\n", turn,
-                w.work / w.magnitude, w.work_without_torsion / w.magnitude);
-    ASSERT_GT(w.magnitude, 0.0);
-    EXPECT_LT(std::abs(w.work), 1e-4 * w.magnitude);
-  }
+  testing::expectClosedLoopWorkVanishes(kKernel);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -309,34 +299,11 @@ TEST(DistancePotential, AgreesWithTheDefinitionByDistanceToTheSurface) {
 }
 
 TEST(DistancePotential, SwappingThePairReversesTheForceAtTheSamePoint) {
-  for (std::uint64_t seed = 11; seed <= 14; ++seed) {
-    const RandomPair p = randomPair(seed, 0.1);
-    const auto ab = kKernel.evaluate(p.a.body, p.b.body);
-    const auto ba = kKernel.evaluate(p.b.body, p.a.body);
-    const double size = p.a.body.circumradius() + p.b.body.circumradius();
-    EXPECT_LT((ab.force + ba.force).norm(), 1e-12 * ab.force.norm());
-    EXPECT_LT((ab.contact.point - ba.contact.point).norm(), 1e-12 * size);
-    EXPECT_NEAR(ab.contact.depth, ba.contact.depth, 1e-12 * size);
-  }
+  testing::expectSwappingThePairReversesTheForce(kKernel, 11, 14, /*same_depth=*/true);
 }
 
 TEST(DistancePotential, RandomPairsScaleWithTheUnit) {
-  for (std::uint64_t seed = 21; seed <= 24; ++seed) {
-    const RandomPair p = randomPair(seed, 0.1);
-    const Contact r1 = kKernel.collide(p.a.body, p.b.body, nullptr);
-    for (double s : {1e-3, 1e3}) {
-      std::vector<Vec3> va, vb;
-      for (const Vec3& x : p.a.body.vertices) va.push_back(s * x);
-      for (const Vec3& x : p.b.body.vertices) vb.push_back(s * x);
-      auto a = place(va), b = place(vb);
-      const Contact r = kKernel.collide(a.body, b.body, nullptr);
-      ASSERT_TRUE(r.touching);
-      EXPECT_NEAR(r.potential, s * s * r1.potential, 1e-10 * s * s * r1.potential);
-      EXPECT_LT(angleBetween(r.normal, r1.normal), 1e-10);
-      EXPECT_LT((r.point - s * r1.point).norm(), 1e-10 * s);
-      EXPECT_NEAR(r.depth, s * r1.depth, 1e-10 * s);
-    }
-  }
+  testing::expectRandomPairsScaleWithTheUnit(kKernel, 21, 24, /*check_depth=*/true);
 }
 
 TEST(DistancePotential, SameInputsGiveTheSameBits) {

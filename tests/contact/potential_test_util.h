@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -16,6 +18,7 @@
 #include <vector>
 
 #include "contact/contact.h"
+#include "contact/contact_cases.h"
 #include "core/error.h"
 #include "geometry/convex_polyhedron.h"
 #include "geometry/shapes.h"
@@ -326,6 +329,68 @@ inline RandomPair randomPair(std::uint64_t seed, double depth) {
   const Vec3 ca = geometry::ConvexPolyhedron::fromPoints(pa).centroid();
   auto a = place(pa, wb.centroid() + t * dir - ra * ca, ra);
   return {std::move(a), std::move(b)};
+}
+
+// --- checks both potential kernels must pass ------------------------------------------------
+
+// The force is f = -grad E, E = penalty * integral over V of (phi_A + phi_B) dV (Zhao eq. 3 in
+// divergence form), so the work along a closed path vanishes, rotations included when the
+// torsion is kept.
+template <class K>
+void expectClosedLoopWorkVanishes(const K& kernel) {
+  auto b = place(geometry::shapes::randomConvex(20, 5, {1, 0.8, 0.6}, 0.2));
+  const auto a_points = geometry::shapes::randomConvex(14, 6, {0.6, 0.5, 0.4}, 0.2);
+  const Vec3 centre = overlappingPosition(a_points, b, Vec3(0.3, 0.2, 1).normalized(), 0.15);
+  for (double turn : {0.0, 0.15}) {
+    const LoopWork w = loopWork(kernel, a_points, b, centre, 0.06, turn, 720);
+    std::printf("turn %.2f: closed-loop work / path integral %.2e (torsion dropped: %.2e)\n", turn,
+                w.work / w.magnitude, w.work_without_torsion / w.magnitude);
+    ASSERT_GT(w.magnitude, 0.0);
+    EXPECT_LT(std::abs(w.work), 1e-4 * w.magnitude);
+  }
+}
+
+// Newton's third law: B on A gives the opposite force at the same point, for random pairs with
+// seeds first..last (and the same depth, if `same_depth`).
+template <class K>
+void expectSwappingThePairReversesTheForce(const K& kernel, std::uint64_t first, std::uint64_t last,
+                                           bool same_depth) {
+  for (std::uint64_t seed = first; seed <= last; ++seed) {
+    const RandomPair p = randomPair(seed, 0.1);
+    const auto ab = kernel.evaluate(p.a.body, p.b.body);
+    const auto ba = kernel.evaluate(p.b.body, p.a.body);
+    const double size = p.a.body.circumradius() + p.b.body.circumradius();
+    EXPECT_LT((ab.force + ba.force).norm(), 1e-12 * ab.force.norm());
+    EXPECT_LT((ab.contact.point - ba.contact.point).norm(), 1e-12 * size);
+    if (same_depth) {
+      EXPECT_NEAR(ab.contact.depth, ba.contact.depth, 1e-12 * size);
+    }
+  }
+}
+
+// Scale-free: random pairs (seeds first..last) scaled by 1e-3 and 1e3 give the potential times
+// s^2, the same normal, the point times s (and the depth times s, if `check_depth`).
+template <class K>
+void expectRandomPairsScaleWithTheUnit(const K& kernel, std::uint64_t first, std::uint64_t last,
+                                       bool check_depth) {
+  for (std::uint64_t seed = first; seed <= last; ++seed) {
+    const RandomPair p = randomPair(seed, 0.1);
+    const Contact r1 = kernel.collide(p.a.body, p.b.body, nullptr);
+    for (double s : {1e-3, 1e3}) {
+      std::vector<Vec3> va, vb;
+      for (const Vec3& x : p.a.body.vertices) va.push_back(s * x);
+      for (const Vec3& x : p.b.body.vertices) vb.push_back(s * x);
+      auto a = place(va), b = place(vb);
+      const Contact r = kernel.collide(a.body, b.body, nullptr);
+      ASSERT_TRUE(r.touching);
+      EXPECT_NEAR(r.potential, s * s * r1.potential, 1e-10 * s * s * r1.potential);
+      EXPECT_LT(angleBetween(r.normal, r1.normal), 1e-10);
+      EXPECT_LT((r.point - s * r1.point).norm(), 1e-10 * s);
+      if (check_depth) {
+        EXPECT_NEAR(r.depth, s * r1.depth, 1e-10 * s);
+      }
+    }
+  }
 }
 
 }  // namespace polydem::contact::testing
