@@ -85,11 +85,8 @@ bool innerDomainReached(const potential::Cell& own, double inradius, const poten
 potential::PotentialResult DistancePotentialKernel::evaluate(const Body& a, const Body& b) const {
   potential::PotentialResult result;
   result.contact.model = ForceModel::kPotential;
-  Vec3 lo_a, hi_a, lo_b, hi_b;
-  potential::boundingBox(a.vertices, lo_a, hi_a);
-  potential::boundingBox(b.vertices, lo_b, hi_b);
-  const Vec3 lo = lo_a.cwiseMax(lo_b), hi = hi_a.cwiseMin(hi_b);
-  if ((lo.array() >= hi.array()).any()) return result;  // boxes apart or only touching
+  Vec3 lo, hi;
+  if (!potential::commonBox(a.vertices, b.vertices, lo, hi)) return result;
 
   Scratch& s = scratch();
   const Vec3 origin = 0.5 * (lo + hi);

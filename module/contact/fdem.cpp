@@ -109,11 +109,8 @@ void buildTets(const Body& body, const Vec3& origin, const Vec3& lo, const Vec3&
 potential::PotentialResult FdemKernel::evaluate(const Body& a, const Body& b) const {
   potential::PotentialResult result;
   result.contact.model = ForceModel::kPotential;
-  Vec3 lo_a, hi_a, lo_b, hi_b;
-  potential::boundingBox(a.vertices, lo_a, hi_a);
-  potential::boundingBox(b.vertices, lo_b, hi_b);
-  const Vec3 lo = lo_a.cwiseMax(lo_b), hi = hi_a.cwiseMin(hi_b);
-  if ((lo.array() >= hi.array()).any()) return result;
+  Vec3 lo, hi;
+  if (!potential::commonBox(a.vertices, b.vertices, lo, hi)) return result;
 
   Scratch& s = scratch();
   const Vec3 origin = 0.5 * (lo + hi);

@@ -239,6 +239,8 @@ PairInfo OverlapIntegrator::add(const Cell& a, const Cell& b, const Vec3& lo, co
   return info;
 }
 
+namespace {
+
 void boundingBox(std::span<const Vec3> points, Vec3& lo, Vec3& hi) {
   lo = Vec3::Constant(std::numeric_limits<double>::infinity());
   hi = -lo;
@@ -246,6 +248,17 @@ void boundingBox(std::span<const Vec3> points, Vec3& lo, Vec3& hi) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
+}
+
+}  // namespace
+
+bool commonBox(std::span<const Vec3> a, std::span<const Vec3> b, Vec3& lo, Vec3& hi) {
+  Vec3 lo_a, hi_a, lo_b, hi_b;
+  boundingBox(a, lo_a, hi_a);
+  boundingBox(b, lo_b, hi_b);
+  lo = lo_a.cwiseMax(lo_b);
+  hi = hi_a.cwiseMin(hi_b);
+  return !(lo.array() >= hi.array()).any();
 }
 
 PotentialResult finishContact(const OverlapSums& sums, std::span<const Vec3> corners,

@@ -132,7 +132,8 @@ struct PotentialResult {
 PotentialResult finishContact(const OverlapSums& sums, std::span<const Vec3> corners,
                               const Vec3& origin, double length_scale, const Vec3& fallback_normal);
 
-/// Axis-aligned box of world vertices.
-void boundingBox(std::span<const Vec3> points, Vec3& lo, Vec3& hi);
+/// The common part [lo, hi] of the axis-aligned boxes of two bodies' world vertices; false if
+/// the boxes are apart or only touch (no overlap volume, so no contact).
+bool commonBox(std::span<const Vec3> a, std::span<const Vec3> b, Vec3& lo, Vec3& hi);
 
 }  // namespace polydem::contact::potential
