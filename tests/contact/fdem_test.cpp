@@ -240,23 +240,7 @@ TEST(Fdem, RandomPairsScaleWithTheUnit) {
 // Separated, touching and degenerate-but-valid pairs.
 
 TEST(Fdem, SeparatedAndTouchingPairsDoNotTouch) {
-  auto b = place(shapes::cube(1.0));
-  for (double gap : {1e-9, 0.0}) {
-    auto a = place(shapes::cube(1.0), Vec3(0.2, 0.1, 1.0 + gap));
-    EXPECT_FALSE(kKernel.collide(a.body, b.body, nullptr).touching) << gap;
-  }
-  std::mt19937_64 rng(3);
-  for (int k = 0; k < 5; ++k) {
-    const Mat3 rot = testing::randomRotation(rng);
-    const Vec3 t(0.3, -2.0, 7.0);
-    auto bt = place(shapes::cube(1.0), t, rot);
-    auto at = place(shapes::cube(1.0), t + rot * Vec3(0.2, 0.1, 1.0), rot);
-    EXPECT_FALSE(kKernel.collide(at.body, bt.body, nullptr).touching);
-  }
-  const Mat3 r45z = testing::rotationAbout(unitZ(), kPi / 4);
-  auto d1 = place(shapes::cube(1.0), Vec3::Zero(), r45z);
-  auto d2 = place(shapes::cube(1.0), Vec3(0.8, 0.8, 0.3), r45z);
-  EXPECT_FALSE(kKernel.collide(d2.body, d1.body, nullptr).touching);
+  testing::expectSeparatedAndTouchingCubesDoNotTouch(kKernel);
 }
 
 TEST(Fdem, IdenticalBodiesTouchWithNoForce) {

@@ -393,4 +393,28 @@ void expectRandomPairsScaleWithTheUnit(const K& kernel, std::uint64_t first, std
   }
 }
 
+// Unit cubes 1e-9 apart, with faces exactly touching (also turned, so touching up to round-off),
+// and turned 45 deg side by side (boxes overlap, faces 0.19 apart): no contact.
+template <class K>
+void expectSeparatedAndTouchingCubesDoNotTouch(const K& kernel) {
+  using geometry::shapes::cube;
+  auto b = place(cube(1.0));
+  for (double gap : {1e-9, 0.0}) {
+    auto a = place(cube(1.0), Vec3(0.2, 0.1, 1.0 + gap));
+    EXPECT_FALSE(kernel.collide(a.body, b.body, nullptr).touching) << gap;
+  }
+  std::mt19937_64 rng(3);
+  for (int k = 0; k < 5; ++k) {
+    const Mat3 rot = randomRotation(rng);
+    const Vec3 t(0.3, -2.0, 7.0);
+    auto bt = place(cube(1.0), t, rot);
+    auto at = place(cube(1.0), t + rot * Vec3(0.2, 0.1, 1.0), rot);
+    EXPECT_FALSE(kernel.collide(at.body, bt.body, nullptr).touching);
+  }
+  const Mat3 r45z = rotationAbout(Vec3::UnitZ(), kPi / 4);
+  auto d1 = place(cube(1.0), Vec3::Zero(), r45z);
+  auto d2 = place(cube(1.0), Vec3(0.8, 0.8, 0.3), r45z);
+  EXPECT_FALSE(kernel.collide(d2.body, d1.body, nullptr).touching);
+}
+
 }  // namespace polydem::contact::testing
