@@ -127,6 +127,10 @@ class Simulation {
   double suggestedTimeStep() const { return suggested_dt_; }
 
  private:
+  /// Members that depend only on the scene and the communicator; both public constructors
+  /// delegate here, then build the rest (from the scene, or from a checkpoint).
+  struct Unbuilt {};
+  Simulation(const io::Scene& scene, MPI_Comm comm, Unbuilt);
   std::vector<int> rankMap(std::span<const double> weights) const;
   void buildTables();
   void buildDomain();

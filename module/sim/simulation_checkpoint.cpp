@@ -80,13 +80,7 @@ io::CheckpointData Simulation::checkpoint(const std::string& scene_toml,
 
 Simulation::Simulation(const io::Scene& scene, const io::CheckpointData& checkpoint,
                        const std::string& file, MPI_Comm comm)
-    : scene_(scene),
-      comm_(comm),
-      rank_(mpi::rank(comm)),
-      ranks_(mpi::size(comm)),
-      exchange_(comm),
-      loop_(comm),
-      parked_loop_(comm) {
+    : Simulation(scene, comm, Unbuilt{}) {
   buildTables();
   // The shapes are rebuilt by the code that built them in the first run; a change in that code
   // or in the scene would silently change the continued run.

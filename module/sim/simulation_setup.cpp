@@ -14,14 +14,16 @@
 
 namespace polydem::sim {
 
-Simulation::Simulation(const io::Scene& scene, MPI_Comm comm)
+Simulation::Simulation(const io::Scene& scene, MPI_Comm comm, Unbuilt)
     : scene_(scene),
       comm_(comm),
       rank_(mpi::rank(comm)),
       ranks_(mpi::size(comm)),
       exchange_(comm),
       loop_(comm),
-      parked_loop_(comm) {
+      parked_loop_(comm) {}
+
+Simulation::Simulation(const io::Scene& scene, MPI_Comm comm) : Simulation(scene, comm, Unbuilt{}) {
   buildTables();
   buildLaws();
   buildDomain();
