@@ -12,9 +12,23 @@
 namespace polydem::sim {
 
 namespace {
-constexpr int kDoubles =
-    15;  // position 3, orientation 4, velocity 3, angular velocity 3, ke, contacts
+
+// A tracked state as doubles: position 3, orientation 4, velocity 3, angular velocity 3, kinetic
+// energy, contacts. The layout of the gather buffer and of the saved initial states.
+constexpr int kDoubles = 15;
+
+TrackedState unpack(const double* b) {
+  TrackedState s;
+  s.position = {b[0], b[1], b[2]};
+  s.orientation = Quat(b[3], b[4], b[5], b[6]);
+  s.velocity = {b[7], b[8], b[9]};
+  s.angular_velocity = {b[10], b[11], b[12]};
+  s.kinetic_energy = b[13];
+  s.contacts = static_cast<int>(b[14]);
+  return s;
 }
+
+}  // namespace
 
 void Tracker::track(Uid uid) {
   if (std::find(uids_.begin(), uids_.end(), uid) == uids_.end()) uids_.push_back(uid);
@@ -76,16 +90,7 @@ void Tracker::gather(const Simulation& sim) {
   MPI_Allreduce(buffer_.data(), sum_.data(), static_cast<int>(buffer_.size()), MPI_DOUBLE, MPI_SUM,
                 sim.comm());
   states_.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const double* b = &sum_[k * kDoubles];
-    TrackedState& s = states_[k];
-    s.position = {b[0], b[1], b[2]};
-    s.orientation = Quat(b[3], b[4], b[5], b[6]);
-    s.velocity = {b[7], b[8], b[9]};
-    s.angular_velocity = {b[10], b[11], b[12]};
-    s.kinetic_energy = b[13];
-    s.contacts = static_cast<int>(b[14]);
-  }
+  for (std::size_t k = 0; k < n; ++k) states_[k] = unpack(&sum_[k * kDoubles]);
   if (!have_initial_) {
     initial_ = states_;
     have_initial_ = true;
@@ -114,16 +119,7 @@ void Tracker::restoreInitial(const std::vector<double>& values) {
                     " tracked ones"));
   }
   initial_.resize(uids_.size());
-  for (std::size_t k = 0; k < uids_.size(); ++k) {
-    const double* b = &values[k * kDoubles];
-    TrackedState& s = initial_[k];
-    s.position = {b[0], b[1], b[2]};
-    s.orientation = Quat(b[3], b[4], b[5], b[6]);
-    s.velocity = {b[7], b[8], b[9]};
-    s.angular_velocity = {b[10], b[11], b[12]};
-    s.kinetic_energy = b[13];
-    s.contacts = static_cast<int>(b[14]);
-  }
+  for (std::size_t k = 0; k < uids_.size(); ++k) initial_[k] = unpack(&values[k * kDoubles]);
   have_initial_ = true;
 }
 
