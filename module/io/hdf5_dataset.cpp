@@ -77,8 +77,7 @@ void Dataset::hash(const void* data, std::uint64_t first_row, std::uint64_t rows
 }
 
 template <typename T>
-Dataset File::create(const std::string& dataset, std::uint64_t total, std::size_t cols,
-                     const Info& info) {
+Dataset File::datasetOf(const std::string& dataset, std::uint64_t total, std::size_t cols) const {
   Dataset d;
   d.context_ = context("");
   d.name_ = dataset;
@@ -87,6 +86,13 @@ Dataset File::create(const std::string& dataset, std::uint64_t total, std::size_
   d.element_bytes_ = sizeof(T);
   d.cols_ = cols;
   d.total_ = total;
+  return d;
+}
+
+template <typename T>
+Dataset File::create(const std::string& dataset, std::uint64_t total, std::size_t cols,
+                     const Info& info) {
+  Dataset d = datasetOf<T>(dataset, total, cols);
   d.info_ = info;
   d.writing_ = true;
   const hsize_t dims[2] = {total, cols};
@@ -104,14 +110,7 @@ Dataset File::create(const std::string& dataset, std::uint64_t total, std::size_
 
 template <typename T>
 Dataset File::open(const std::string& dataset, std::uint64_t total, std::size_t cols) {
-  Dataset d;
-  d.context_ = context("");
-  d.name_ = dataset;
-  d.transfer_list_ = collective_.get();
-  d.mem_type_ = Type<T>::mem();
-  d.element_bytes_ = sizeof(T);
-  d.cols_ = cols;
-  d.total_ = total;
+  Dataset d = datasetOf<T>(dataset, total, cols);
   d.id_ = openDataset(dataset);
   Handle type(H5Dget_type(d.id_.get()), H5Tclose);
   if (H5Tequal(type.get(), Type<T>::file()) <= 0) {

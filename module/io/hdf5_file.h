@@ -230,6 +230,9 @@ class File {
   File(std::string name, MPI_Comm comm, const CheckpointIoOptions& options, bool writable);
   bool exists(const std::string& path) const;
   Handle openDataset(const std::string& dataset) const;
+  /// The fields of a Dataset of T both create() and open() set, before the HDF5 handles.
+  template <typename T>
+  Dataset datasetOf(const std::string& dataset, std::uint64_t total, std::size_t cols) const;
   /// Reads a replicated dataset whole on every rank (independent transfer) and verifies it.
   void readWhole(hid_t id, const std::string& dataset, hid_t mem_type, void* out,
                  std::uint64_t elements, int element_bytes, std::vector<std::uint64_t> dims);
