@@ -18,17 +18,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string readBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream out;
-  out << in.rdbuf();
-  return out.str();
-}
-
-void writeBytes(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << bytes;
-}
+using testing::readBytes;
+using testing::writeBytes;
 
 /// Byte offset of a contiguous dataset's data in the file (serial HDF5).
 std::uint64_t dataOffset(const fs::path& path, const char* dataset) {

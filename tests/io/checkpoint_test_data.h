@@ -10,7 +10,9 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -235,6 +237,20 @@ inline std::filesystem::path scratchDirectory(const std::string& name, MPI_Comm 
   path.resize(n);
   MPI_Bcast(path.data(), static_cast<int>(n), MPI_CHAR, 0, comm);
   return path;
+}
+
+/// A file's bytes ("" if it cannot be read), to check that a failed operation left it alone.
+inline std::string readBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
+
+/// Replaces a file's bytes (to damage a checkpoint on purpose).
+inline void writeBytes(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << bytes;
 }
 
 }  // namespace polydem::io::testing
