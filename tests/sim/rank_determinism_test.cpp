@@ -8,30 +8,14 @@
 #include "core/mpi_env.h"
 #include "sim/pile_scene.h"
 #include "sim/simulation.h"
+#include "sliding_heap.h"
 
 namespace polydem::sim {
 namespace {
 
 io::Scene crossingScene(bool periodic) {
-  PileOptions o;
-  o.particles = 120;
-  o.layers = 3;
-  o.gap = 0.15;
-  o.initial_speed = 3.0;  // particles collide at once and stay in contact as a sliding heap
-  o.seed = 11;
-  o.steps = 4000;
-  io::Scene s = makePileScene(o);
-  s.dt = 1e-4;
-  s.materials[0].friction_angle = 25;
-  s.materials[0].normal_damping = 0.1;
-  s.materials[0].local_damping = 0.2;
-  // Small blocks: rank borders run everywhere, so particles in contact cross them together and
-  // their pair histories must travel with them.
-  s.domain.blocks = std::array<int, 3>{16, 16, 4};
-  s.domain.balancer = "cyclic";
-  // Gravity tilted towards +x and +y: the heap keeps sliding into a corner, so pairs in contact
-  // cross rank borders together, taking their histories with them.
-  s.gravity = Vec3(4.0, 2.5, -9.81);
+  io::Scene s = testing::slidingHeap("mixed", 0.15);
+  s.steps = 4000;
   if (periodic) {
     // Keep the floor, drop the four walls, and wrap x and y around the footprint.
     std::vector<io::ParticleSpec> kept;

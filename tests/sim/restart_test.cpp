@@ -1,8 +1,8 @@
 // Checkpoint and restart of a Simulation: N steps, a checkpoint file, a restart, M more steps end
 // in the same bits (hash of every particle and pair history) as N + M uninterrupted steps, in the
 // equilibrium stage and in the main stage, on the same and on other rank counts. The scene is
-// the one of rank_determinism_test: a heap sliding across many small blocks, so that pairs with
-// tangential histories cross rank borders.
+// the sliding heap of rank_determinism_test (sliding_heap.h), so that pairs with tangential
+// histories cross rank borders.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -14,6 +14,7 @@
 #include "io/checkpoint.h"
 #include "sim/pile_scene.h"
 #include "sim/simulation.h"
+#include "sliding_heap.h"
 
 namespace polydem::sim {
 namespace {
@@ -24,23 +25,10 @@ constexpr std::int64_t kFirst = 400;   // steps before the checkpoint
 constexpr std::int64_t kSecond = 300;  // steps after it
 
 io::Scene crossingScene(bool equilibrium) {
-  PileOptions o;
-  o.particles = 120;
-  o.layers = 3;
-  o.shapes = "cubes";  // a lattice only 2% apart: contacts from the first steps
-  o.gap = 0.02;
-  o.initial_speed = 3.0;  // particles collide at once and stay in contact as a sliding heap
-  o.seed = 11;
-  io::Scene s = makePileScene(o);
-  s.dt = 1e-4;
+  // Cubes in a lattice only 2% apart: contacts from the first steps.
+  io::Scene s = testing::slidingHeap("cubes", 0.02);
   s.steps = kFirst + kSecond;
   s.end_time.reset();
-  s.materials[0].friction_angle = 25;
-  s.materials[0].normal_damping = 0.1;
-  s.materials[0].local_damping = 0.2;
-  s.domain.blocks = std::array<int, 3>{16, 16, 4};
-  s.domain.balancer = "cyclic";
-  s.gravity = Vec3(4.0, 2.5, -9.81);
   if (equilibrium) {
     // A stage that ends by its step limit, after the checkpoint, then a short main stage.
     s.equilibrium.enabled = true;
