@@ -176,16 +176,6 @@ void measureAll(std::vector<Measurement>& all, double seconds, int passes) {
   }
 }
 
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 std::string rate(double per_second) {
   char buf[32];
   if (per_second >= 1e6) {
@@ -260,7 +250,7 @@ int benchKernels(int argc, char** argv) {
   names.push_back(kCcdGjkEpa);
   names.push_back(kCcdMpr);
   if (const auto chosen = args.value("kernels")) {
-    const auto wanted = split(*chosen);
+    const auto wanted = split(*chosen, ',');
     for (const auto& w : wanted) {
       if (std::find(names.begin(), names.end(), w) == names.end()) {
         throw UsageError(cat("--kernels: unknown kernel '", w, "'; known: ", join(names, ", ")));

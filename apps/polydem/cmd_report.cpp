@@ -16,16 +16,6 @@ namespace polydem::app {
 
 namespace {
 
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 void writeFile(const std::filesystem::path& path, const std::string& text) {
   const auto tmp = path.string() + ".tmp";
   {
@@ -48,7 +38,7 @@ int reportCommand(int argc, char** argv) {
     return help ? 0 : 2;
   }
   const std::string out_dir = args.value("out", ".");
-  const auto kernels = splitList(args.value("kernels", join(contact::kernelNames(), ",")));
+  const auto kernels = split(args.value("kernels", join(contact::kernelNames(), ",")), ',');
   const int poses = static_cast<int>(args.integer("poses", 20));
   const auto seed = static_cast<unsigned>(args.integer("seed", 2024));
   args.rejectUnknown();

@@ -1,6 +1,7 @@
 #include "core/strings.h"
 
 #include <cstdio>
+#include <sstream>
 
 namespace polydem {
 
@@ -15,6 +16,16 @@ std::string join(const std::vector<std::string>& parts, std::string_view sep) {
   for (std::size_t i = 0; i < parts.size(); ++i) {
     if (i) out += sep;
     out += parts[i];
+  }
+  return out;
+}
+
+std::vector<std::string> split(const std::string& text, char sep) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, sep)) {
+    if (!item.empty()) out.push_back(item);
   }
   return out;
 }

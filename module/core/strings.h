@@ -23,4 +23,7 @@ std::string num(double x);
 /// Joins strings with a separator: join({"a","b"}, ", ") == "a, b".
 std::string join(const std::vector<std::string>& parts, std::string_view sep);
 
+/// The non-empty items of a list: split("a,,b,", ',') == {"a", "b"}.
+std::vector<std::string> split(const std::string& text, char sep);
+
 }  // namespace polydem
