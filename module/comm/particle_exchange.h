@@ -29,6 +29,16 @@ struct ExchangeStats {
   std::int64_t histories_sent = 0, histories_received = 0;
   std::int64_t history_conflicts = 0;  // received copies that differ from ours: must stay 0
   std::int64_t bytes_sent = 0;
+
+  ExchangeStats& operator+=(const ExchangeStats& o) {
+    particles_sent += o.particles_sent;
+    particles_received += o.particles_received;
+    histories_sent += o.histories_sent;
+    histories_received += o.histories_received;
+    history_conflicts += o.history_conflicts;
+    bytes_sent += o.bytes_sent;
+    return *this;
+  }
 };
 
 class ParticleExchange {

@@ -111,15 +111,8 @@ void Simulation::communicate() {
   if (scene_.domain.rebalance_every > 0 && next_step % scene_.domain.rebalance_every == 0) {
     rebalance();
   }
-  const auto ghosts = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
-  exchange_stats_.particles_sent += ghosts.particles_sent;
-  exchange_stats_.particles_received += ghosts.particles_received;
-  exchange_stats_.bytes_sent += ghosts.bytes_sent;
-  exchange_totals_.particles_sent += exchange_stats_.particles_sent;
-  exchange_totals_.particles_received += exchange_stats_.particles_received;
-  exchange_totals_.histories_sent += exchange_stats_.histories_sent;
-  exchange_totals_.histories_received += exchange_stats_.histories_received;
-  exchange_totals_.bytes_sent += exchange_stats_.bytes_sent;
+  exchange_stats_ += exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  exchange_totals_ += exchange_stats_;
 }
 
 void Simulation::rebalance() {
