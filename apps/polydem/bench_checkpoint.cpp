@@ -23,6 +23,7 @@
 #include "core/mpi_env.h"
 #include "core/strings.h"
 #include "io/checkpoint.h"
+#include "io/hdf5_types.h"
 
 namespace polydem::app {
 
@@ -40,6 +41,15 @@ struct RawField {
   std::unique_ptr<std::byte[]> read;  // this rank's share when reading: fresh memory each time,
                                       // as a restart reads into memory it has not touched yet
 };
+
+/// Appends a column of `cols` values of type T, with the HDF5 types the checkpoint uses for T;
+/// returns its byte buffer (a reference into `out`: reserve first).
+template <typename T>
+std::vector<std::byte>& addField(std::vector<RawField>& out, const char* name, std::size_t cols) {
+  out.push_back(
+      {name, io::h5::Type<T>::mem(), io::h5::Type<T>::file(), cols, sizeof(T), {}, nullptr});
+  return out.back().bytes;
+}
 
 struct Sample {
   io::CheckpointData data;
@@ -124,23 +134,18 @@ Sample makeSample(std::int64_t particles, int per_particle, MPI_Comm comm) {
   }
 
   // The raw peer's fields: the same values in the same row order.
-  auto field = [](std::vector<RawField>& out, const char* name, hid_t mem, hid_t file,
-                  std::size_t cols, std::size_t element_bytes) -> std::vector<std::byte>& {
-    out.push_back({name, mem, file, cols, element_bytes, {}, nullptr});
-    return out.back().bytes;
-  };
   auto& pf = s.particle_fields;
-  pf.reserve(9);  // field() hands out references into these vectors: no reallocation
+  pf.reserve(9);  // addField() hands out references into these vectors: no reallocation
   s.pair_fields.reserve(8);
-  auto& uid = field(pf, "uid", H5T_NATIVE_UINT64, H5T_STD_U64LE, 1, 8);
-  auto& shape = field(pf, "shape", H5T_NATIVE_INT32, H5T_STD_I32LE, 1, 4);
-  auto& material = field(pf, "material", H5T_NATIVE_INT32, H5T_STD_I32LE, 1, 4);
-  auto& flags = field(pf, "flags", H5T_NATIVE_UINT32, H5T_STD_U32LE, 1, 4);
-  auto& driver = field(pf, "driver", H5T_NATIVE_INT32, H5T_STD_I32LE, 1, 4);
-  auto& position = field(pf, "position", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, 8);
-  auto& orientation = field(pf, "orientation", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 4, 8);
-  auto& velocity = field(pf, "velocity", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, 8);
-  auto& momentum = field(pf, "angular_momentum", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, 8);
+  auto& uid = addField<std::uint64_t>(pf, "uid", 1);
+  auto& shape = addField<std::int32_t>(pf, "shape", 1);
+  auto& material = addField<std::int32_t>(pf, "material", 1);
+  auto& flags = addField<std::uint32_t>(pf, "flags", 1);
+  auto& driver = addField<std::int32_t>(pf, "driver", 1);
+  auto& position = addField<double>(pf, "position", 3);
+  auto& orientation = addField<double>(pf, "orientation", 4);
+  auto& velocity = addField<double>(pf, "velocity", 3);
+  auto& momentum = addField<double>(pf, "angular_momentum", 3);
   for (const auto& p : d.particles) {
     appendBytes(uid, p.uid);
     appendBytes(shape, p.shape);
@@ -155,14 +160,14 @@ Sample makeSample(std::int64_t particles, int per_particle, MPI_Comm comm) {
     appendVec3(momentum, p.angular_momentum);
   }
   auto& hf = s.pair_fields;
-  auto& pair = field(hf, "pair", H5T_NATIVE_UINT64, H5T_STD_U64LE, 2, 8);
-  auto& shear = field(hf, "shear_force", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, 8);
-  auto& normal = field(hf, "normal", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, 8);
-  auto& warm_direction = field(hf, "warm_direction", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, 8);
-  auto& warm_point = field(hf, "warm_point", H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, 3, 8);
-  auto& warm_valid = field(hf, "warm_valid", H5T_NATIVE_UINT32, H5T_STD_U32LE, 1, 4);
-  auto& reserved = field(hf, "kernel_reserved", H5T_NATIVE_UINT32, H5T_STD_U32LE, 1, 4);
-  auto& touching = field(hf, "touching", H5T_NATIVE_UINT32, H5T_STD_U32LE, 1, 4);
+  auto& pair = addField<std::uint64_t>(hf, "pair", 2);
+  auto& shear = addField<double>(hf, "shear_force", 3);
+  auto& normal = addField<double>(hf, "normal", 3);
+  auto& warm_direction = addField<double>(hf, "warm_direction", 3);
+  auto& warm_point = addField<double>(hf, "warm_point", 3);
+  auto& warm_valid = addField<std::uint32_t>(hf, "warm_valid", 1);
+  auto& reserved = addField<std::uint32_t>(hf, "kernel_reserved", 1);
+  auto& touching = addField<std::uint32_t>(hf, "touching", 1);
   for (std::size_t i = 0; i < d.pair_keys.size(); ++i) {
     const auto& h = d.pair_histories[i];
     appendBytes(pair, d.pair_keys[i].lo);
