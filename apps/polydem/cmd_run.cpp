@@ -32,6 +32,7 @@ int runCommand(int argc, char** argv) {
         "  --steps N         run N steps (replaces the scene's end condition)\n"
         "  --end-time T      run until simulated time T (replaces the scene's end condition)\n"
         "  --kernel NAME     use another contact kernel (polydem kernels lists them)\n"
+        "  --contact-model M sub-contacts (default) or point: how penalty contacts become forces\n"
         "  --progress N      progress line every N steps (default: every 5 s)\n"
         "  --no-snapshots    do not write ParaView snapshots\n"
         "  --check           exit with status 3 if a check of the scene fails\n"
@@ -56,6 +57,7 @@ int runCommand(int argc, char** argv) {
   if (const auto v = args.value("steps")) options.steps = args.integer("steps", 0);
   if (const auto v = args.value("end-time")) options.end_time = args.number("end-time", 0.0);
   options.kernel = args.value("kernel");
+  options.contact_model = args.value("contact-model");
   options.progress_every = args.integer("progress", 0);
   options.snapshots = !args.flag("no-snapshots");
   if (args.value("checkpoint-every"))
@@ -82,6 +84,9 @@ int runCommand(int argc, char** argv) {
     throw UsageError("--checkpoint-keep must be >= 1");
   }
   if (options.kernel && restart) throw UsageError("--kernel cannot change a restarted run");
+  if (options.contact_model && restart) {
+    throw UsageError("--contact-model cannot change a restarted run");
+  }
   options.stop_on_signals = true;
   options.code_version = version();
   options.program = programPath();

@@ -14,30 +14,72 @@ namespace polydem::comm {
 
 namespace {
 
+using particles::HistoryRecords;
 using particles::PairHistory;
 using particles::PairKey;
+using particles::SubHistory;
+using particles::SubKey;
 
 constexpr int kRegisterTag = 7303;
 constexpr int kDeliverTag = 7304;
 
 // Record types of round 1.
 constexpr std::uint8_t kOwner = 0;     // uid, owning rank
-constexpr std::uint8_t kHistory = 1;   // the member uid this directory answers for, then the pair
-constexpr std::uint8_t kEveryone = 2;  // a pair of two replicated particles: keep it
+constexpr std::uint8_t kHistory = 1;   // the member uid this directory answers for, then a record
+constexpr std::uint8_t kEveryone = 2;  // a record of two replicated particles: keep it
+
+// What a history record carries: a pair's history or one of its sub-contacts'.
+constexpr std::uint8_t kPairPayload = 0;
+constexpr std::uint8_t kSubPayload = 1;
 
 int directoryOf(Uid uid, int ranks) {
   return static_cast<int>(uid % static_cast<Uid>(ranks));
 }
 
+void packRecord(SendBuffer& out, const HistoryRecords& r, bool sub, std::size_t i) {
+  out << (sub ? kSubPayload : kPairPayload);
+  if (sub) {
+    pack(out, r.sub_keys[i], r.sub_entries[i]);
+  } else {
+    pack(out, r.keys[i], r.entries[i]);
+  }
+}
+
+// Reads one record into `into`; returns its pair key, whether it is a sub-contact, and its index.
+struct Unpacked {
+  PairKey pair;
+  bool sub;
+  std::size_t index;
+};
+Unpacked unpackRecord(RecvBuffer& in, HistoryRecords& into) {
+  std::uint8_t payload = 0;
+  in >> payload;
+  if (payload == kSubPayload) {
+    SubKey k;
+    SubHistory h;
+    unpack(in, k, h);
+    into.sub_keys.push_back(k);
+    into.sub_entries.push_back(h);
+    return {k.pair, true, into.sub_keys.size() - 1};
+  }
+  PairKey k;
+  PairHistory h;
+  unpack(in, k, h);
+  into.keys.push_back(k);
+  into.entries.push_back(h);
+  return {k, false, into.keys.size() - 1};
+}
+
 }  // namespace
 
-particles::ContactHistory routeHistories(std::span<const PairKey> keys,
-                                         std::span<const PairHistory> entries,
-                                         std::span<const Uid> owned,
+particles::ContactHistory routeHistories(const HistoryRecords& records, std::span<const Uid> owned,
                                          std::span<const Uid> replicated, MPI_Comm comm,
                                          HistoryRoutingStats* stats) {
-  if (keys.size() != entries.size()) {
-    throw Error(cat("routeHistories: ", keys.size(), " keys but ", entries.size(), " histories"));
+  if (records.keys.size() != records.entries.size() ||
+      records.sub_keys.size() != records.sub_entries.size()) {
+    throw Error(cat("routeHistories: ", records.keys.size(), " keys but ", records.entries.size(),
+                    " histories, ", records.sub_keys.size(), " sub-contact keys but ",
+                    records.sub_entries.size(), " sub-contact histories"));
   }
   const int rank = mpi::rank(comm), ranks = mpi::size(comm);
   std::vector<Uid> everywhere(replicated.begin(), replicated.end());
@@ -53,27 +95,27 @@ particles::ContactHistory routeHistories(std::span<const PairKey> keys,
     outgoing[directoryOf(u, ranks)] << kOwner << u << static_cast<std::int32_t>(rank);
     ++local_stats.registered;
   }
-  for (std::size_t i = 0; i < keys.size(); ++i) {
-    const PairKey& k = keys[i];
-    const bool lo_everywhere = isReplicated(k.lo), hi_everywhere = isReplicated(k.hi);
-    if (lo_everywhere && hi_everywhere) {
+  auto send = [&](const PairKey& k, bool sub, std::size_t i) {
+    if (isReplicated(k.lo) && isReplicated(k.hi)) {
       for (int r = 0; r < ranks; ++r) {
         outgoing[r] << kEveryone;
-        pack(outgoing[r], k, entries[i]);
+        packRecord(outgoing[r], records, sub, i);
       }
-      continue;
+      return;
     }
     for (Uid member : {k.lo, k.hi}) {
       if (isReplicated(member)) continue;
       SendBuffer& out = outgoing[directoryOf(member, ranks)];
       out << kHistory << member;
-      pack(out, k, entries[i]);
+      packRecord(out, records, sub, i);
     }
-  }
+  };
+  for (std::size_t i = 0; i < records.keys.size(); ++i) send(records.keys[i], false, i);
+  for (std::size_t i = 0; i < records.sub_keys.size(); ++i) send(records.sub_keys[i].pair, true, i);
+
   std::unordered_map<Uid, int> owner_of;
-  std::vector<std::pair<Uid, std::pair<PairKey, PairHistory>>> waiting;  // (member, pair)
-  std::vector<PairKey> kept_keys;
-  std::vector<PairHistory> kept_entries;
+  HistoryRecords arrived, kept;
+  std::vector<std::pair<Uid, Unpacked>> waiting;  // (member, record in `arrived`)
   std::int64_t problems = 0;
   Uid example = 0;
   for (const auto& m : sparseExchange(outgoing, comm, kRegisterTag)) {
@@ -89,43 +131,31 @@ particles::ContactHistory routeHistories(std::span<const PairKey> keys,
           ++problems;  // owned by two ranks
           example = u;
         }
-      } else {
+      } else if (type == kHistory) {
         Uid member = 0;
-        if (type == kHistory) in >> member;
-        PairKey k;
-        PairHistory h;
-        unpack(in, k, h);
-        if (type == kHistory) {
-          waiting.push_back({member, {k, h}});
-        } else {
-          kept_keys.push_back(k);
-          kept_entries.push_back(h);
-        }
+        in >> member;
+        waiting.push_back({member, unpackRecord(in, arrived)});
+      } else {
+        unpackRecord(in, kept);
       }
     }
   }
 
   // Round 2: each directory forwards to the owners.
   outgoing.clear();
-  for (const auto& [member, pair] : waiting) {
+  for (const auto& [member, record] : waiting) {
     const auto it = owner_of.find(member);
     if (it == owner_of.end()) {
       ++problems;  // a pair with a particle nobody owns
       example = member;
       continue;
     }
-    pack(outgoing[it->second], pair.first, pair.second);
-    ++local_stats.forwarded;
+    packRecord(outgoing[it->second], arrived, record.sub, record.index);
+    local_stats.forwarded += !record.sub;
   }
   for (const auto& m : sparseExchange(outgoing, comm, kDeliverTag)) {
     RecvBuffer in(m.bytes.data(), m.bytes.size());
-    while (!in.atEnd()) {
-      PairKey k;
-      PairHistory h;
-      unpack(in, k, h);
-      kept_keys.push_back(k);
-      kept_entries.push_back(h);
-    }
+    while (!in.atEnd()) unpackRecord(in, kept);
   }
   const std::int64_t total_problems = mpi::allreduceSum(problems, comm);
   if (total_problems > 0) {
@@ -135,9 +165,9 @@ particles::ContactHistory routeHistories(std::span<const PairKey> keys,
                     " pair histories or uids without exactly one owner (e.g. particle uid ", first,
                     ")"));
   }
-  // Copies of one pair (from its two directories) are the same record: merge keeps one.
+  // Copies of one record (from its two directories) are the same: merge keeps one.
   particles::ContactHistory out;
-  out.merge(kept_keys, kept_entries);
+  out.merge(kept);
   local_stats.kept = static_cast<std::int64_t>(out.size());
   if (stats) *stats = local_stats;
   return out;
@@ -145,13 +175,39 @@ particles::ContactHistory routeHistories(std::span<const PairKey> keys,
 
 particles::ContactHistory routeHistories(std::span<const PairKey> keys,
                                          std::span<const PairHistory> entries,
-                                         const particles::ParticleStorage& storage, MPI_Comm comm,
+                                         std::span<const Uid> owned,
+                                         std::span<const Uid> replicated, MPI_Comm comm,
                                          HistoryRoutingStats* stats) {
-  std::vector<Uid> owned, replicated;
+  HistoryRecords records;
+  records.keys.assign(keys.begin(), keys.end());
+  records.entries.assign(entries.begin(), entries.end());
+  return routeHistories(records, owned, replicated, comm, stats);
+}
+
+namespace {
+void ownedAndReplicated(const particles::ParticleStorage& storage, std::vector<Uid>& owned,
+                        std::vector<Uid>& replicated) {
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
     const auto& p = storage[i];
     (p.isGlobal() ? replicated : owned).push_back(p.uid);
   }
+}
+}  // namespace
+
+particles::ContactHistory routeHistories(const HistoryRecords& records,
+                                         const particles::ParticleStorage& storage, MPI_Comm comm,
+                                         HistoryRoutingStats* stats) {
+  std::vector<Uid> owned, replicated;
+  ownedAndReplicated(storage, owned, replicated);
+  return routeHistories(records, owned, replicated, comm, stats);
+}
+
+particles::ContactHistory routeHistories(std::span<const PairKey> keys,
+                                         std::span<const PairHistory> entries,
+                                         const particles::ParticleStorage& storage, MPI_Comm comm,
+                                         HistoryRoutingStats* stats) {
+  std::vector<Uid> owned, replicated;
+  ownedAndReplicated(storage, owned, replicated);
   return routeHistories(keys, entries, owned, replicated, comm, stats);
 }
 

@@ -39,9 +39,19 @@ particles::ContactHistory routeHistories(std::span<const particles::PairKey> key
                                          std::span<const Uid> replicated, MPI_Comm comm,
                                          HistoryRoutingStats* stats = nullptr);
 
+/// The same for pairs and their sub-contacts (particles/contact_history.h): a sub-contact's
+/// history goes wherever its pair's goes.
+particles::ContactHistory routeHistories(const particles::HistoryRecords& records,
+                                         std::span<const Uid> owned,
+                                         std::span<const Uid> replicated, MPI_Comm comm,
+                                         HistoryRoutingStats* stats = nullptr);
+
 /// The same, with `owned` and `replicated` taken from the storage's local (non-ghost) particles.
 particles::ContactHistory routeHistories(std::span<const particles::PairKey> keys,
                                          std::span<const particles::PairHistory> entries,
+                                         const particles::ParticleStorage& storage, MPI_Comm comm,
+                                         HistoryRoutingStats* stats = nullptr);
+particles::ContactHistory routeHistories(const particles::HistoryRecords& records,
                                          const particles::ParticleStorage& storage, MPI_Comm comm,
                                          HistoryRoutingStats* stats = nullptr);
 

@@ -21,12 +21,18 @@ using particles::PairHistory;
 using particles::PairKey;
 using particles::Particle;
 
-bool sameBits(const PairHistory& a, const PairHistory& b) {
+template <typename Key, typename Entry>
+bool sameBits(const Entry& a, const Entry& b) {
   SendBuffer x, y;
-  pack(x, PairKey{}, a);
-  pack(y, PairKey{}, b);
+  pack(x, Key{}, a);
+  pack(y, Key{}, b);
   return x.bytes() == y.bytes();
 }
+
+// Record types of a migration message.
+constexpr std::uint8_t kParticleRecord = 0;
+constexpr std::uint8_t kPairRecord = 1;
+constexpr std::uint8_t kSubRecord = 2;
 
 // Wraps the centroid back into the domain along periodic axes and returns its owner rank.
 int ownerAfterWrap(const domain::BlockForest& forest, Particle& p, std::int64_t step) {
@@ -68,7 +74,7 @@ ExchangeStats ParticleExchange::migrate(const domain::BlockForest& forest,
     }
     leaving.emplace(p.uid, owner);
     SendBuffer& out = outgoing[owner];
-    out << std::uint8_t{0};  // record type: particle
+    out << kParticleRecord;
     pack(out, p);
     ++stats.particles_sent;
     storage.removeLocal(i);
@@ -85,39 +91,50 @@ ExchangeStats ParticleExchange::migrate(const domain::BlockForest& forest,
           if (lo != leaving.end() && lo->second == it->second) continue;
         }
         SendBuffer& out = outgoing[it->second];
-        out << std::uint8_t{1};  // record type: pair history
+        out << kPairRecord;
         pack(out, keys[k], entries[k]);
+        const auto [first, last] = history.subRange(keys[k]);
+        for (std::size_t s = first; s < last; ++s) {
+          out << kSubRecord;
+          pack(out, history.subKeys()[s], history.subEntries()[s]);
+        }
         ++stats.histories_sent;
       }
     }
   }
   const auto messages = sparseExchange(outgoing, comm_, kMigrateTag, &stats.bytes_sent);
-  std::vector<PairKey> keys;
-  std::vector<PairHistory> entries;
+  particles::HistoryRecords received;
   for (const auto& m : messages) {
     RecvBuffer in(m.bytes.data(), m.bytes.size());
     while (!in.atEnd()) {
       std::uint8_t type = 0;
       in >> type;
-      if (type == 0) {
+      if (type == kParticleRecord) {
         Particle p;
         unpack(in, p);
         storage.addLocal(p);
         ++stats.particles_received;
-      } else {
+      } else if (type == kPairRecord) {
         PairKey key;
         PairHistory h;
         unpack(in, key, h);
-        if (const PairHistory* mine = history.find(key); mine && !sameBits(*mine, h)) {
+        if (const PairHistory* mine = history.find(key);
+            mine && !sameBits<PairKey, PairHistory>(*mine, h)) {
           ++stats.history_conflicts;
         }
-        keys.push_back(key);
-        entries.push_back(h);
+        received.keys.push_back(key);
+        received.entries.push_back(h);
         ++stats.histories_received;
+      } else {
+        particles::SubKey key;
+        particles::SubHistory h;
+        unpack(in, key, h);
+        received.sub_keys.push_back(key);
+        received.sub_entries.push_back(h);
       }
     }
   }
-  if (!keys.empty()) history.merge(keys, entries);
+  if (!received.empty()) history.merge(received);
   return stats;
 }
 

@@ -17,9 +17,14 @@ struct Keyed {
   }
 };
 
-std::uint64_t historyHash(const particles::PairKey& key, const particles::PairHistory& h) {
+// Over the pair's history and, with the sub-contact model, its sub-contacts' (a pair without any
+// hashes as it did before sub-contacts existed).
+std::uint64_t historyHash(const particles::PairKey& key, const particles::PairHistory& h,
+                          std::span<const particles::SubKey> sub_keys,
+                          std::span<const particles::SubHistory> subs) {
   SendBuffer bytes;
   pack(bytes, key, h);
+  for (std::size_t i = 0; i < sub_keys.size(); ++i) pack(bytes, sub_keys[i], subs[i]);
   BitHasher hasher;
   const auto& raw = bytes.bytes();
   for (std::size_t i = 0; i < raw.size(); i += 8) {
@@ -62,8 +67,10 @@ StateHash globalStateHash(const particles::ParticleStorage& storage,
   std::vector<Keyed> pairs;
   const auto keys = history.keys();
   const auto entries = history.entries();
+  particles::ContactHistory::Cursor cursor(history);
   for (std::size_t k = 0; k < keys.size(); ++k) {
-    pairs.push_back({keys[k].lo, keys[k].hi, historyHash(keys[k], entries[k])});
+    const auto [sub_keys, subs] = cursor.subs(keys[k]);
+    pairs.push_back({keys[k].lo, keys[k].hi, historyHash(keys[k], entries[k], sub_keys, subs)});
   }
   auto all_particles = mpi::gatherv(local, 0, comm);
   auto all_pairs = mpi::gatherv(pairs, 0, comm);

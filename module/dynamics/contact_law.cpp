@@ -18,6 +18,10 @@ LawCoefficients lawCoefficients(const particles::ContactProperties& p,
     throw Error(cat("contact law: stiffnesses must be >= 0 (kn ", p.kn, ", ks ", p.ks, ", penalty ",
                     p.penalty, ")"));
   }
+  if (!(p.jkn >= 0.0 && p.jks >= 0.0)) {
+    throw Error(
+        cat("contact law: joint stiffnesses must be >= 0 (jkn ", p.jkn, ", jks ", p.jks, ")"));
+  }
   if (!(p.cohesion >= 0.0 && p.normal_damping >= 0.0)) {
     throw Error(cat("contact law: cohesion (", p.cohesion, ") and normal damping (",
                     p.normal_damping, ") must be >= 0"));
@@ -29,6 +33,8 @@ LawCoefficients lawCoefficients(const particles::ContactProperties& p,
   k.tan_friction = std::tan(degToRad(phi));
   k.cohesion = p.cohesion;
   k.damping_ratio = p.normal_damping;
+  k.jkn = p.jkn;
+  k.jks = p.jks;
   return k;
 }
 

@@ -35,6 +35,8 @@ struct LawCoefficients {
   double tan_friction = 0.0;   // tan(phi) of Zhao eq. 35
   double cohesion = 0.0;       // N, the C of Zhao eq. 35
   double damping_ratio = 0.0;  // zeta: viscous normal damping as a fraction of critical
+  double jkn = 0.0;            // Pa/m: sub-contact model, face contacts (0: kn per pair)
+  double jks = 0.0;            // Pa/m: likewise for the shear spring (0: ks per pair)
 };
 
 /// Coefficients from a pair's properties. `friction_angle_deg`, when given, replaces the pair's

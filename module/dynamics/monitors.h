@@ -45,6 +45,14 @@ struct ForceAccumulator {
     torque += (point - centroid).cross(f);
     norm_sum += manhattan(f);
   }
+  /// The resultant `f` and its moment `torque` about the centroid of one pair's forces (the
+  /// sub-contacts of a face contact): one contact force for the force ratio, as a pair counts
+  /// once whatever model splits it.
+  void addPair(const Vec3& f, const Vec3& moment) {
+    force += f;
+    torque += moment;
+    norm_sum += manhattan(f);
+  }
   /// A force acting at the centroid (gravity m g).
   void addBodyForce(const Vec3& f) {
     force += f;

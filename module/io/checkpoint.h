@@ -33,8 +33,11 @@
 
 namespace polydem::io {
 
-/// Version of the file layout; readCheckpoint() refuses any other.
-inline constexpr int kCheckpointFormatVersion = 1;
+/// Version of the file layout. readCheckpoint() reads it and version 1 (before sub-contacts and
+/// joint stiffnesses: no /subcontacts, no jkn/jks columns; a run continued from it keeps the
+/// single-point contact model it was written with, see docs/checkpoint.md) and refuses others.
+inline constexpr int kCheckpointFormatVersion = 2;
+inline constexpr int kOldestReadableCheckpointVersion = 1;
 
 /// The stage a run was in (see sim::Stage): the initial-equilibrium stage or the main stage.
 enum class CheckpointStage : std::int32_t { kEquilibrium = 0, kMain = 1 };
@@ -102,6 +105,10 @@ struct CheckpointData {
   /// rank's share (slice r of P), in file order.
   std::vector<particles::PairKey> pair_keys;
   std::vector<particles::PairHistory> pair_histories;
+  /// The sub-contact histories of those pairs, written and read alike (each with its pair's
+  /// writer; read as a slice of their own).
+  std::vector<particles::SubKey> sub_keys;
+  std::vector<particles::SubHistory> sub_histories;
 };
 
 /// Tuning of the parallel I/O.

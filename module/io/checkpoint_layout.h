@@ -61,6 +61,10 @@ inline constexpr Dataset kMaterialLocalDamping{"/materials/local_damping", "1",
                                                "local non-viscous damping coefficient"};
 inline constexpr Dataset kMaterialPenalty{"/materials/penalty", "Pa",
                                           "normal penalty of the potential kernels (Zhao eq. 13)"};
+inline constexpr Dataset kMaterialJkn{"/materials/jkn", "Pa/m",
+                                      "normal stiffness per area of face contacts (0: kn)"};
+inline constexpr Dataset kMaterialJks{"/materials/jks", "Pa/m",
+                                      "shear stiffness per area of face contacts (0: ks)"};
 inline constexpr Dataset kInteractionPair{"/materials/interaction/pair", "",
                                           "material indices (a, b) of each explicit pair"};
 inline constexpr Dataset kInteractionKn{"/materials/interaction/kn", "N/m", "normal stiffness"};
@@ -72,6 +76,10 @@ inline constexpr Dataset kInteractionNormalDamping{"/materials/interaction/norma
                                                    "viscous normal damping"};
 inline constexpr Dataset kInteractionPenalty{"/materials/interaction/penalty", "Pa",
                                              "normal penalty"};
+inline constexpr Dataset kInteractionJkn{"/materials/interaction/jkn", "Pa/m",
+                                         "normal stiffness per area"};
+inline constexpr Dataset kInteractionJks{"/materials/interaction/jks", "Pa/m",
+                                         "shear stiffness per area"};
 
 // --- /domain
 // --------------------------------------------------------------------------------------
@@ -112,9 +120,22 @@ inline constexpr Dataset kKernelReserved{"/contacts/kernel_reserved", "",
                                          "reserved word of the kernel state"};
 inline constexpr Dataset kTouching{"/contacts/touching", "", "1 if in contact at the last step"};
 
+// --- /subcontacts: one row per sub-contact history (sub-contact model; format version 2)
+// ---------------------------------------------------------
+inline constexpr Dataset kSubPair{"/subcontacts/pair", "", "uids (lo, hi) of the pair, lo < hi"};
+inline constexpr Dataset kSubFeature{
+    "/subcontacts/feature", "",
+    "features of lo (high 32 bits) and hi (low 32 bits): (type << 30) | index, type 1 vertex, "
+    "2 edge, 3 face"};
+inline constexpr Dataset kSubShearForce{"/subcontacts/shear_force", "N",
+                                        "tangential force on the lower-uid particle, world frame"};
+inline constexpr Dataset kSubNormal{"/subcontacts/normal", "",
+                                    "unit normal of the sub-contact at the last step"};
+
 // Bytes of one row of the particle and pair tables (all columns).
 inline constexpr std::size_t kParticleRowBytes = 8 + 4 * 4 + 13 * 8;  // uid, 4 ints, 13 doubles
 inline constexpr std::size_t kPairRowBytes = 2 * 8 + 12 * 8 + 3 * 4;  // pair, 4 vectors, 3 words
+inline constexpr std::size_t kSubRowBytes = 3 * 8 + 6 * 8;            // pair, feature, 2 vectors
 
 /// Rows of a table packed (or unpacked) and hashed together, so that the block stays in cache.
 inline constexpr std::uint64_t kBlockRows = 4096;

@@ -61,6 +61,7 @@ class Reader {
     readDomain();
     readParticles();
     readContacts();
+    if (d_.format_version >= 2) readSubContacts();
     return std::move(d_);
   }
 
@@ -100,9 +101,10 @@ class Reader {
       throw inconsistent("not a polydem checkpoint (attribute format is '" + format + "')");
     }
     d_.format_version = f_.readAttribute<std::int32_t>("/", "format_version");
-    if (d_.format_version != kCheckpointFormatVersion) {
-      throw inconsistent(cat("format version ", d_.format_version, "; this polydem reads version ",
-                             kCheckpointFormatVersion));
+    if (d_.format_version < kOldestReadableCheckpointVersion ||
+        d_.format_version > kCheckpointFormatVersion) {
+      throw inconsistent(cat("format version ", d_.format_version, "; this polydem reads versions ",
+                             kOldestReadableCheckpointVersion, " to ", kCheckpointFormatVersion));
     }
     d_.code_version = f_.readStringAttribute("/", "code_version");
     d_.writer_ranks = f_.readAttribute<std::int32_t>("/", "writer_ranks");
@@ -190,9 +192,13 @@ class Reader {
     const auto normal_damping = table<double>(layout::kMaterialNormalDamping, n);
     const auto local_damping = table<double>(layout::kMaterialLocalDamping, n);
     const auto penalty = table<double>(layout::kMaterialPenalty, n);
+    // Version 1 predates joint stiffnesses: they were 0 (per-pair springs only).
+    const bool joints = d_.format_version >= 2;
+    const auto jkn = joints ? table<double>(layout::kMaterialJkn, n) : std::vector<double>(n, 0.0);
+    const auto jks = joints ? table<double>(layout::kMaterialJks, n) : std::vector<double>(n, 0.0);
     for (std::uint64_t i = 0; i < n; ++i) {
       d_.materials.push_back({names[i], density[i], kn[i], ks[i], friction[i], cohesion[i],
-                              normal_damping[i], local_damping[i], penalty[i]});
+                              normal_damping[i], local_damping[i], penalty[i], jkn[i], jks[i]});
     }
     const std::uint64_t k = rows(layout::kInteractionPair);
     const auto pairs = table<std::int32_t>(layout::kInteractionPair, k, 2);
@@ -202,6 +208,10 @@ class Reader {
     const auto icohesion = table<double>(layout::kInteractionCohesion, k);
     const auto idamping = table<double>(layout::kInteractionNormalDamping, k);
     const auto ipenalty = table<double>(layout::kInteractionPenalty, k);
+    const auto ijkn =
+        joints ? table<double>(layout::kInteractionJkn, k) : std::vector<double>(k, 0.0);
+    const auto ijks =
+        joints ? table<double>(layout::kInteractionJks, k) : std::vector<double>(k, 0.0);
     for (std::uint64_t i = 0; i < k; ++i) {
       Scene::Interaction in;
       in.a = pairs[2 * i];
@@ -211,7 +221,8 @@ class Reader {
         throw inconsistent(cat(layout::kInteractionPair.name, ": row ", i, " names material (",
                                in.a, ", ", in.b, ") of ", n));
       }
-      in.properties = {ikn[i], iks[i], ifriction[i], icohesion[i], idamping[i], ipenalty[i]};
+      in.properties = {ikn[i],      iks[i],      ifriction[i], icohesion[i],
+                       idamping[i], ipenalty[i], ijkn[i],      ijks[i]};
       d_.interactions.push_back(in);
     }
   }
@@ -363,6 +374,35 @@ class Reader {
     };
     stream(0, slice, layout::kPairRowBytes, unpack, pair, shear, normal, warm_direction, warm_point,
            warm_valid, reserved, touching);
+    h5::agree(problem, comm_);
+  }
+
+  void readSubContacts() {
+    const std::uint64_t m = rows(layout::kSubPair);
+    const h5::Slice slice = h5::readerSlice(m, mpi::rank(comm_), mpi::size(comm_));
+    ReadColumn<std::uint64_t> pair(f_, layout::kSubPair, m, 2);
+    ReadColumn<std::uint64_t> feature(f_, layout::kSubFeature, m, 1);
+    ReadColumn<double> shear(f_, layout::kSubShearForce, m, 3);
+    ReadColumn<double> normal(f_, layout::kSubNormal, m, 3);
+    std::optional<std::string> problem;
+    d_.sub_keys.reserve(slice.rows);
+    d_.sub_histories.reserve(slice.rows);
+    auto unpack = [&](std::uint64_t from, std::uint64_t count) {
+      for (std::uint64_t i = from; i < from + count; ++i) {
+        const std::uint64_t at = d_.sub_keys.size();
+        const particles::SubKey& key = d_.sub_keys.emplace_back(
+            particles::SubKey{{pair.row(i)[0], pair.row(i)[1]}, *feature.row(i)});
+        if (!(key.pair.lo < key.pair.hi) && !problem) {
+          problem = f_.context(cat(layout::kSubPair.name, ": row ", slice.offset + at + i, " (",
+                                   key.pair.lo, ", ", key.pair.hi,
+                                   ") is not ordered lo < hi (inconsistent data)"));
+        }
+        particles::SubHistory& h = d_.sub_histories.emplace_back();
+        h.shear_force = vec3At(shear.row(i));
+        h.normal = vec3At(normal.row(i));
+      }
+    };
+    stream(0, slice, layout::kSubRowBytes, unpack, pair, feature, shear, normal);
     h5::agree(problem, comm_);
   }
 

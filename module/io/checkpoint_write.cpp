@@ -44,6 +44,15 @@ std::optional<std::string> invalidData(const CheckpointData& data, int rank) {
   for (const auto& k : data.pair_keys) {
     if (!(k.lo < k.hi)) return cat("pair (", k.lo, ", ", k.hi, ") is not ordered lo < hi");
   }
+  if (data.sub_keys.size() != data.sub_histories.size()) {
+    return cat(data.sub_keys.size(), " sub-contact keys but ", data.sub_histories.size(),
+               " histories");
+  }
+  for (const auto& k : data.sub_keys) {
+    if (!(k.pair.lo < k.pair.hi)) {
+      return cat("sub-contact of pair (", k.pair.lo, ", ", k.pair.hi, ") is not ordered lo < hi");
+    }
+  }
   if (rank != 0) return std::nullopt;  // the replicated part is written from rank 0's copy
   const auto& d = data.domain;
   const std::int64_t blocks = std::int64_t{d.blocks[0]} * d.blocks[1] * d.blocks[2];
@@ -77,7 +86,8 @@ std::optional<std::string> invalidData(const CheckpointData& data, int rank) {
 /// room for HDF5's metadata. Collective.
 std::uint64_t estimatedBytes(const CheckpointData& data, MPI_Comm comm) {
   std::uint64_t mine = data.particles.size() * layout::kParticleRowBytes +
-                       data.pair_keys.size() * layout::kPairRowBytes;
+                       data.pair_keys.size() * layout::kPairRowBytes +
+                       data.sub_keys.size() * layout::kSubRowBytes;
   if (mpi::rank(comm) == 0) {
     mine += data.scene_toml.size() + data.run_state.size();
     for (const auto& s : data.shapes) mine += 48 * s.vertices.size() + 64 * s.faces.size() + 256;

@@ -120,6 +120,7 @@ class Writer {
     f_.write(batch_);
     writeParticles();
     writeContacts();
+    writeSubContacts();
   }
 
  private:
@@ -180,6 +181,7 @@ class Writer {
                    "particles: replicated (fixed, driven) rows first, then free ones");
     f_.writeAttribute("/particles", "replicated_count", h.replicated_particles);
     f_.createGroup("/contacts", "pair histories, one row per pair");
+    f_.createGroup("/subcontacts", "sub-contact histories, one row per sub-contact in compression");
   }
 
   void addRun() {
@@ -236,6 +238,8 @@ class Writer {
     table(layout::kMaterialLocalDamping,
           column(m, [](const Material& x) { return x.local_damping; }), 1);
     table(layout::kMaterialPenalty, column(m, [](const Material& x) { return x.penalty; }), 1);
+    table(layout::kMaterialJkn, column(m, [](const Material& x) { return x.jkn; }), 1);
+    table(layout::kMaterialJks, column(m, [](const Material& x) { return x.jks; }), 1);
 
     using In = Scene::Interaction;
     const auto& in = data_.interactions;
@@ -252,6 +256,8 @@ class Writer {
           column(in, [](const In& x) { return x.properties.normal_damping; }), 1);
     table(layout::kInteractionPenalty, column(in, [](const In& x) { return x.properties.penalty; }),
           1);
+    table(layout::kInteractionJkn, column(in, [](const In& x) { return x.properties.jkn; }), 1);
+    table(layout::kInteractionJks, column(in, [](const In& x) { return x.properties.jks; }), 1);
   }
 
   void addDomain() {
@@ -340,6 +346,28 @@ class Writer {
     };
     stream(slice, layout::kPairRowBytes, pack, pair, shear, normal, warm_direction, warm_point,
            warm_valid, reserved, touching);
+  }
+
+  void writeSubContacts() {
+    const auto& keys = data_.sub_keys;
+    const auto& h = data_.sub_histories;
+    const h5::Slice slice = h5::writerSlice(h.size(), comm_);
+    const std::uint64_t m = slice.total;
+    Column<std::uint64_t> pair(f_, layout::kSubPair, m, 2);
+    Column<std::uint64_t> feature(f_, layout::kSubFeature, m, 1);
+    Column<double> shear(f_, layout::kSubShearForce, m, 3);
+    Column<double> normal(f_, layout::kSubNormal, m, 3);
+    auto pack = [&](std::uint64_t begin, std::uint64_t end, std::uint64_t base) {
+      for (std::uint64_t r = begin; r < end; ++r) {
+        const std::size_t i = r - base;
+        pair.row(i)[0] = keys[r].pair.lo;
+        pair.row(i)[1] = keys[r].pair.hi;
+        *feature.row(i) = keys[r].feature;
+        put(h[r].shear_force, shear.row(i));
+        put(h[r].normal, normal.row(i));
+      }
+    };
+    stream(slice, layout::kSubRowBytes, pack, pair, feature, shear, normal);
   }
 
   h5::File& f_;

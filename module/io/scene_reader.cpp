@@ -48,12 +48,16 @@ void readSimulation(const Context& ctx, const toml::table& root, Scene& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "simulation");
   if (!s)
     ctx.fail(0, "missing the [simulation] table (it needs at least dt and end_time or steps)");
-  s->allowOnly({"kernel", "broadphase", "contact_point", "dt", "end_time", "steps", "gravity",
-                "contact_margin"});
+  s->allowOnly({"kernel", "broadphase", "contact_model", "contact_point", "dt", "end_time", "steps",
+                "gravity", "contact_margin"});
   scene.kernel = s->choice("kernel", contact::kernelNames(), scene.kernel);
   scene.broadphase = s->choice("broadphase", {"multilevel", "nbs", "all-pairs"}, scene.broadphase);
+  scene.contact_model = s->choice("contact_model", {"sub-contacts", "point"}, scene.contact_model);
   scene.contact_point =
       s->choice("contact_point", {"kernel", "overlap-centroid"}, scene.contact_point);
+  if (scene.contact_point != "kernel" && scene.contact_model != "point") {
+    s->fail("contact_point", "moves the single contact point: it needs contact_model = \"point\"");
+  }
   scene.dt = s->requiredNumber("dt", Quantity::kTime, Range::kPositive);
   if (const auto t = s->number("end_time", Quantity::kTime, Range::kPositive)) scene.end_time = *t;
   if (const auto n = s->integer("steps", Range::kPositive)) scene.steps = *n;
@@ -75,7 +79,8 @@ void readKernelParams(const Context& ctx, const toml::table& root, Scene& scene)
 
 // The contact keys shared by [[material]] and [[interaction]], with their ranges.
 void readContactKeys(const Section& s, double& kn, double& ks, double& friction_angle,
-                     double& cohesion, double& normal_damping, double& penalty) {
+                     double& cohesion, double& normal_damping, double& penalty, double& jkn,
+                     double& jks) {
   kn = s.number("kn", Quantity::kStiffness, kn, Range::kNonNegative);
   ks = s.number("ks", Quantity::kStiffness, ks, Range::kNonNegative);
   friction_angle = s.bounded("friction_angle", Quantity::kAngle, friction_angle, 0.0, 90.0, false);
@@ -83,13 +88,19 @@ void readContactKeys(const Section& s, double& kn, double& ks, double& friction_
   normal_damping =
       s.number("normal_damping", Quantity::kDimensionless, normal_damping, Range::kNonNegative);
   penalty = s.number("penalty", Quantity::kPressure, penalty, Range::kNonNegative);
+  jkn = s.number("jkn", Quantity::kJointStiffness, jkn, Range::kNonNegative);
+  jks = s.number("jks", Quantity::kJointStiffness, jks, Range::kNonNegative);
+  // A joint stiffness applies to face contacts only; edge and corner contacts have no area and
+  // keep the per-pair springs, which must then be there too.
+  if (jkn > 0.0 && !(kn > 0.0)) s.fail("jkn", "needs kn > 0 too: edge and corner contacts use kn");
+  if (jks > 0.0 && !(ks > 0.0)) s.fail("jks", "needs ks > 0 too: edge and corner contacts use ks");
 }
 
 void readMaterials(const Context& ctx, const toml::table& root, Scene& scene) {
   std::map<std::string, int> lines;
   for (const Section& s : detail::entries(ctx, root, "material", "name")) {
     s.allowOnly({"name", "density", "kn", "ks", "friction_angle", "cohesion", "normal_damping",
-                 "local_damping", "penalty"});
+                 "local_damping", "penalty", "jkn", "jks"});
     particles::Material m;
     m.name = s.requiredString("name");
     if (const auto it = lines.find(m.name); it != lines.end()) {
@@ -98,7 +109,8 @@ void readMaterials(const Context& ctx, const toml::table& root, Scene& scene) {
     }
     lines[m.name] = s.line();
     m.density = s.requiredNumber("density", Quantity::kDensity, Range::kPositive);
-    readContactKeys(s, m.kn, m.ks, m.friction_angle, m.cohesion, m.normal_damping, m.penalty);
+    readContactKeys(s, m.kn, m.ks, m.friction_angle, m.cohesion, m.normal_damping, m.penalty, m.jkn,
+                    m.jks);
     m.local_damping = s.bounded("local_damping", Quantity::kDimensionless, 0.0, 0.0, 1.0, false);
     // Which of the two a kernel needs is the simulation's business; a material with neither
     // cannot push back at all.
@@ -132,8 +144,8 @@ void readInteractions(const Context& ctx, const toml::table& root, Scene& scene)
   table.finalize();
   std::map<std::pair<int, int>, int> seen;  // pair -> line
   for (const Section& s : detail::entries(ctx, root, "interaction", "")) {
-    s.allowOnly(
-        {"materials", "kn", "ks", "friction_angle", "cohesion", "normal_damping", "penalty"});
+    s.allowOnly({"materials", "kn", "ks", "friction_angle", "cohesion", "normal_damping", "penalty",
+                 "jkn", "jks"});
     if (!s.has("materials")) s.missing("materials");
     const toml::array* names = s.find("materials")->as_array();
     if (!names || names->size() != 2) {
@@ -149,7 +161,8 @@ void readInteractions(const Context& ctx, const toml::table& root, Scene& scene)
     seen[key] = s.line();
     in.properties = table.pair(in.a, in.b);
     auto& p = in.properties;
-    readContactKeys(s, p.kn, p.ks, p.friction_angle, p.cohesion, p.normal_damping, p.penalty);
+    readContactKeys(s, p.kn, p.ks, p.friction_angle, p.cohesion, p.normal_damping, p.penalty, p.jkn,
+                    p.jks);
     scene.interactions.push_back(in);
   }
 }

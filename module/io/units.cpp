@@ -106,6 +106,8 @@ Dimension dimensionOf(Quantity q) {
       return {1, 0, -2, 0};
     case Quantity::kPressure:
       return {1, -1, -2, 0};
+    case Quantity::kJointStiffness:
+      return {1, -2, -2, 0};
     case Quantity::kForce:
       return {1, 1, -2, 0};
     case Quantity::kAngle:
@@ -137,6 +139,8 @@ std::string describe(Quantity q) {
       return "a stiffness (N/m)";
     case Quantity::kPressure:
       return "a pressure (Pa)";
+    case Quantity::kJointStiffness:
+      return "a stiffness per area (Pa/m)";
     case Quantity::kForce:
       return "a force (N)";
     case Quantity::kAngle:
@@ -173,7 +177,7 @@ std::string describe(const Dimension& d) {
   for (Quantity q :
        {Quantity::kDimensionless, Quantity::kLength, Quantity::kTime, Quantity::kVelocity,
         Quantity::kAcceleration, Quantity::kDensity, Quantity::kStiffness, Quantity::kPressure,
-        Quantity::kForce, Quantity::kFrequency}) {
+        Quantity::kJointStiffness, Quantity::kForce, Quantity::kFrequency}) {
     if (dimensionOf(q) == d) return describe(q);
   }
   return toString(d);

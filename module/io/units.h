@@ -32,6 +32,7 @@ enum class Quantity {
   kDensity,
   kStiffness,        // N/m
   kPressure,         // Pa
+  kJointStiffness,   // Pa/m: stiffness per area of a joint (3DEC's jkn, jks)
   kForce,            // N
   kAngle,            // stored in degrees; a plain number is degrees
   kPhase,            // stored in radians; a plain number is radians

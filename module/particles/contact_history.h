@@ -2,16 +2,19 @@
 //
 // It holds the tangential (shear) force, the previous contact normal (to rotate the shear force
 // onto the new contact plane, Zhao eqs. 33-34) and the kernel's warm start (previous common plane
-// or separating axis). It lives outside the kernels so that it can migrate with particles and be
-// written to checkpoints.
+// or separating axis). With the sub-contact model (contact/face_contact.h) every sub-contact of a
+// pair has a shear spring of its own, kept in a second table keyed by (pair, features). Both live
+// outside the kernels so that they can migrate with particles and be written to checkpoints.
 //
-// Storage is a vector sorted by key. The narrow phase visits candidate pairs in the same key order,
-// so looking up last step's entries is a merge walk (no hashing), and the new history comes out
-// already sorted. A pair whose two particles are owned by different ranks is evaluated on both
-// ranks from identical inputs, so both copies stay bit-for-bit equal.
+// Storage is two vectors sorted by key; a pair's sub-contacts are contiguous in the second. The
+// narrow phase visits candidate pairs in the same key order, so looking up last step's entries is
+// a merge walk (no hashing), and the new history comes out already sorted. A pair whose two
+// particles are owned by different ranks is evaluated on both ranks from identical inputs, so
+// both copies stay bit-for-bit equal.
 #pragma once
 
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "contact/contact.h"
@@ -38,8 +41,33 @@ struct PairHistory {
   std::uint32_t touching = 0;       // 1 if the pair was in contact at the last step
 };
 
+/// A sub-contact's key: its pair, then the features of A and B it comes from (a
+/// contact::FeatureKey), so that a pair's sub-contacts sort together in a canonical order.
+struct SubKey {
+  PairKey pair;
+  std::uint64_t feature = 0;
+  friend bool operator==(const SubKey&, const SubKey&) = default;
+  friend auto operator<=>(const SubKey&, const SubKey&) = default;
+};
+
+struct SubHistory {
+  Vec3 shear_force = Vec3::Zero();  // on the lower-uid particle, world frame, tangent to `normal`
+  Vec3 normal = Vec3::Zero();       // the sub-contact's normal at the last step
+};
+
 void pack(SendBuffer& out, const PairKey& key, const PairHistory& h);
 void unpack(RecvBuffer& in, PairKey& key, PairHistory& h);
+void pack(SendBuffer& out, const SubKey& key, const SubHistory& h);
+void unpack(RecvBuffer& in, SubKey& key, SubHistory& h);
+
+/// Histories in transit (received from other ranks, read from a checkpoint), in any order.
+struct HistoryRecords {
+  std::vector<PairKey> keys;
+  std::vector<PairHistory> entries;
+  std::vector<SubKey> sub_keys;
+  std::vector<SubHistory> sub_entries;
+  bool empty() const { return keys.empty() && sub_keys.empty(); }
+};
 
 class ContactHistory {
  public:
@@ -47,32 +75,48 @@ class ContactHistory {
   bool empty() const { return keys_.empty(); }
   std::span<const PairKey> keys() const { return keys_; }
   std::span<const PairHistory> entries() const { return entries_; }
+  std::span<const SubKey> subKeys() const { return sub_keys_; }
+  std::span<const SubHistory> subEntries() const { return sub_entries_; }
   void clear();
 
   /// Entry for `key`, or null. O(log n).
   const PairHistory* find(const PairKey& key) const;
 
+  /// Index range [first, last) of the sub-contacts of `key` in subKeys(). O(log n).
+  std::pair<std::size_t, std::size_t> subRange(const PairKey& key) const;
+
   /// Appends an entry whose key is larger than every key so far (building in sorted order).
   void appendSorted(const PairKey& key, const PairHistory& h);
+  /// Appends a sub-contact whose key is larger than every sub-contact key so far.
+  void appendSub(const SubKey& key, const SubHistory& h);
 
   /// Adds entries in any order (e.g. received from other ranks); sorts, and keeps one copy of
   /// keys present twice (copies of the same pair from two ranks are identical by construction).
   void merge(std::span<const PairKey> keys, std::span<const PairHistory> entries);
+  /// The same for pairs and sub-contacts.
+  void merge(const HistoryRecords& records);
+  /// Adds this history's entries for `key` (pair and sub-contacts) to `records`.
+  void copyPair(std::size_t pair_index, HistoryRecords& records) const;
 
-  /// Sequential lookup for a caller visiting keys in increasing order: advances an internal cursor.
+  /// Sequential lookup for a caller visiting keys in increasing order: advances internal cursors.
   class Cursor {
    public:
     explicit Cursor(const ContactHistory& h) : h_(h) {}
     const PairHistory* seek(const PairKey& key);
+    /// The sub-contacts of `key` (keys and entries, parallel), for keys visited in increasing
+    /// order.
+    std::pair<std::span<const SubKey>, std::span<const SubHistory>> subs(const PairKey& key);
 
    private:
     const ContactHistory& h_;
-    std::size_t pos_ = 0;
+    std::size_t pos_ = 0, sub_pos_ = 0;
   };
 
  private:
   std::vector<PairKey> keys_;
   std::vector<PairHistory> entries_;
+  std::vector<SubKey> sub_keys_;
+  std::vector<SubHistory> sub_entries_;
 };
 
 }  // namespace polydem::particles

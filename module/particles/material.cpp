@@ -35,6 +35,8 @@ ContactProperties combine(const Material& a, const Material& b) {
   p.kn = std::min(a.kn, b.kn);
   p.ks = std::min(a.ks, b.ks);
   p.penalty = std::min(a.penalty, b.penalty);
+  p.jkn = std::min(a.jkn, b.jkn);
+  p.jks = std::min(a.jks, b.jks);
   p.friction_angle = std::min(a.friction_angle, b.friction_angle);
   p.cohesion = std::min(a.cohesion, b.cohesion);
   p.normal_damping = 0.5 * (a.normal_damping + b.normal_damping);

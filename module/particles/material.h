@@ -18,6 +18,8 @@ struct Material {
   double normal_damping = 0.0;  // viscous normal damping, fraction of critical
   double local_damping = 0.0;   // 3DEC local non-viscous damping coefficient, 0..0.8
   double penalty = 0.0;         // Pa: normal penalty of the potential kernels (Zhao eq. 13)
+  double jkn = 0.0;             // Pa/m: normal stiffness per area of face contacts (0: use kn)
+  double jks = 0.0;             // Pa/m: shear stiffness per area of face contacts (0: use ks)
 };
 
 /// What the contact law uses for one pair.
@@ -27,6 +29,7 @@ struct ContactProperties {
   double cohesion = 0.0;
   double normal_damping = 0.0;
   double penalty = 0.0;
+  double jkn = 0.0, jks = 0.0;  // Pa/m, sub-contact model's face contacts (0: kn, ks per pair)
 };
 
 class MaterialTable {

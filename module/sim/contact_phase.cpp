@@ -115,10 +115,12 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
     ++stats.evaluated;
     particles::PairHistory h;
     if (const auto* previous = old.seek(c.key)) h = *previous;
+    const auto [old_sub_keys, old_subs] = old.subs(c.key);
     contact::Body body_a{&sa.polyhedron, xa, storage.rotation(c.a), va};
     contact::Body body_b{&sb.polyhedron, xb, storage.rotation(c.b), vb};
     contact::Contact contact = setup.kernel->collide(body_a, body_b, &h.kernel);
-    if (setup.overlap_centroid) contact = overlap_.apply(body_a, body_b, contact);
+    const bool split = setup.sub_contacts && contact.model == contact::ForceModel::kPenalty;
+    if (setup.overlap_centroid && !split) contact = overlap_.apply(body_a, body_b, contact);
 
     ContactRecord rec;
     rec.key = c.key;
@@ -132,22 +134,46 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
     const double ma = storage.mass(c.a), mb = storage.mass(c.b);
     const double m_eff = pa.isFree() && pb.isFree() ? ma * mb / (ma + mb) : (pa.isFree() ? ma : mb);
     const auto& law = (*setup.law)[pa.material * setup.materials + pb.material];
-    const Vec3 v_rel = contact.touching
-                           ? dynamics::relativeVelocity(contact.point, a.position, a.velocity_half,
-                                                        a.angular_velocity, b.position,
-                                                        b.velocity_half, b.angular_velocity)
-                           : Vec3::Zero();
-    const auto f = dynamics::contactForce(contact, v_rel, m_eff, setup.dt, law, h);
-    next_.appendSorted(c.key, h);
-    if (contact.touching) {
+    if (split && contact.touching) {
+      // Sub-contacts: a spring at every corner of the face overlap, each with its own history.
+      const auto fc = face_.build(body_a, body_b, contact);
+      const dynamics::PairKinematics kin{xa, a.velocity_half, a.angular_velocity,
+                                         xb, b.velocity_half, b.angular_velocity};
+      const auto f =
+          dynamics::subContactForces(fc, old_sub_keys, old_subs, kin, m_eff, setup.dt, law, kept_);
+      h.shear_force.setZero();
+      h.normal = contact.normal;
+      h.touching = 1;
+      next_.appendSorted(c.key, h);
+      for (const auto& s : kept_) next_.appendSub({c.key, s.feature}, s.history);
       ++stats.touching;
-      rec.point = contact.point;
+      stats.subcontacts += f.loaded;
+      rec.point = f.centre;
       rec.normal = contact.normal;
       rec.force = f.force;
       rec.normal_force = f.normal;
       rec.shear_force = f.shear;
-      if (local_a >= 0) forces[local_a].addContact(f.force, contact.point, xa);
-      if (local_b >= 0) forces[local_b].addContact(-f.force, contact.point, xb);
+      rec.subcontacts = f.loaded;
+      if (local_a >= 0) forces[local_a].addPair(f.force, f.torque_a);
+      if (local_b >= 0) forces[local_b].addPair(-f.force, f.torque_b);
+    } else {
+      const Vec3 v_rel =
+          contact.touching ? dynamics::relativeVelocity(contact.point, a.position, a.velocity_half,
+                                                        a.angular_velocity, b.position,
+                                                        b.velocity_half, b.angular_velocity)
+                           : Vec3::Zero();
+      const auto f = dynamics::contactForce(contact, v_rel, m_eff, setup.dt, law, h);
+      next_.appendSorted(c.key, h);
+      if (contact.touching) {
+        ++stats.touching;
+        rec.point = contact.point;
+        rec.normal = contact.normal;
+        rec.force = f.force;
+        rec.normal_force = f.normal;
+        rec.shear_force = f.shear;
+        if (local_a >= 0) forces[local_a].addContact(f.force, contact.point, xa);
+        if (local_b >= 0) forces[local_b].addContact(-f.force, contact.point, xb);
+      }
     }
     stats.not_converged += contact.status == contact::Status::kNotConverged;
     stats.degenerate += contact.status == contact::Status::kDegenerate;

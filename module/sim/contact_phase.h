@@ -18,9 +18,11 @@
 
 #include "broadphase/broad_phase.h"
 #include "contact/contact.h"
+#include "contact/face_contact.h"
 #include "contact/overlap_point.h"
 #include "dynamics/contact_law.h"
 #include "dynamics/monitors.h"
+#include "dynamics/sub_contact_law.h"
 #include "io/scene.h"
 #include "particles/contact_history.h"
 #include "particles/particle_storage.h"
@@ -35,7 +37,11 @@ struct ContactSetup {
   const std::vector<dynamics::LawCoefficients>* law = nullptr;
   int materials = 0;
   const std::vector<io::DriverSpec>* drivers = nullptr;
-  // Move each touching contact's point to the centroid of the overlap volume (overlap_point.h).
+  // Split penalty contacts into sub-contacts at the corners of the face overlap
+  // (contact/face_contact.h, dynamics/sub_contact_law.h); false: the single-point model.
+  bool sub_contacts = true;
+  // Move each touching contact's point to the centroid of the overlap volume (overlap_point.h;
+  // single-point model only).
   bool overlap_centroid = false;
   double margin = 0.0;  // absolute: pairs with centroid distance <= rA + rB + margin are evaluated
   double dt = 0.0;
@@ -47,19 +53,22 @@ struct ContactRecord {
   particles::PairKey key;
   std::int32_t a = -1, b = -1;  // local indices of A and B when local and free, else -1
   bool touching = false;
-  Vec3 point = Vec3::Zero();  // in A's frame (the world frame unless A is a periodic image)
+  Vec3 point = Vec3::Zero();  // in A's frame (the world frame unless A is a periodic image); with
+                              // sub-contacts the centre of pressure
   Vec3 normal = Vec3::Zero();
   Vec3 force = Vec3::Zero();  // on A
   double normal_force = 0.0, shear_force = 0.0;
   contact::Status status = contact::Status::kOk;
-  bool a_is_local = false;  // A is stored on this rank as a local particle
-  bool both_free = false;   // neither A nor B is fixed or driven
+  std::int32_t subcontacts = 0;  // sub-contacts in compression (0 for the single-point model)
+  bool a_is_local = false;       // A is stored on this rank as a local particle
+  bool both_free = false;        // neither A nor B is fixed or driven
 };
 
 struct ContactPhaseStats {
   std::int64_t candidates = 0;  // pairs from the broad phase
   std::int64_t evaluated = 0;   // pairs passing the sphere and box tests (kernel calls)
   std::int64_t touching = 0;
+  std::int64_t subcontacts = 0;  // sub-contacts in compression (sub-contact model)
   std::int64_t not_converged = 0, degenerate = 0, inner_domain = 0;
 };
 
@@ -88,6 +97,8 @@ class ContactPhase {
   particles::ContactHistory next_;
   std::vector<Vec3> scratch_a_, scratch_b_;
   contact::OverlapCentroid overlap_;
+  contact::FaceContactBuilder face_;
+  std::vector<dynamics::SubState> kept_;
 };
 
 }  // namespace polydem::sim

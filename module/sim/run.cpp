@@ -30,6 +30,7 @@ nlohmann::json summaryJson(const io::Scene& scene, Simulation& sim, const RunRes
   j["title"] = scene.title;
   j["scene_file"] = scene.file;
   j["kernel"] = scene.kernel;
+  j["contact_model"] = scene.contact_model;
   j["broadphase"] = scene.broadphase;
   j["ranks"] = mpi::size(sim.comm());
   j["dt"] = scene.dt;
@@ -82,6 +83,13 @@ void applyOverrides(io::Scene& scene, const RunOptions& options) {
   if (options.kernel) {
     contact::makeKernel(*options.kernel);  // throws with the list of known kernels
     scene.kernel = *options.kernel;
+  }
+  if (options.contact_model) {
+    if (*options.contact_model != "sub-contacts" && *options.contact_model != "point") {
+      throw Error(
+          cat("unknown contact model '", *options.contact_model, "' (known: sub-contacts, point)"));
+    }
+    scene.contact_model = *options.contact_model;
   }
   if (options.steps || options.end_time) {
     scene.steps = options.steps;
@@ -236,6 +244,13 @@ RunResult continueRun(const std::string& file, const std::optional<std::string>&
   } else {
     scene = io::parseScene(data.scene_toml, data.scene_file);
     options.scene_text = data.scene_toml;
+  }
+  if (data.format_version < 2 && scene.contact_model != "point") {
+    // Version 1 was written before sub-contacts existed, by the single-point model; continuing
+    // with another model would not continue that run (docs/checkpoint.md).
+    log::info(cat(file, ": format version ", data.format_version,
+                  " predates sub-contacts; continuing with contact_model = \"point\""));
+    scene.contact_model = "point";
   }
   return runWith(std::move(scene), options, comm, &data, file);
 }

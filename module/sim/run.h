@@ -16,12 +16,13 @@
 namespace polydem::sim {
 
 struct RunOptions {
-  std::string out_dir;                // empty: no files at all (tests)
-  std::optional<std::int64_t> steps;  // override the scene's step count
-  std::optional<double> end_time;     // override the scene's end time
-  std::optional<std::string> kernel;  // override the scene's kernel
-  bool snapshots = true;              // write ParaView snapshots
-  std::int64_t progress_every = 0;    // 0: the scene's, or automatic
+  std::string out_dir;                       // empty: no files at all (tests)
+  std::optional<std::int64_t> steps;         // override the scene's step count
+  std::optional<double> end_time;            // override the scene's end time
+  std::optional<std::string> kernel;         // override the scene's kernel
+  std::optional<std::string> contact_model;  // override the scene's contact model
+  bool snapshots = true;                     // write ParaView snapshots
+  std::int64_t progress_every = 0;           // 0: the scene's, or automatic
   // --- checkpoints (docs/checkpoint.md) -----------------------------------------------------
   std::string scene_text;                        // the scene file's text, stored in checkpoints
   std::optional<std::int64_t> checkpoint_every;  // override [checkpoint] every_steps

@@ -78,6 +78,7 @@ void Simulation::computeContacts() {
   setup.law = stage_ == Stage::kEquilibrium ? &law_equilibrium_ : &law_main_;
   setup.materials = static_cast<int>(materials_.size());
   setup.drivers = &scene_.drivers;
+  setup.sub_contacts = scene_.contact_model == "sub-contacts";
   setup.overlap_centroid = scene_.contact_point == "overlap-centroid";
   setup.margin = margin_;
   setup.dt = dt();

@@ -70,10 +70,14 @@ io::CheckpointData Simulation::checkpoint(const std::string& scene_toml,
   }
   const auto keys = history_.keys();
   const auto entries = history_.entries();
+  particles::ContactHistory::Cursor cursor(history_);
   for (std::size_t k = 0; k < keys.size(); ++k) {
     if (!writesPair(storage_, keys[k], rank_)) continue;
     d.pair_keys.push_back(keys[k]);
     d.pair_histories.push_back(entries[k]);
+    const auto [sub_keys, subs] = cursor.subs(keys[k]);
+    d.sub_keys.insert(d.sub_keys.end(), sub_keys.begin(), sub_keys.end());
+    d.sub_histories.insert(d.sub_histories.end(), subs.begin(), subs.end());
   }
   return d;
 }
@@ -152,7 +156,9 @@ void Simulation::restoreParticles(const io::CheckpointData& checkpoint, const st
     forest_->setRankMap(rankMap(weights), ranks_);
   }
   exchange_.migrate(*forest_, storage_, history_, checkpoint.step);
-  history_ = comm::routeHistories(checkpoint.pair_keys, checkpoint.pair_histories, storage_, comm_);
+  particles::HistoryRecords records{checkpoint.pair_keys, checkpoint.pair_histories,
+                                    checkpoint.sub_keys, checkpoint.sub_histories};
+  history_ = comm::routeHistories(records, storage_, comm_);
   log::info(cat("restored step ", checkpoint.step, " (", io::toString(checkpoint.stage),
                 " stage) from ", file, ", written by ", dom.ranks, " rank(s), on ", ranks_,
                 " rank(s)"));

@@ -31,12 +31,13 @@ except ImportError as e:  # pragma: no cover - reported to the user
     sys.exit(2)
 
 FORMAT = "polydem-checkpoint"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+OLDEST_VERSION = 1
 MASK = (1 << 64) - 1
 GAMMA = 0x9E3779B97F4A7C15
 CHUNK = 1 << 20  # elements hashed per numpy pass
 
-# Every dataset a version-1 checkpoint holds.
+# Every dataset a version-1 checkpoint holds; version 2 adds REQUIRED_V2.
 REQUIRED = [
     "/run/state", "/scene/toml",
     "/shapes/name", "/shapes/vertex_offset", "/shapes/vertices", "/shapes/face_offset",
@@ -55,6 +56,12 @@ REQUIRED = [
     "/contacts/pair", "/contacts/shear_force", "/contacts/normal", "/contacts/warm_direction",
     "/contacts/warm_point", "/contacts/warm_valid", "/contacts/kernel_reserved",
     "/contacts/touching",
+]
+REQUIRED_V2 = [
+    "/materials/jkn", "/materials/jks", "/materials/interaction/jkn",
+    "/materials/interaction/jks",
+    "/subcontacts/pair", "/subcontacts/feature", "/subcontacts/shear_force",
+    "/subcontacts/normal",
 ]
 
 FIXED, DRIVEN = 1 << 1, 1 << 2
@@ -136,10 +143,10 @@ def summarize(path):
         version = int(f.attrs.get("format_version", -1))
         if fmt != FORMAT:
             problems.append("not a polydem checkpoint (format attribute is %r)" % fmt)
-        elif version != FORMAT_VERSION:
-            problems.append("format version %d; this script reads version %d"
-                            % (version, FORMAT_VERSION))
-        for name in REQUIRED:
+        elif not OLDEST_VERSION <= version <= FORMAT_VERSION:
+            problems.append("format version %d; this script reads versions %d to %d"
+                            % (version, OLDEST_VERSION, FORMAT_VERSION))
+        for name in REQUIRED + (REQUIRED_V2 if version >= 2 else []):
             if name not in f:
                 problems.append("dataset %s is missing" % name)
         if problems:

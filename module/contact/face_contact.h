@@ -1,0 +1,101 @@
+// Face contacts split into sub-contacts at the corners of the contact area, as block DEM codes
+// have done since Cundall (1988) and Hart et al. (1988) (3DEC). A single contact point carrying
+// the whole normal force gives a block resting on a face no rotational stiffness while the face
+// overlap does not change (the point stays put as the block tilts), so blocks rock, creep and slip
+// below their friction angle (docs/dynamics.md). With a spring at every corner of the overlap, a
+// tilt loads one side and unloads the other: a restoring moment, and a normal force that is the
+// gradient of a potential (sum over corners of kn w g^2 / 2), so an undamped, frictionless
+// contact conserves energy. Several shear springs also resist twisting about the normal.
+//
+// From the kernel's normal n (from B into A):
+//   - A's face that faces B: among the faces around A's deepest vertex along -n, the one whose
+//     outward normal is closest to -n, if within kFacingAngleDeg; B's likewise along +n.
+//   - face-face: both faces are projected onto the plane normal to n and intersected; each corner
+//     of the intersection is a sub-contact (a vertex of one body inside the other's face, or the
+//     crossing of an edge of each), weighted by its share of the area;
+//   - edge-face: one body has a facing face, the other an edge parallel to the plane (within the
+//     same angle) at its deepest vertex: the edge clipped by the face gives two sub-contacts of
+//     weight 1/2 (a line contact);
+//   - anything else (vertex-vertex, vertex-edge, vertex-face, crossing edges) keeps the kernel's
+//     single point, weight 1.
+// Every sub-contact has its own gap, which may be negative (that corner is apart: no force).
+// Tolerances are relative to the pair's size.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "contact/contact.h"
+#include "contact/labelled_clip.h"
+
+namespace polydem::contact {
+
+/// Which features of A and B a sub-contact comes from: A's feature in the high 32 bits, B's in
+/// the low (labelled_clip.h). Sorting by it gives a canonical order; 0 is the single point.
+using FeatureKey = std::uint64_t;
+
+inline FeatureKey featureKey(std::uint32_t a, std::uint32_t b) {
+  return (static_cast<FeatureKey>(a) << 32) | b;
+}
+
+/// The largest angle between a face's outward normal and the contact normal for the face to face
+/// the other body (and between an edge and the contact plane for an edge to lie on it). Faces
+/// tilted by more meet the other body with an edge or a corner. Within this angle, the corners
+/// that are apart simply carry no force, so a block tipping onto an edge keeps its springs until
+/// the tilt reaches this angle.
+inline constexpr double kFacingAngleDeg = 20.0;
+
+struct SubContact {
+  FeatureKey feature = 0;
+  Vec3 point = Vec3::Zero();    // on the middle surface, half way between the two surfaces
+  Vec3 normal = Vec3::UnitZ();  // unit, from B into A
+  double gap = 0.0;             // overlap along `normal`: > 0 penetrating, <= 0 apart
+  double weight = 0.0;          // share of the pair's stiffness; the weights sum to 1
+};
+
+enum class ContactArea : std::uint8_t {
+  kPoint,  // one sub-contact: the kernel's point
+  kLine,   // two: the ends of an edge lying on a face
+  kFace,   // the corners of a face overlap
+};
+
+struct FaceContact {
+  ContactArea kind = ContactArea::kPoint;
+  double area = 0.0;                 // of the face overlap (kFace), m^2
+  std::span<const SubContact> subs;  // sorted by feature; valid until the next build()
+};
+
+/// Builds the sub-contacts of one contact. Keeps its buffers, so that one builder reused for every
+/// pair allocates nothing once warm.
+class FaceContactBuilder {
+ public:
+  /// The sub-contacts of the touching contact `c` of A and B (c.normal from B into A).
+  /// Each sub-contact's gap is measured along the normal of the face its vertex meets (a vertex
+  /// of A inside B's face: B's face normal; a vertex of B inside A's face: minus A's), which makes
+  /// the corner force the exact gradient of its spring energy; crossings of edges use c.normal.
+  FaceContact build(const Body& a, const Body& b, const Contact& c);
+
+ private:
+  bool faceFace(const Body& a, const Body& b, int fa, int fb, const Contact& c);
+  bool edgeFace(const Body& edge_body, const Body& face_body, int edge, int face, bool edge_is_a,
+                const Contact& c);
+  void project(const Body& body, int face, std::vector<Vec2>& corners, std::vector<int>& vertex,
+               std::vector<int>& edge) const;
+  SubContact fromCorner(const Body& a, const Body& b, const LabelledCorner& k, const Vec3& n) const;
+  void finish();
+
+  struct Frame {
+    Vec3 origin, u, v;
+  } frame_;
+  double scale_ = 0.0;  // the pair's length scale
+  double area_ = 0.0;
+  std::vector<Vec2> corners_a_, corners_b_;
+  std::vector<int> vertex_a_, vertex_b_, edge_a_, edge_b_;
+  std::vector<LabelledCorner> overlap_;
+  std::vector<double> shares_;
+  std::vector<SubContact> subs_;
+  LabelledClipper clipper_;
+};
+
+}  // namespace polydem::contact
