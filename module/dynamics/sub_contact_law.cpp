@@ -97,6 +97,8 @@ PairForce subContactForces(const contact::FaceContact& fc,
     out.torque_a += (s.point - kin.xa).cross(f);
     out.torque_b -= (s.point - kin.xb).cross(f);
     out.normal += f_normal;
+    out.energy += 0.5 * f_elastic * s.gap;
+    if (ks > 0.0) out.energy += 0.5 * shear.squaredNorm() / (w * ks);
     centre_sum += f_normal * s.point;
     shear_sum += shear;
     ++out.loaded;

@@ -51,6 +51,7 @@ struct PairForce {
   Vec3 centre = Vec3::Zero();    // centre of pressure: normal-force weighted mean of the points
   double normal = 0.0;           // sum of the normal forces, N
   double shear = 0.0;            // |sum of the shear forces|, N
+  double energy = 0.0;           // spring energy: kn_i g_i^2 / 2 + |f_s,i|^2 / (2 ks_i), J
   int loaded = 0;                // sub-contacts in compression
   bool sliding = false;          // some sub-contact reached its Coulomb limit
 };

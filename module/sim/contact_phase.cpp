@@ -154,6 +154,7 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
       rec.normal_force = f.normal;
       rec.shear_force = f.shear;
       rec.subcontacts = f.loaded;
+      rec.energy = f.energy;
       if (local_a >= 0) forces[local_a].addPair(f.force, f.torque_a);
       if (local_b >= 0) forces[local_b].addPair(-f.force, f.torque_b);
     } else {
@@ -171,6 +172,9 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
         rec.force = f.force;
         rec.normal_force = f.normal;
         rec.shear_force = f.shear;
+        if (contact.model == contact::ForceModel::kPenalty) {
+          rec.energy = 0.5 * f.normal_elastic * contact.depth;
+        }
         if (local_a >= 0) forces[local_a].addContact(f.force, contact.point, xa);
         if (local_b >= 0) forces[local_b].addContact(-f.force, contact.point, xb);
       }

@@ -58,6 +58,7 @@ struct ContactRecord {
   Vec3 normal = Vec3::Zero();
   Vec3 force = Vec3::Zero();  // on A
   double normal_force = 0.0, shear_force = 0.0;
+  double energy = 0.0;  // elastic energy of the normal springs (penalty contacts), J
   contact::Status status = contact::Status::kOk;
   std::int32_t subcontacts = 0;  // sub-contacts in compression (0 for the single-point model)
   bool a_is_local = false;       // A is stored on this rank as a local particle
