@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Builds the README's validation table from the summary.json files of scripts/validation-table.
 
-One row per scene, one column per kernel. A cell is PASS or FAIL (every check of the scene must
+One table per contact model, one row per scene, one column per kernel (the potential kernels,
+which have no contact model, only in the first table). A cell is PASS or FAIL (every check of the scene must
 pass) with the scene's headline figure; a run that did not finish shows why (the last line of its
 log). The check list of every cell follows the table, so that each figure can be traced.
 """
@@ -65,22 +66,27 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--kernels", nargs="+", required=True)
     ap.add_argument("--scenes", nargs="+", required=True)
+    ap.add_argument("--models", nargs="+", default=["sub-contacts"])
+    ap.add_argument("--potential", nargs="*", default=[])
     a = ap.parse_args()
     out = pathlib.Path(a.out)
     details = []
-    print("| scene | " + " | ".join(a.kernels) + " |")
-    print("|---" * (len(a.kernels) + 1) + "|")
-    for scene in a.scenes:
-        row = []
-        for k in a.kernels:
-            text, s = cell(out / scene / k, out / scene / f"{k}.log")
-            row.append(text)
-            if s:
-                details.append((scene, k, s))
-        print(f"| {scene} | " + " | ".join(row) + " |")
-    print()
-    for scene, k, s in details:
-        print(f"- {scene} / {k}: {s['steps']} steps, {s['wall_seconds']:.1f} s wall, "
+    for m, model in enumerate(a.models):
+        kernels = [k for k in a.kernels if m == 0 or k not in a.potential]
+        print(f"contact_model = {model}:\n")
+        print("| scene | " + " | ".join(kernels) + " |")
+        print("|---" * (len(kernels) + 1) + "|")
+        for scene in a.scenes:
+            row = []
+            for k in kernels:
+                text, s = cell(out / model / scene / k, out / model / scene / f"{k}.log")
+                row.append(text)
+                if s:
+                    details.append((model, scene, k, s))
+            print(f"| {scene} | " + " | ".join(row) + " |")
+        print()
+    for model, scene, k, s in details:
+        print(f"- {scene} / {k} / {model}: {s['steps']} steps, {s['wall_seconds']:.1f} s wall, "
               f"hash {s['state_hash']}")
         for c in s.get("checks", []):
             print(f"  - {c['name']}: {fmt(c['value'])} (expected {fmt(c['expected'])}, "

@@ -412,6 +412,11 @@ std::vector<std::unique_ptr<Check>> makeChecks(const io::Scene& scene, Tracker& 
         const auto m = sim.monitors();
         return mean ? m.mean_speed : m.max_speed;
       }));
+    } else if (k == "contact_count") {
+      // Touching pairs at the end, each once: cubes pushing their neighbours make new contacts.
+      checks.push_back(std::make_unique<FinalCheck>(spec, [](Simulation& sim, std::string&) {
+        return static_cast<double>(sim.monitors().contacts);
+      }));
     } else if (k == "max_contact_force") {
       const auto axis = p.vector("axis");
       checks.push_back(std::make_unique<FinalCheck>(
@@ -421,7 +426,7 @@ std::vector<std::unique_ptr<Check>> makeChecks(const io::Scene& scene, Tracker& 
       p.fail(
           "unknown kind; known kinds: displacement, rotation, lateral_drift, sliding_block, "
           "wedge_slide, kinetic_energy_ratio, separation_time, equilibrium_steps, mean_speed, "
-          "max_speed, max_contact_force");
+          "max_speed, contact_count, max_contact_force");
     }
   }
   return checks;
