@@ -8,6 +8,7 @@ namespace polydem::app {
 
 int benchCheckpoint(int argc, char** argv);
 #ifdef POLYDEM_WITH_BENCHMARKS
+int benchContactModel(int argc, char** argv);
 int benchKernels(int argc, char** argv);
 int benchScaling(int argc, char** argv);
 #endif
@@ -18,9 +19,11 @@ int benchCommand(int argc, char** argv) {
 #ifdef POLYDEM_WITH_BENCHMARKS
   if (which == "kernels") return benchKernels(argc - 1, argv + 1);
   if (which == "scaling") return benchScaling(argc - 1, argv + 1);
+  if (which == "contact-model") return benchContactModel(argc - 1, argv + 1);
   std::printf(
       "usage: polydem bench kernels [--help]   contact kernels vs libccd (P-KERNELS)\n"
       "       mpirun -n P polydem bench scaling [--help]   strong scaling of P-PILE\n"
+      "       polydem bench contact-model [--help]   sub-contacts vs the point model\n"
       "       mpirun -n P polydem bench checkpoint [--help]   checkpoint bandwidth vs raw HDF5\n");
   return which == "--help" ? 0 : 2;
 #else

@@ -122,30 +122,24 @@ bool FaceContactBuilder::faceFace(const Body& a, const Body& b, int fa, int fb, 
                     RelTol::kPoint * scale_, overlap_);
   const int m = static_cast<int>(overlap_.size());
   if (m < 3) return false;
-  // Area centroid, then each corner's share: half of the two fan triangles (centroid, corner,
-  // neighbour) it belongs to. For a triangle every corner gets a third, for a centred rectangle
-  // a quarter, so that a uniform gap puts the resultant at the centroid of the area.
-  double twice_area = 0.0;
-  Vec2 moment = Vec2::Zero();
-  for (int i = 0; i < m; ++i) {
-    const Vec2& p = overlap_[i].p;
-    const Vec2& q = overlap_[(i + 1) % m].p;
-    const double w = geometry::cross2(p, q);
-    twice_area += w;
-    moment += w * (p + q);
-  }
-  double extent = 0.0;
-  for (int i = 0; i < m; ++i) {
-    extent = std::max(extent, (overlap_[i].p - overlap_[(i + 1) % m].p).norm());
-  }
-  if (!(twice_area > 2.0 * RelTol::kIteration * scale_ * extent)) return false;
-  const Vec2 centroid = moment / (3.0 * twice_area);
+  // Each corner's share of the area: half of the two fan triangles (middle, corner, neighbour)
+  // it belongs to, the middle being the mean of the corners. That is inside a convex polygon, so
+  // no share is negative even for a sliver whose area centroid is lost to round-off; for a
+  // triangle every corner gets a third, for a parallelogram a quarter, so that a uniform gap puts
+  // the resultant at the centroid of the area.
+  Vec2 middle = Vec2::Zero();
+  for (const auto& k : overlap_) middle += k.p;
+  middle /= static_cast<double>(m);
+  double twice_area = 0.0, extent = 0.0;
   shares_.resize(m);
   for (int i = 0; i < m; ++i) {
     const Vec2& p = overlap_[i].p;
     const Vec2& q = overlap_[(i + 1) % m].p;
-    shares_[i] = 0.5 * geometry::cross2(p - centroid, q - centroid);  // triangle area
+    shares_[i] = std::max(0.5 * geometry::cross2(p - middle, q - middle), 0.0);
+    twice_area += 2.0 * shares_[i];
+    extent = std::max(extent, (p - q).norm());
   }
+  if (!(twice_area > 2.0 * RelTol::kIteration * scale_ * extent)) return false;
   subs_.clear();
   for (int i = 0; i < m; ++i) {
     SubContact s = fromCorner(a, b, overlap_[i], c.normal);
