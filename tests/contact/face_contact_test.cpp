@@ -237,6 +237,46 @@ TEST(FaceContact, SliversHaveSaneWeights) {
   EXPECT_GT(faces, 0);
 }
 
+// Random polyhedra put face to face (a random face of A turned onto a random face of B, slid in
+// the plane so that the overlap ranges from whole faces to corners barely touching, tilted by up to
+// 1e-6 rad): the same guarantees as above.
+TEST(FaceContact, RandomFacePairsHaveSaneWeights) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto cloud = [&](int n) {
+    std::vector<Vec3> points;
+    for (int i = 0; i < n; ++i) points.push_back(Vec3(u(rng), u(rng), 0.6 * u(rng)));
+    return geometry::ConvexPolyhedron::fromPoints(points);
+  };
+  FaceContactBuilder builder;
+  int faces = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const auto sa = cloud(8 + trial % 20), sb = cloud(8 + (trial / 7) % 20);
+    const auto& fa = sa.faces()[trial % sa.faces().size()];
+    const auto& fb = sb.faces()[(trial / 3) % sb.faces().size()];
+    // B's face to z = 0 facing up; A's face onto it facing down, turned and slid in the plane.
+    const Mat3 rb = Eigen::Quaterniond::FromTwoVectors(fb.normal, Vec3::UnitZ()).toRotationMatrix();
+    const Vec3 xb = -(rb * fb.centroid);
+    const Mat3 ra =
+        about(Vec3(u(rng), u(rng), 0.0), 1e-6 * u(rng)) * about(Vec3::UnitZ(), 3 * u(rng)) *
+        Eigen::Quaterniond::FromTwoVectors(fa.normal, -Vec3::UnitZ()).toRotationMatrix();
+    const double reach = std::sqrt(fa.area) + std::sqrt(fb.area);
+    const Vec3 slide(0.6 * reach * u(rng), 0.6 * reach * u(rng), 0.0);
+    const Vec3 xa = slide - ra * fa.centroid - kDepth * Vec3::UnitZ();
+    Placed a(sa, xa, ra), b(sb, xb, rb);
+    const auto fc = builder.build(a.body(), b.body(), along(Vec3::UnitZ(), slide, kDepth));
+    faces += fc.kind == ContactArea::kFace;
+    double sum = 0.0;
+    for (const auto& s : fc.subs) {
+      ASSERT_TRUE(std::isfinite(s.weight) && s.weight >= 0.0) << "weight " << s.weight;
+      ASSERT_TRUE(s.point.allFinite() && std::isfinite(s.gap));
+      sum += s.weight;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+  }
+  EXPECT_GT(faces, 1000);
+}
+
 // Under a rigid motion of the pair the labels and weights are the same and the points and
 // normals move with it; in millimetres everything scales.
 TEST(FaceContact, RigidMotionAndUnitChangeGiveTheSameSubContacts) {
