@@ -76,6 +76,13 @@ class Kernel {
   virtual std::string_view name() const = 0;
   /// Resolves the pair (a, b). `state` may be null (no warm start, nothing remembered).
   virtual Contact collide(const Body& a, const Body& b, PairState* state) const = 0;
+  /// The same for a caller that replaces the point of face and edge contacts by sub-contacts
+  /// (contact/face_contact.h): a kernel may skip work that only places the point on such contacts
+  /// (the IPM kernels return their base kernel's answer, whose point is right for the contacts
+  /// that keep one point: a vertex on a face, crossing edges). Normal and depth are collide()'s.
+  virtual Contact collideForSubContacts(const Body& a, const Body& b, PairState* state) const {
+    return collide(a, b, state);
+  }
 };
 
 /// Parameters some kernels take; every kernel ignores the ones it does not use.

@@ -60,6 +60,15 @@ Contact FcpIpmKernel::collide(const Body& a, const Body& b, PairState* state) co
   return c;
 }
 
+Contact FcpIpmKernel::collideForSubContacts(const Body& a, const Body& b, PairState* state) const {
+  // No IPM: sub-contacts place the force on faces and edges; fcp's own point serves the rest.
+  CommonPlane plane;
+  if (!commonPlane(a, b, state, plane)) return {};
+  Contact c = touching(plane);
+  c.point = fcpFeaturePoint(a, b, plane, &c.status);
+  return c;
+}
+
 std::unique_ptr<Kernel> makeFcp(const KernelParams&) {
   return std::make_unique<FcpKernel>();
 }

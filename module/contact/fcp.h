@@ -94,6 +94,7 @@ class FcpIpmKernel final : public Kernel {
  public:
   std::string_view name() const override { return "fcp-ipm"; }
   Contact collide(const Body& a, const Body& b, PairState* state) const override;
+  Contact collideForSubContacts(const Body& a, const Body& b, PairState* state) const override;
 };
 
 }  // namespace polydem::contact

@@ -61,6 +61,11 @@ Contact GjkEpaIpmKernel::collide(const Body& a, const Body& b, PairState* state)
   return c;
 }
 
+Contact GjkEpaIpmKernel::collideForSubContacts(const Body& a, const Body& b,
+                                               PairState* state) const {
+  return gjkEpaContact(a, b, state, nullptr);  // no IPM: sub-contacts place the force on faces
+}
+
 std::unique_ptr<Kernel> makeGjkEpa(const KernelParams&) {
   return std::make_unique<GjkEpaKernel>();
 }

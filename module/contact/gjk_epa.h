@@ -35,6 +35,7 @@ class GjkEpaIpmKernel final : public Kernel {
   /// EPA's contact with the point from the IPM; where the polygon of intersection has no area
   /// (touching features), EPA's point with Status::kDegenerate.
   Contact collide(const Body& a, const Body& b, PairState* state) const override;
+  Contact collideForSubContacts(const Body& a, const Body& b, PairState* state) const override;
 };
 
 }  // namespace polydem::contact

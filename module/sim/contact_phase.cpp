@@ -118,7 +118,9 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
     const auto [old_sub_keys, old_subs] = old.subs(c.key);
     contact::Body body_a{&sa.polyhedron, xa, storage.rotation(c.a), va};
     contact::Body body_b{&sb.polyhedron, xb, storage.rotation(c.b), vb};
-    contact::Contact contact = setup.kernel->collide(body_a, body_b, &h.kernel);
+    contact::Contact contact = setup.sub_contacts
+                                   ? setup.kernel->collideForSubContacts(body_a, body_b, &h.kernel)
+                                   : setup.kernel->collide(body_a, body_b, &h.kernel);
     const bool split = setup.sub_contacts && contact.model == contact::ForceModel::kPenalty;
     if (setup.overlap_centroid && !split) contact = overlap_.apply(body_a, body_b, contact);
 
