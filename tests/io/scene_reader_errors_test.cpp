@@ -170,6 +170,16 @@ TEST(SceneReaderErrors, NamesOutsideTheirLists) {
               {"'octree' is not one of multilevel, nbs, all-pairs"});
   expectError(replaced(kBase, "steps = 10", "steps = 10\ncontact_point = \"ipm\"  # <-"),
               {"'ipm' is not one of kernel, overlap-centroid"});
+  expectError(replaced(kBase, "steps = 10", "steps = 10\ncontact_model = \"3dec\"  # <-"),
+              {"'3dec' is not one of sub-contacts, point"});
+  expectError(
+      replaced(kBase, "steps = 10", "steps = 10\ncontact_point = \"overlap-centroid\"  # <-"),
+      {"contact_point", "needs contact_model = \"point\""});
+  // A joint stiffness (per area) serves face contacts only: edge and corner contacts need kn, ks.
+  expectError(replaced(kBase, "kn = 1e9", "kn = 1e9\njks = \"1 GPa/m\"  # <-"),
+              {"jks", "needs ks > 0 too"});
+  expectError(replaced(kBase, "kn = 1e9", "kn = 1e9\nks = 1e9\njks = \"1 GPa\"  # <-"),
+              {"jks", "stiffness per area (Pa/m)"});
   expectError(replaced(kBase, "type = \"cube\"", "type = \"sphere\"  # <-"),
               {"type: 'sphere' is not one of box, vertices"});
   expectError(kBase +

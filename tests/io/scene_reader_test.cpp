@@ -29,6 +29,7 @@ description = "round trip"
 [simulation]
 kernel = "fcp"
 broadphase = "nbs"
+contact_model = "point"
 contact_point = "overlap-centroid"
 dt = "50 us"
 end_time = "2 s"
@@ -64,6 +65,7 @@ cohesion = "1 kN"
 normal_damping = 0.2
 local_damping = 0.05
 penalty = "3 GPa"
+jkn = "40 GPa/m"
 
 [[material]]
 name = "steel"
@@ -77,6 +79,7 @@ penalty = 1e9
 materials = ["steel", "rock"]
 ks = "0.5 GN/m"
 friction_angle = 10
+jks = "2e10 Pa/m"
 
 [[shape]]
 name = "brick"
@@ -190,6 +193,7 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
 
   EXPECT_EQ(s.kernel, "fcp");
   EXPECT_EQ(s.broadphase, "nbs");
+  EXPECT_EQ(s.contact_model, "point");
   EXPECT_EQ(s.contact_point, "overlap-centroid");
   EXPECT_EQ(s.dt, 50e-6);
   EXPECT_EQ(s.end_time, 2.0);
@@ -224,6 +228,8 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
   EXPECT_EQ(rock.normal_damping, 0.2);
   EXPECT_EQ(rock.local_damping, 0.05);
   EXPECT_EQ(rock.penalty, 3e9);
+  EXPECT_EQ(rock.jkn, 40e9);
+  EXPECT_EQ(rock.jks, 0.0);
   EXPECT_EQ(s.materials[1].name, "steel");
   EXPECT_EQ(s.materials[1].friction_angle, 20.0);
 
@@ -234,6 +240,8 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
   EXPECT_EQ(in.b, 0);
   EXPECT_EQ(in.properties.ks, 0.5e9);
   EXPECT_EQ(in.properties.friction_angle, 10.0);
+  EXPECT_EQ(in.properties.jks, 2e10);
+  EXPECT_EQ(in.properties.jkn, 0.0) << "the softer of 40 GPa/m and steel's none";
   EXPECT_EQ(in.properties.kn, std::min(rock.kn, s.materials[1].kn));
   EXPECT_EQ(in.properties.penalty, std::min(rock.penalty, s.materials[1].penalty));
   EXPECT_EQ(in.properties.normal_damping,
@@ -336,6 +344,7 @@ TEST(SceneReader, DefaultsFromTheSceneStruct) {
   EXPECT_EQ(s.kernel, "gjk-epa-ipm");
   EXPECT_EQ(s.broadphase, defaults.broadphase);
   EXPECT_EQ(s.contact_point, "kernel");
+  EXPECT_EQ(s.contact_model, "sub-contacts");
   EXPECT_EQ(s.gravity, defaults.gravity);
   EXPECT_FALSE(s.end_time);
   EXPECT_FALSE(s.equilibrium.enabled);
