@@ -37,7 +37,7 @@ constexpr const char* kElasticTurn =
     "elastic swing of the shear springs when friction reverses (error ~ 1/sqrt(k))";
 // LP's point on crossing edges is off their crossing (C-EEp, contact-type table).
 constexpr const char* kLpEdgePoint =
-    "LP's contact point on edge-edge contacts turns the tetrahedron";
+    "LP's contact point on edge-edge contacts turns the tetrahedron and pushes it sideways";
 
 bool isKnownFailure(const Case& c, const std::string& check_name) {
   return std::any_of(
