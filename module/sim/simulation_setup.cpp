@@ -177,8 +177,13 @@ void Simulation::suggestTimeStep() {
     const auto& s = shapes_[spec.shape];
     const double density = densities_[spec.material];
     const auto& props = materials_.pair(spec.material, spec.material);
+    // A joint stiffness per area meets its largest value on the particle's largest face.
+    double largest_face = 0.0;
+    for (const auto& f : s.polyhedron.faces()) largest_face = std::max(largest_face, f.area);
+    const double k = std::max({props.kn, props.ks, props.jkn * largest_face,
+                               props.jks * largest_face});
     dt_particles.push_back({spec.uid, density * s.volume, density * s.principal_moments,
-                            s.circumradius, std::max(props.kn, props.ks), props.normal_damping});
+                            s.circumradius, k, props.normal_damping});
   }
   const auto suggestion = dynamics::suggestTimeStep(dt_particles);
   suggested_dt_ = suggestion.dt;
