@@ -191,6 +191,11 @@ RebalanceReport rebalance(BlockForest& forest, std::span<const double> local_wei
     std::vector<int> m = newMap(forest, weights, ranks, method);
     figures[0] = imbalance(forest.rankMap(), weights, forest.numRanks());
     figures[1] = imbalance(m, weights, ranks);
+    // A map over the same ranks that is worse than the current one is not installed.
+    if (forest.numRanks() == ranks && figures[1] > figures[0]) {
+      figures[1] = figures[0];
+      return forest.rankMap();
+    }
     return m;
   });
   MPI_Bcast(figures, 2, MPI_DOUBLE, 0, comm);

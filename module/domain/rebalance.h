@@ -39,8 +39,9 @@ struct RebalanceReport {
 };
 
 /// computeRankMap, then installs the new map in `forest` (collective; every rank gets the same
-/// map and the same report). Moving the particles of the moved blocks is the caller's (comm's)
-/// job: ownerOf() already answers with the new map.
+/// map and the same report), unless the current map is over the same ranks and better: a worse
+/// map is never installed (imbalance_after is then imbalance_before). Moving the particles of the
+/// moved blocks is the caller's (comm's) job: ownerOf() already answers with the new map.
 RebalanceReport rebalance(BlockForest& forest, std::span<const double> local_weights,
                           MPI_Comm comm = MPI_COMM_WORLD,
                           PartitionMethod method = PartitionMethod::kMetis);
