@@ -3,6 +3,11 @@
 // alone leave the pile in a few blocks), every rank's kernel calls are within 10 % of the mean
 // on 2, 8 and 16 ranks. Counts only, never a time: they hold on oversubscribed ranks.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "core/logging.h"
 #include "core/mpi_env.h"
@@ -10,6 +15,7 @@
 #include "domain/block_forest.h"
 #include "sim/balance_figures.h"
 #include "sim/pile_scene.h"
+#include "sim/run.h"
 #include "sim/simulation.h"
 
 namespace polydem::sim {
@@ -65,6 +71,39 @@ TEST(Balance, DensePackOnAFloorTwiceAsWide) {
     old.domain.blocks = domain::chooseBlockCounts(probe.forest().domain(), mpi::size(), 8);
     EXPECT_GT(afterOneStep(old).evaluated_pairs.ratio(), 1.5)
         << "the domain-only blocks should fail here, or this test shows nothing";
+  }
+}
+
+TEST(Balance, SummaryJsonCarriesThePerRankFigures) {
+  log::setLevel(log::Level::kWarning);
+  long pid = static_cast<long>(getpid());
+  MPI_Bcast(&pid, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+  const auto dir = std::filesystem::temp_directory_path() / cat("polydem_balance_", pid);
+  RunOptions options;
+  options.out_dir = dir.string();
+  options.snapshots = false;
+  options.steps = 3;
+  runScene(densePack(2), options, MPI_COMM_WORLD);
+  if (mpi::rank() != 0) return;
+  nlohmann::json j;
+  std::ifstream(dir / "summary.json") >> j;
+  std::filesystem::remove_all(dir);
+  const auto& b = j.at("balance");
+  const int ranks = mpi::size();
+  EXPECT_EQ(b.at("ranks"), ranks);
+  for (const char* key : {"owned_particles", "ghosts", "candidate_pairs", "evaluated_pairs",
+                          "contacts", "work", "bytes_sent_per_step", "messages_sent_per_step"}) {
+    SCOPED_TRACE(key);
+    const auto& s = b.at(key);
+    EXPECT_LE(s.at("min").get<double>(), s.at("mean").get<double>());
+    EXPECT_LE(s.at("mean").get<double>(), s.at("max").get<double>());
+  }
+  EXPECT_DOUBLE_EQ(b["owned_particles"]["mean"].get<double>() * ranks, 4000.0);
+  EXPECT_LE(b["evaluated_pairs"]["max_over_mean"].get<double>(), 1.10);
+  EXPECT_LE(b["messages_sent_per_step"]["max"].get<double>(), ranks - 1);
+  EXPECT_GE(b["rebalancing"]["balance_checks"].get<int>(), 1);
+  for (const char* key : {"wait", "transfer", "bookkeeping"}) {
+    EXPECT_TRUE(j.at("communication_seconds_per_step").contains(key)) << key;
   }
 }
 
