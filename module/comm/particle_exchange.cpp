@@ -225,6 +225,9 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
   std::map<int, SendBuffer> outgoing;
   std::unordered_map<Uid, int> leaving;           // uid -> destination rank
   std::vector<std::pair<Particle, Vec3>> ghosts;  // those kept here first, then the received ones
+  // One rank and no periodic axis: no ghosts at all, and no sphere queries to find that out.
+  const auto& periodic = forest.periodic();
+  const bool alone = forest.numRanks() == 1 && !periodic[0] && !periodic[1] && !periodic[2];
   for (std::size_t i = 0; i < storage.size();) {
     Particle& p = storage[i];
     if (p.isGlobal()) {
@@ -232,6 +235,10 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
       continue;
     }
     const int owner = ownerAfterWrap(forest, p, step);
+    if (alone) {
+      ++i;
+      continue;
+    }
     // The ghosts of the particle where it now stands, sent by the rank that moved it: to every
     // hit but its owner's own unshifted copy. A hit on this rank is kept here: a periodic self
     // image, or a ghost of a particle that just left for a neighbour.
