@@ -132,36 +132,47 @@ int refineMaxLoad(const BlockForest& forest, const BlockLoads& loads, std::vecto
   const int n = forest.numBlocks();
   const BlockGraph graph = blockGraph(forest);
   const LinkLists links = linkLists(loads);
-  // Work a block takes along when it moves from rank `from` (leaves it) or to rank `to`.
-  auto leaving = [&](int b, int from) {
+  // The work block b takes along when it leaves rank `from`, and brings when it joins rank `to`:
+  // its own, and its links to blocks not on that rank. No other rank's load changes.
+  auto carried = [&](int b, int rank) {
     double w = loads.self[b];
     for (int k = links.offsets[b]; k < links.offsets[b + 1]; ++k) {
-      if (map[links.entries[k].first] != from) w += links.entries[k].second;
+      if (map[links.entries[k].first] != rank) w += links.entries[k].second;
     }
     return w;
   };
+  std::vector<double> load = rankLoads(map, loads, ranks);
+  std::vector<std::vector<int>> blocks_of(ranks);
+  for (int b = 0; b < n; ++b) blocks_of[map[b]].push_back(b);
   int moves = 0;
   for (int iteration = 0; iteration < 2 * n; ++iteration) {
-    const std::vector<double> load = rankLoads(map, loads, ranks);
-    std::vector<int> count(ranks, 0);
-    for (int b = 0; b < n; ++b) ++count[map[b]];
     const int r = static_cast<int>(std::max_element(load.begin(), load.end()) - load.begin());
-    if (count[r] < 2 || load[r] <= 0) break;
+    if (blocks_of[r].size() < 2 || load[r] <= 0) break;
     // Best move: smallest resulting max(load r, load s); it must lower load r's level.
     std::tuple<double, int, int> best{load[r] * (1 - 1e-12), -1, -1};
-    for (int b = 0; b < n; ++b) {
-      if (map[b] != r) continue;
-      const double rest = load[r] - leaving(b, r);
+    double best_rest = 0, best_grown = 0;
+    for (int b : blocks_of[r]) {
+      const double rest = load[r] - carried(b, r);
       for (int e = graph.offsets[b]; e < graph.offsets[b + 1]; ++e) {
         const int s = map[graph.adjacency[e]];
         if (s == r) continue;
-        const double grown = load[s] + leaving(b, s);
+        const double grown = load[s] + carried(b, s);
         const std::tuple<double, int, int> candidate{std::max(rest, grown), b, s};
-        if (candidate < best) best = candidate;
+        if (candidate < best) {
+          best = candidate;
+          best_rest = rest;
+          best_grown = grown;
+        }
       }
     }
-    if (std::get<1>(best) < 0) break;
-    map[std::get<1>(best)] = std::get<2>(best);
+    const auto [level, b, s] = best;
+    if (b < 0) break;
+    map[b] = s;
+    load[r] = best_rest;
+    load[s] = best_grown;
+    auto& from = blocks_of[r];
+    from.erase(std::find(from.begin(), from.end(), b));
+    blocks_of[s].push_back(b);
     ++moves;
   }
   return moves;
