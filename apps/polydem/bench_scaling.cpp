@@ -123,24 +123,27 @@ nlohmann::json row(const Measurement& m, double rate, double eff, double hw_eff)
 
 void printBalance(const std::vector<Measurement>& results) {
   std::printf(
-      "\nbalance after the last step, per rank (max/mean; deterministic, independent of timing):\n"
-      "%5s %12s %9s %9s %9s %9s %9s %9s %12s %11s %9s %26s\n",
-      "ranks", "blocks", "owned", "ghosts", "cand.pairs", "pairs", "contacts", "work", "bytes/step",
-      "msgs/step", "ghosts", "exchange ms wait/xfer/other");
+      "\nbalance after the last step, per rank max/mean (counts: the same on any machine):\n"
+      "%5s %13s %7s %7s %10s %7s %8s %7s %8s %11s %9s %7s %26s\n",
+      "ranks", "blocks", "owned", "ghosts", "cand.pairs", "pairs", "contacts", "work", "work eff",
+      "bytes/step", "msgs/step", "ghosts", "exchange ms wait/xfer/other");
   for (const auto& m : results) {
     if (m.control) continue;
     const auto& b = m.balance;
     std::printf(
-        "%5d %4dx%3dx%3d %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f %12.0f %11.2f %9.0f "
+        "%5d %4dx%3dx%3d %7.3f %7.3f %10.3f %7.3f %8.3f %7.3f %7.1f%% %11.0f %9.2f %7.0f "
         "%8.3f/%7.3f/%7.3f\n",
         m.ranks, b.blocks[0], b.blocks[1], b.blocks[2], b.owned.ratio(), b.ghosts.ratio(),
         b.candidate_pairs.ratio(), b.evaluated_pairs.ratio(), b.contacts.ratio(), b.work.ratio(),
-        b.bytes_per_step.mean, b.messages_per_step.mean, b.ghosts.mean, 1e3 * b.wait_seconds.mean,
-        1e3 * b.transfer_seconds.mean, 1e3 * b.bookkeeping_seconds.mean);
+        100 * sim::modelledEfficiency(b), b.bytes_per_step.mean, b.messages_per_step.mean,
+        b.ghosts.mean, 1e3 * b.wait_seconds.mean, 1e3 * b.transfer_seconds.mean,
+        1e3 * b.bookkeeping_seconds.mean);
   }
   std::printf(
-      "(pairs: kernel calls, a pair across a rank border on both ranks; work: the load model; "
-      "bytes, messages: mean per rank and step; ghosts: mean per rank)\n");
+      "(pairs: kernel calls, a pair across a rank border on both ranks; work: the load model;\n"
+      " work eff: the work done once / (ranks x the busiest rank's work), the efficiency that the\n"
+      " balance and the duplicated border pairs allow; bytes, messages: mean per rank and step;\n"
+      " ghosts: mean per rank; exchange times: mean per rank and step, not deterministic)\n");
 }
 
 }  // namespace

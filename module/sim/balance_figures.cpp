@@ -18,20 +18,21 @@ BalanceFigures balanceFigures(const Simulation& sim) {
   const auto& total = sim.stepExchangeTotals();
   const double steps = static_cast<double>(std::max<std::int64_t>(1, sim.exchanges()));
   const double bookkeeping = total.seconds - total.wait_seconds - total.transfer_seconds;
-  constexpr int kFigures = 13;
+  constexpr int kFigures = 14;
   const std::array<double, kFigures> mine = {static_cast<double>(owned),
                                              static_cast<double>(p.ghostCount()),
                                              static_cast<double>(c.candidates),
                                              static_cast<double>(c.evaluated),
                                              static_cast<double>(c.touching),
-                                             sim.lastWork(),
+                                             sim.lastWork().done,
                                              static_cast<double>(last.bytes_sent),
                                              static_cast<double>(last.messages_sent),
                                              static_cast<double>(total.bytes_sent) / steps,
                                              static_cast<double>(total.messages_sent) / steps,
                                              total.wait_seconds / steps,
                                              total.transfer_seconds / steps,
-                                             bookkeeping / steps};
+                                             bookkeeping / steps,
+                                             sim.lastWork().unique};
   std::array<double, kFigures> lo{}, hi{}, sum{};
   MPI_Allreduce(mine.data(), lo.data(), kFigures, MPI_DOUBLE, MPI_MIN, sim.comm());
   MPI_Allreduce(mine.data(), hi.data(), kFigures, MPI_DOUBLE, MPI_MAX, sim.comm());
@@ -39,6 +40,7 @@ BalanceFigures balanceFigures(const Simulation& sim) {
   BalanceFigures f;
   f.ranks = mpi::size(sim.comm());
   f.blocks = sim.forest().counts();
+  Spread unique;
   Spread* out[kFigures] = {&f.owned,
                            &f.ghosts,
                            &f.candidate_pairs,
@@ -51,9 +53,15 @@ BalanceFigures balanceFigures(const Simulation& sim) {
                            &f.messages_per_step,
                            &f.wait_seconds,
                            &f.transfer_seconds,
-                           &f.bookkeeping_seconds};
+                           &f.bookkeeping_seconds,
+                           &unique};
   for (int k = 0; k < kFigures; ++k) *out[k] = {lo[k], sum[k] / f.ranks, hi[k]};
+  f.unique_work = sum[kFigures - 1];
   return f;
+}
+
+double modelledEfficiency(const BalanceFigures& f) {
+  return f.work.max > 0 ? f.unique_work / (f.ranks * f.work.max) : 1.0;
 }
 
 nlohmann::json toJson(const Spread& s) {
@@ -70,6 +78,7 @@ nlohmann::json toJson(const BalanceFigures& f) {
                   {"evaluated_pairs", toJson(f.evaluated_pairs)},
                   {"contacts", toJson(f.contacts)},
                   {"work", toJson(f.work)},
+                  {"modelled_efficiency", modelledEfficiency(f)},
                   {"bytes_sent_last_step", toJson(f.bytes_last_step)},
                   {"messages_sent_last_step", toJson(f.messages_last_step)},
                   {"bytes_sent_per_step", toJson(f.bytes_per_step)},

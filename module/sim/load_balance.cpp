@@ -32,39 +32,57 @@ LoadModel loadModelFor(std::string_view kernel) {
   return m;
 }
 
-LoadSample sampleLoad(const particles::ParticleStorage& storage,
-                      const std::vector<ContactRecord>& records, const LoadModel& model) {
-  LoadSample s;
+namespace {
+
+/// Visits this rank's particles and pairs: visit(cost, a, b, pair, sampled), where `sampled`
+/// says whether this rank samples the item (every pair is sampled on one rank only: that of its
+/// lower-uid particle, or of its free particle when the other is a replicated body) and `pair`
+/// whether both positions count (false for a particle or a pair with a replicated body).
+template <typename Visit>
+void visitWork(const particles::ParticleStorage& storage, const std::vector<ContactRecord>& records,
+               const LoadModel& model, Visit&& visit) {
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
-    if (!storage[i].isFree()) continue;
-    s.items.push_back({storage[i].position, Vec3::Zero(), model.particle, false});
-    s.work += model.particle;
+    if (storage[i].isFree()) visit(model.particle, i, i, false, true);
   }
   for (const ContactRecord& r : records) {
     const double cost = model.pairCost(r.touching);
-    s.work += cost;
-    const auto& a = storage[r.stored_a];
-    const auto& b = storage[r.stored_b];
-    if (r.a >= 0) {  // A is ours and free: we sample the pair
-      if (b.isGlobal()) {
-        s.items.push_back({a.position, Vec3::Zero(), cost, false});
-      } else {
-        s.items.push_back({a.position, b.position, cost, true});
-      }
-    } else if (a.isGlobal() && r.b >= 0) {  // a replicated body and our free B
-      s.items.push_back({b.position, Vec3::Zero(), cost, false});
-    }  // else A is a ghost: its owner evaluates the pair too and samples it
+    const bool a_global = storage[r.stored_a].isGlobal();
+    if (r.a >= 0) {  // A is ours and free
+      const bool b_global = storage[r.stored_b].isGlobal();
+      visit(cost, r.stored_a, r.stored_b, !b_global, true);
+    } else if (a_global && r.b >= 0) {  // a replicated body and our free B
+      visit(cost, r.stored_b, r.stored_b, false, true);
+    } else {  // A is a ghost: its owner evaluates the pair too and samples it
+      visit(cost, r.stored_a, r.stored_b, false, false);
+    }
   }
+}
+
+}  // namespace
+
+LoadSample sampleLoad(const particles::ParticleStorage& storage,
+                      const std::vector<ContactRecord>& records, const LoadModel& model) {
+  LoadSample s;
+  visitWork(storage, records, model,
+            [&](double cost, std::size_t a, std::size_t b, bool pair, bool sampled) {
+              s.work.done += cost;
+              if (!sampled) return;
+              s.work.unique += cost;
+              s.items.push_back(
+                  {storage[a].position, pair ? storage[b].position : Vec3::Zero(), cost, pair});
+            });
   return s;
 }
 
-double stepWork(const particles::ParticleStorage& storage,
-                const std::vector<ContactRecord>& records, const LoadModel& model) {
-  double work = 0.0;
-  for (std::size_t i = 0; i < storage.localCount(); ++i)
-    work += storage[i].isFree() ? model.particle : 0.0;
-  for (const ContactRecord& r : records) work += model.pairCost(r.touching);
-  return work;
+StepWork stepWork(const particles::ParticleStorage& storage,
+                  const std::vector<ContactRecord>& records, const LoadModel& model) {
+  StepWork w;
+  visitWork(storage, records, model,
+            [&](double cost, std::size_t, std::size_t, bool, bool sampled) {
+              w.done += cost;
+              if (sampled) w.unique += cost;
+            });
+  return w;
 }
 
 domain::BlockLoads binLoad(const domain::BlockForest& forest, const LoadSample& sample) {

@@ -36,6 +36,13 @@ struct LoadModel {
 /// gjk-epa-ipm's 1.75 (gjk-epa 1, lp 0.5, fcp and fcp-ipm 2, distance-potential 20, fdem 160).
 LoadModel loadModelFor(std::string_view kernel);
 
+/// The work of one contact phase on this rank.
+struct StepWork {
+  double done = 0.0;    // its particles and every pair it evaluated, border pairs included
+  double unique = 0.0;  // its particles and the pairs it samples (below): summed over the
+                        // ranks, the step's work done once, as one rank would do it
+};
+
 /// One rank's work of its last contact phase, by position. Every pair is sampled on one rank
 /// only (that of its lower-uid particle, or of its free particle when the other is a replicated
 /// body), so that the samples of all ranks add up to the work of the whole step once.
@@ -46,9 +53,7 @@ struct LoadSample {
     bool pair = false;  // false: a particle, or a pair with a replicated body (only `a` counts)
   };
   std::vector<Item> items;
-  /// The work this rank actually did: its particles and every pair it evaluated, including the
-  /// pairs across a rank border that the rank beyond evaluates as well.
-  double work = 0.0;
+  StepWork work;
 };
 
 /// The sample of the contact phase that produced `records`; call it before the storage changes
@@ -56,8 +61,8 @@ struct LoadSample {
 LoadSample sampleLoad(const particles::ParticleStorage& storage,
                       const std::vector<ContactRecord>& records, const LoadModel& model);
 /// LoadSample::work alone, without the sample.
-double stepWork(const particles::ParticleStorage& storage,
-                const std::vector<ContactRecord>& records, const LoadModel& model);
+StepWork stepWork(const particles::ParticleStorage& storage,
+                  const std::vector<ContactRecord>& records, const LoadModel& model);
 
 /// The sample binned into the blocks of `forest` (positions wrapped along periodic axes; items
 /// outside the domain are left out: migration reports them), links merged.

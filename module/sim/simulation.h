@@ -135,7 +135,7 @@ class Simulation {
   const BalanceLog& balanceLog() const { return balance_log_; }
   const LoadModel& loadModel() const { return load_model_; }
   /// The load model's cost of this rank's last contact phase and particles.
-  double lastWork() const { return last_work_; }
+  const StepWork& lastWork() const { return last_work_; }
   /// The exchanges of the steps alone (not those of the start or of a rebalancing between
   /// steps), and how many steps they were.
   const comm::ExchangeStats& stepExchangeTotals() const { return step_exchange_totals_; }
@@ -203,7 +203,7 @@ class Simulation {
   BalanceLog balance_log_;
   bool sample_load_ = false;  // sample the next contact phase's work for a balance check
   LoadSample load_sample_;
-  double last_work_ = 0.0;
+  StepWork last_work_;
   comm::ExchangeStats step_exchange_totals_;
   std::int64_t exchanges_ = 0;
   double margin_ = 0.0;  // absolute contact margin

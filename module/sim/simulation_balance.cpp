@@ -81,7 +81,7 @@ bool Simulation::balanceDecomposition() {
   const LoadSample sample = std::move(load_sample_);     // of the last contact phase
   load_sample_ = LoadSample();
   // The imbalance of the work just done: one small reduction, every time.
-  double total = sample.work, most = sample.work;
+  double total = sample.work.done, most = sample.work.done;
   MPI_Allreduce(MPI_IN_PLACE, &most, 1, MPI_DOUBLE, MPI_MAX, comm_);
   MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_DOUBLE, MPI_SUM, comm_);
   ++balance_log_.checks;
