@@ -47,7 +47,10 @@ Index3 fitBlockCounts(const Aabb& domain, const Aabb& particles, const BlockFitO
   if (!(length.array() > 0).all() || !std::isfinite(length.sum())) {
     throw DomainError("fitBlockCounts: the domain box is empty or not finite");
   }
-  const double target = static_cast<double>(options.ranks) * options.occupied_per_rank;
+  double target = static_cast<double>(options.ranks) * options.occupied_per_rank;
+  if (options.particles > 0) {
+    target = std::min(target, std::max<double>(options.ranks, options.particles / 4));
+  }
   // The particles' box, clipped to the domain; an empty or degenerate one falls back to the
   // domain itself (the first edge is then chooseBlockCounts's).
   Aabb box(particles.lo.cwiseMax(domain.lo), particles.hi.cwiseMin(domain.hi));

@@ -28,13 +28,18 @@ struct BlockFitOptions {
   double min_block_edge = 0.0;
   /// Upper limit on the number of blocks (every rank holds the whole block -> rank map).
   std::int64_t max_blocks = std::int64_t{1} << 21;
+  /// The number of free particles, if known (0: not known): no more occupied blocks are wanted
+  /// than one per 4 particles (at least one per rank), so that a few particles in a large domain
+  /// do not ask for blocks of a particle's size all over it.
+  std::int64_t particles = 0;
 };
 
 /// The number of blocks of the uniform grid `counts` over the domain that hold at least one free
 /// particle centroid. Collective in a parallel run (every rank must get the same answer).
 using OccupiedBlockCount = std::function<std::int64_t(const Index3& counts)>;
 
-/// Block counts for `domain` such that at least ranks * occupied_per_rank blocks are occupied.
+/// Block counts for `domain` such that at least ranks * occupied_per_rank blocks are occupied
+/// (or the particles' limit above).
 /// `particles` is the box the free particles fill (their centroids' bounding box inflated by
 /// their circumradius); it decides the first block edge h: the edge for which about ranks *
 /// occupied_per_rank cubes fill that box (axes thinner than h get one layer). The grid along axis

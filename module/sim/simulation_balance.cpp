@@ -61,16 +61,20 @@ domain::Index3 Simulation::fittedBlockCounts(const domain::Aabb& box,
     lo = lo.cwiseMin(x);
     hi = hi.cwiseMax(x);
   }
+  std::int64_t particles = static_cast<std::int64_t>(centroids.size());
   if (collective) {
     MPI_Allreduce(MPI_IN_PLACE, lo.data(), 3, MPI_DOUBLE, MPI_MIN, comm_);
     MPI_Allreduce(MPI_IN_PLACE, hi.data(), 3, MPI_DOUBLE, MPI_MAX, comm_);
+    particles = mpi::allreduceSum(particles, comm_);
   }
+  if (particles == 0) return domain::chooseBlockCounts(box, ranks_, 8);  // nothing to follow
   domain::BlockFitOptions options;
   options.ranks = ranks_;
+  options.particles = particles;
   options.occupied_per_rank = kOccupiedBlocksPerRank;
   options.min_block_edge = 2.0 * r_free_;  // a particle diameter
-  const domain::Aabb particles = domain::Aabb(lo, hi).inflated(r_free_);
-  return domain::fitBlockCounts(box, particles, options, [&](const domain::Index3& counts) {
+  const domain::Aabb filled = domain::Aabb(lo, hi).inflated(r_free_);
+  return domain::fitBlockCounts(box, filled, options, [&](const domain::Index3& counts) {
     return collective ? occupiedOnAllRanks(box, counts, periodic, centroids, comm_)
                       : domain::countOccupiedBlocks(box, counts, periodic, centroids);
   });

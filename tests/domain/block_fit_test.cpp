@@ -101,6 +101,16 @@ TEST(FitBlockCounts, MinimumEdgeAndTooFewParticles) {
   for (int a = 0; a < 3; ++a) EXPECT_GE(domain.extent()[a] / f.counts[a], 1.0);
   EXPECT_GE(std::int64_t{f.counts[0]} * f.counts[1] * f.counts[2], 4);
   EXPECT_LE(f.occupied, 10);
+  // Without a minimum edge, the particle count stops the refinement: one occupied block per 4
+  // particles (at least one per rank) is enough, instead of blocks refined to the budget.
+  BlockFitOptions o;
+  o.ranks = 4;
+  o.particles = static_cast<std::int64_t>(few.size());
+  const Index3 n = fitBlockCounts(domain, boundsOf(few, 0.5), o, [&](const Index3& c) {
+    return countOccupiedBlocks(domain, c, {}, few);
+  });
+  EXPECT_GE(countOccupiedBlocks(domain, n, {}, few), 4);
+  EXPECT_LT(std::int64_t{n[0]} * n[1] * n[2], 1000);
 }
 
 TEST(FitBlockCounts, BlockBudgetAndBadOptions) {
