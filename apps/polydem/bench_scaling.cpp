@@ -121,6 +121,12 @@ nlohmann::json row(const Measurement& m, double rate, double eff, double hw_eff)
   return j;
 }
 
+std::string percent(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f%%", 100 * x);
+  return text;
+}
+
 void printBalance(const std::vector<Measurement>& results) {
   std::printf(
       "\nbalance after the last step, per rank max/mean (counts: the same on any machine):\n"
@@ -233,8 +239,7 @@ int benchScaling(int argc, char** argv) {
         "%7.1f%%\n",
         m.control ? cat(m.ranks, "x1").c_str() : cat(m.ranks).c_str(), m.seconds,
         static_cast<long long>(m.contacts), m.control ? rate * m.ranks : rate,
-        m.control ? rate : rate / m.ranks, 100 * eff,
-        hw_eff > 0 ? cat(static_cast<int>(std::lround(1000 * hw_eff)) / 10.0, "%").c_str() : "",
+        m.control ? rate : rate / m.ranks, 100 * eff, hw_eff > 0 ? percent(hw_eff).c_str() : "",
         m.step_ms_min, m.step_ms_mean, m.step_ms_max, 100 * m.broadphase_share,
         100 * m.contact_share, 100 * m.comm_share);
     out.push_back(row(m, m.control ? rate * m.ranks : rate, eff, hw_eff));
