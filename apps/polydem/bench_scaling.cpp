@@ -1,6 +1,9 @@
-// polydem bench scaling: strong scaling of a P-PILE scene. The same run measures the scene on
-// 1 rank and on larger groups of the launched ranks (the others wait), so every figure has its
-// 1-rank peer from the same machine and the same moment.
+// polydem bench scaling: strong or weak scaling of a P-PILE scene. The same run measures the scene
+// on 1 rank and on larger groups of the launched ranks (the others wait), so every figure has its
+// 1-rank peer from the same machine and the same moment. --control adds the hardware's own
+// limit: the 1-rank run on every launched rank at once, side by side, as independent runs.
+// Beside the times it reports the deterministic balance figures of every group (owned
+// particles, ghosts, pairs, contacts, bytes and messages per rank: sim/balance_figures.h).
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -12,6 +15,7 @@
 #include "core/logging.h"
 #include "core/mpi_env.h"
 #include "core/strings.h"
+#include "sim/balance_figures.h"
 #include "sim/pile_scene.h"
 #include "sim/simulation.h"
 
@@ -21,10 +25,12 @@ namespace {
 
 struct Measurement {
   int ranks = 0;
-  double seconds = 0.0;  // timed steps only
+  bool control = false;  // independent 1-rank runs side by side, one per launched rank
+  double seconds = 0.0;  // timed steps only (control: the mean over the runs)
   std::int64_t steps = 0, particles = 0, contacts = 0;
   double step_ms_min = 0, step_ms_mean = 0, step_ms_max = 0;  // per-rank loop time per step
   double broadphase_share = 0.0, contact_share = 0.0, comm_share = 0.0;
+  sim::BalanceFigures balance;
 };
 
 std::vector<int> parseRanks(const std::string& text, int world) {
@@ -64,7 +70,7 @@ Measurement measure(const io::Scene& scene, MPI_Comm comm, std::int64_t warmup,
   // Per-rank loop time per step: the sum of the rank's timers.
   double mine = 0.0;
   for (const auto& e : sim.loop().timing().entries()) mine += e.seconds;
-  const double per_step = 1e3 * mine / static_cast<double>(steps);
+  const double per_step = 1e3 * mine / static_cast<double>(std::max<std::int64_t>(1, steps));
   m.step_ms_min = mpi::allreduceMin(per_step, comm);
   m.step_ms_max = mpi::allreduceMax(per_step, comm);
   double sum = 0.0;
@@ -75,38 +81,120 @@ Measurement measure(const io::Scene& scene, MPI_Comm comm, std::int64_t warmup,
     if (r.name == "contacts") m.contact_share = r.share;
     if (r.name == "communicate") m.comm_share = r.share;
   }
+  m.balance = sim::balanceFigures(sim);
   return m;
+}
+
+/// The 1-rank scene on every launched rank at once; the mean time of those runs.
+Measurement measureControl(const io::Scene& scene, std::int64_t warmup, std::int64_t steps) {
+  MPI_Barrier(MPI_COMM_WORLD);
+  Measurement m = measure(scene, MPI_COMM_SELF, warmup, steps);
+  double sum = 0.0;
+  MPI_Allreduce(&m.seconds, &sum, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  m.seconds = sum / mpi::size();
+  m.ranks = mpi::size();
+  m.control = true;
+  return m;
+}
+
+nlohmann::json row(const Measurement& m, double rate, double eff, double hw_eff) {
+  nlohmann::json j = {{"ranks", m.ranks},
+                      {"particles", m.particles},
+                      {"contacts", m.contacts},
+                      {"steps", m.steps},
+                      {"seconds", m.seconds},
+                      {"particle_steps_per_second", rate},
+                      {"particle_steps_per_second_per_core", rate / m.ranks},
+                      {"parallel_efficiency", eff},
+                      {"step_ms", {m.step_ms_min, m.step_ms_mean, m.step_ms_max}},
+                      {"broadphase_share", m.broadphase_share},
+                      {"contact_share", m.contact_share},
+                      {"communication_share", m.comm_share}};
+  if (m.control) {
+    j["control"] = "independent 1-rank runs side by side, one per rank";
+  } else {
+    if (hw_eff > 0) j["efficiency_of_hardware_control"] = hw_eff;
+    const auto figures = sim::toJson(m.balance);
+    j["balance"] = figures["balance"];
+    j["communication_seconds_per_step"] = figures["communication_seconds_per_step"];
+  }
+  return j;
+}
+
+std::string percent(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f%%", 100 * x);
+  return text;
+}
+
+void printBalance(const std::vector<Measurement>& results) {
+  std::printf(
+      "\nbalance after the last step, per rank max/mean (counts: the same on any machine):\n"
+      "%5s %13s %7s %7s %10s %7s %8s %7s %8s %11s %9s %7s %26s\n",
+      "ranks", "blocks", "owned", "ghosts", "cand.pairs", "pairs", "contacts", "work", "work eff",
+      "bytes/step", "msgs/step", "ghosts", "exchange ms wait/xfer/other");
+  for (const auto& m : results) {
+    if (m.control) continue;
+    const auto& b = m.balance;
+    std::printf(
+        "%5d %4dx%3dx%3d %7.3f %7.3f %10.3f %7.3f %8.3f %7.3f %7.1f%% %11.0f %9.2f %7.0f "
+        "%8.3f/%7.3f/%7.3f\n",
+        m.ranks, b.blocks[0], b.blocks[1], b.blocks[2], b.owned.ratio(), b.ghosts.ratio(),
+        b.candidate_pairs.ratio(), b.evaluated_pairs.ratio(), b.contacts.ratio(), b.work.ratio(),
+        100 * sim::modelledEfficiency(b), b.bytes_per_step.mean, b.messages_per_step.mean,
+        b.ghosts.mean, 1e3 * b.wait_seconds.mean, 1e3 * b.transfer_seconds.mean,
+        1e3 * b.bookkeeping_seconds.mean);
+  }
+  std::printf(
+      "(pairs: kernel calls, a pair across a rank border on both ranks; work: the load model;\n"
+      " work eff: the work done once / (ranks x the busiest rank's work), the efficiency that the\n"
+      " balance and the duplicated border pairs allow; bytes, messages: mean per rank and step;\n"
+      " ghosts: mean per rank; exchange times: mean per rank and step, not deterministic)\n");
 }
 
 }  // namespace
 
 int benchScaling(int argc, char** argv) {
-  Args args(argc, argv, {"help"});
+  Args args(argc, argv, {"help", "control"});
   if (args.flag("help")) {
     std::printf(
-        "usage: mpirun -n P polydem bench scaling [--particles N] [--shapes mixed|cubes]\n"
-        "         [--steps S] [--warmup W] [--kernel NAME] [--ranks 1,2,...] [--json FILE]\n"
+        "usage: mpirun -n P polydem bench scaling [--particles N | --per-rank N]\n"
+        "         [--shapes mixed|cubes] [--layers L] [--steps S] [--warmup W] [--kernel NAME]\n"
+        "         [--ranks 1,2,...] [--control] [--json FILE]\n"
         "         [--gap G]   lattice gap relative to the size (default 0.05: particles start\n"
         "                     apart and fall; -0.001 with cubes: a dense pack, every face in\n"
         "                     contact from the first step)\n"
+        "         [--floor-width F]  no walls, a floor F times as wide as the pile and the\n"
+        "                     default [domain] box (default: walls around the pile)\n"
         "  runs the P-PILE scene on 1 rank and on groups of the P launched ranks (default 1, 2,\n"
-        "  4, ..., P) and prints particle-steps per second per core and parallel efficiency.\n");
+        "  4, ..., P) and prints particle-steps per second per core, parallel efficiency and the\n"
+        "  balance figures per rank. --per-rank N: weak scaling, N particles per rank of each\n"
+        "  group. --control: also the 1-rank run on all P ranks at once (independent runs side\n"
+        "  by side): the efficiency the hardware itself allows.\n");
     return 0;
   }
   sim::PileOptions pile;
+  const std::int64_t per_rank = args.integer("per-rank", 0);
   pile.particles = args.integer("particles", 20000);
   pile.shapes = args.value("shapes", "mixed");
   pile.kernel = args.value("kernel", "gjk-epa-ipm");
   pile.layers = args.integer("layers", 10);
   pile.gap = args.number("gap", pile.gap);
+  pile.floor_width = args.number("floor-width", 0.0);
   const std::int64_t steps = args.integer("steps", 100);
   const std::int64_t warmup = args.integer("warmup", 20);
+  const bool control = args.flag("control");
   const auto json_path = args.value("json");
   const int world = mpi::size();
   const auto groups = parseRanks(args.value("ranks", ""), world);
   args.rejectUnknown();
+  if (per_rank < 0) throw UsageError("--per-rank must be positive");
   log::setLevel(log::Level::kWarning);
-  const io::Scene scene = sim::makePileScene(pile);
+  auto sceneFor = [&](int ranks) {
+    sim::PileOptions o = pile;
+    if (per_rank > 0) o.particles = per_rank * ranks;
+    return sim::makePileScene(o);
+  };
 
   std::vector<Measurement> results;
   for (int ranks : groups) {
@@ -115,43 +203,54 @@ int benchScaling(int argc, char** argv) {
     MPI_Comm_split(MPI_COMM_WORLD, rank < ranks ? 0 : MPI_UNDEFINED, rank, &group);
     Measurement m;
     if (group != MPI_COMM_NULL) {
-      m = measure(scene, group, warmup, steps);
+      m = measure(sceneFor(ranks), group, warmup, steps);
       MPI_Comm_free(&group);
     }
     MPI_Bcast(&m, sizeof m, MPI_BYTE, 0, MPI_COMM_WORLD);
     results.push_back(m);
   }
+  if (control) results.push_back(measureControl(sceneFor(1), warmup, steps));
   if (mpi::rank() != 0) return 0;
 
-  const double t1 = results.front().ranks == 1 ? results.front().seconds : 0.0;
+  const Measurement& lone = results.front();
+  const double t1 = lone.ranks == 1 ? lone.seconds : 0.0;
+  double control_ratio = 0.0;  // lone 1-rank time / side-by-side 1-rank time
+  if (control && t1 > 0) control_ratio = t1 / results.back().seconds;
   std::printf(
-      "P-PILE strong scaling: %lld %s particles, kernel %s, %lld steps after %lld warm-up\n",
-      static_cast<long long>(results.front().particles), pile.shapes.c_str(), pile.kernel.c_str(),
-      static_cast<long long>(steps), static_cast<long long>(warmup));
-  std::printf("%5s %9s %9s %14s %14s %10s %22s %8s %8s %8s\n", "ranks", "wall [s]", "contacts",
-              "p-steps/s", "p-steps/s/core", "efficiency", "step ms min/mean/max", "broad%",
-              "contact%", "comm%");
+      "P-PILE %s scaling: %s %s particles%s, kernel %s, %lld steps after %lld warm-up\n",
+      per_rank > 0 ? "weak" : "strong",
+      per_rank > 0 ? cat(per_rank, " per rank").c_str() : cat(results.front().particles).c_str(),
+      pile.shapes.c_str(),
+      pile.floor_width > 0 ? cat(" on a floor ", pile.floor_width, "x as wide").c_str() : "",
+      pile.kernel.c_str(), static_cast<long long>(steps), static_cast<long long>(warmup));
+  std::printf("%7s %9s %9s %14s %14s %10s %9s %22s %8s %8s %8s\n", "ranks", "wall [s]", "contacts",
+              "p-steps/s", "p-steps/s/core", "efficiency", "of hw", "step ms min/mean/max",
+              "broad%", "contact%", "comm%");
   nlohmann::json out = nlohmann::json::array();
   for (const auto& m : results) {
     const double rate = static_cast<double>(m.particles * m.steps) / m.seconds;
-    const double eff = t1 > 0 ? t1 / (m.ranks * m.seconds) : 0.0;
-    std::printf("%5d %9.3f %9lld %14.0f %14.0f %9.1f%% %6.2f/%6.2f/%6.2f %7.1f%% %7.1f%% %7.1f%%\n",
-                m.ranks, m.seconds, static_cast<long long>(m.contacts), rate, rate / m.ranks,
-                100 * eff, m.step_ms_min, m.step_ms_mean, m.step_ms_max, 100 * m.broadphase_share,
-                100 * m.contact_share, 100 * m.comm_share);
-    out.push_back({{"ranks", m.ranks},
-                   {"particles", m.particles},
-                   {"contacts", m.contacts},
-                   {"steps", m.steps},
-                   {"seconds", m.seconds},
-                   {"particle_steps_per_second", rate},
-                   {"particle_steps_per_second_per_core", rate / m.ranks},
-                   {"parallel_efficiency", eff},
-                   {"step_ms", {m.step_ms_min, m.step_ms_mean, m.step_ms_max}},
-                   {"broadphase_share", m.broadphase_share},
-                   {"contact_share", m.contact_share},
-                   {"communication_share", m.comm_share}});
+    // Strong: t1 / (P tP); weak (P times the particles): t1 / tP. Control: t1 / t(side by side).
+    double eff = 0.0;
+    if (t1 > 0) eff = m.control || per_rank > 0 ? t1 / m.seconds : t1 / (m.ranks * m.seconds);
+    const double hw_eff =
+        !m.control && control_ratio > 0 && m.ranks == world ? eff / control_ratio : 0;
+    std::printf(
+        "%7s %9.3f %9lld %14.0f %14.0f %9.1f%% %8s %6.2f/%6.2f/%6.2f %7.1f%% %7.1f%% "
+        "%7.1f%%\n",
+        m.control ? cat(m.ranks, "x1").c_str() : cat(m.ranks).c_str(), m.seconds,
+        static_cast<long long>(m.contacts), m.control ? rate * m.ranks : rate,
+        m.control ? rate : rate / m.ranks, 100 * eff, hw_eff > 0 ? percent(hw_eff).c_str() : "",
+        m.step_ms_min, m.step_ms_mean, m.step_ms_max, 100 * m.broadphase_share,
+        100 * m.contact_share, 100 * m.comm_share);
+    out.push_back(row(m, m.control ? rate * m.ranks : rate, eff, hw_eff));
   }
+  if (control) {
+    std::printf(
+        "(%dx1: the 1-rank run on all %d ranks at once; its efficiency is what the hardware "
+        "allows, 'of hw' divides by it)\n",
+        world, world);
+  }
+  printBalance(results);
   if (json_path) {
     std::ofstream(*json_path) << out.dump(2) << "\n";
     std::printf("written: %s\n", json_path->c_str());

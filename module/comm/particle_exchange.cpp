@@ -1,6 +1,7 @@
 #include "comm/particle_exchange.h"
 
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <unordered_map>
 
@@ -15,11 +16,19 @@ namespace {
 
 constexpr int kMigrateTag = 7301;
 constexpr int kGhostTag = 7302;
+constexpr int kExchangeTag = 7305;
+
+// Record types of a message.
+constexpr std::uint8_t kParticleRecord = 0;  // a particle that now belongs to the receiver
+constexpr std::uint8_t kHistoryRecord = 1;   // a pair history travelling with it
+constexpr std::uint8_t kGhostRecord = 2;     // a ghost copy and its periodic image
+constexpr std::uint8_t kSubRecord = 3;       // a sub-contact history of a pair sent with it
 
 using particles::ContactHistory;
 using particles::PairHistory;
 using particles::PairKey;
 using particles::Particle;
+using Clock = std::chrono::steady_clock;
 
 template <typename Key, typename Entry>
 bool sameBits(const Entry& a, const Entry& b) {
@@ -28,11 +37,6 @@ bool sameBits(const Entry& a, const Entry& b) {
   pack(y, Key{}, b);
   return x.bytes() == y.bytes();
 }
-
-// Record types of a migration message.
-constexpr std::uint8_t kParticleRecord = 0;
-constexpr std::uint8_t kPairRecord = 1;
-constexpr std::uint8_t kSubRecord = 2;
 
 // Wraps the centroid back into the domain along periodic axes and returns its owner rank.
 int ownerAfterWrap(const domain::BlockForest& forest, Particle& p, std::int64_t step) {
@@ -50,6 +54,106 @@ int ownerAfterWrap(const domain::BlockForest& forest, Particle& p, std::int64_t 
   return forest.rankOfBlock(block);
 }
 
+// A ghost travels with its periodic image number (6 bytes), not the 24-byte shift: the receiver
+// computes the same shift from its own copy of the forest.
+void packGhost(SendBuffer& out, const Particle& p, const domain::Index3& image) {
+  out << kGhostRecord;
+  pack(out, p);
+  for (int a = 0; a < 3; ++a) out << static_cast<std::int16_t>(image[a]);
+}
+
+Vec3 unpackGhost(RecvBuffer& in, const domain::BlockForest& forest, Particle& p) {
+  unpack(in, p);
+  domain::Index3 image{};
+  for (int a = 0; a < 3; ++a) {
+    std::int16_t i = 0;
+    in >> i;
+    image[a] = i;
+  }
+  return forest.imageShift(image);
+}
+
+// The histories of every pair a leaving particle belongs to, to its destination (once per
+// destination when both members leave to the same rank).
+void packHistories(const ContactHistory& history, const std::unordered_map<Uid, int>& leaving,
+                   std::map<int, SendBuffer>& outgoing, ExchangeStats& stats) {
+  if (leaving.empty()) return;
+  const auto keys = history.keys();
+  const auto entries = history.entries();
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    for (Uid uid : {keys[k].lo, keys[k].hi}) {
+      const auto it = leaving.find(uid);
+      if (it == leaving.end()) continue;
+      if (uid == keys[k].hi) {  // both members leaving to the same rank: send once
+        const auto lo = leaving.find(keys[k].lo);
+        if (lo != leaving.end() && lo->second == it->second) continue;
+      }
+      SendBuffer& out = outgoing[it->second];
+      out << kHistoryRecord;
+      pack(out, keys[k], entries[k]);
+      const auto [first, last] = history.subRange(keys[k]);
+      for (std::size_t s = first; s < last; ++s) {
+        out << kSubRecord;
+        pack(out, history.subKeys()[s], history.subEntries()[s]);
+      }
+      ++stats.histories_sent;
+    }
+  }
+}
+
+// Unpacks received records: particles become local at once, histories are merged, ghosts are
+// appended to `ghosts` (added to the storage by the caller once every local particle is in).
+void unpackRecords(const std::vector<Message>& messages, const domain::BlockForest& forest,
+                   particles::ParticleStorage& storage, ContactHistory& history,
+                   std::vector<std::pair<Particle, Vec3>>& ghosts, ExchangeStats& stats) {
+  particles::HistoryRecords received;
+  for (const auto& m : messages) {
+    RecvBuffer in(m.bytes.data(), m.bytes.size());
+    while (!in.atEnd()) {
+      std::uint8_t type = 0;
+      in >> type;
+      if (type == kParticleRecord) {
+        Particle p;
+        unpack(in, p);
+        storage.addLocal(p);
+        ++stats.particles_received;
+      } else if (type == kHistoryRecord) {
+        PairKey key;
+        PairHistory h;
+        unpack(in, key, h);
+        if (const PairHistory* mine = history.find(key);
+            mine && !sameBits<PairKey, PairHistory>(*mine, h)) {
+          ++stats.history_conflicts;
+        }
+        received.keys.push_back(key);
+        received.entries.push_back(h);
+        ++stats.histories_received;
+      } else if (type == kSubRecord) {
+        particles::SubKey key;
+        particles::SubHistory h;
+        unpack(in, key, h);
+        received.sub_keys.push_back(key);
+        received.sub_entries.push_back(h);
+      } else if (type == kGhostRecord) {
+        Particle p;
+        const Vec3 shift = unpackGhost(in, forest, p);
+        ghosts.emplace_back(p, shift);
+        ++stats.particles_received;
+      } else {
+        throw Error(cat("message from rank ", m.rank, " has an unknown record type ", int{type}));
+      }
+    }
+  }
+  if (!received.empty()) history.merge(received);
+}
+
+void addCost(ExchangeStats& stats, const ExchangeCost& cost) {
+  stats.bytes_sent += cost.bytes;
+  stats.messages_sent += cost.messages;
+  stats.wait_seconds += cost.wait_seconds;
+  stats.transfer_seconds += cost.transfer_seconds;
+}
+
 }  // namespace
 
 ParticleExchange::ParticleExchange(MPI_Comm comm) : comm_(comm), rank_(mpi::rank(comm)) {}
@@ -57,6 +161,7 @@ ParticleExchange::ParticleExchange(MPI_Comm comm) : comm_(comm), rank_(mpi::rank
 ExchangeStats ParticleExchange::migrate(const domain::BlockForest& forest,
                                         particles::ParticleStorage& storage,
                                         ContactHistory& history, std::int64_t step) {
+  const auto t0 = Clock::now();
   ExchangeStats stats;
   storage.dropGhosts();
   std::map<int, SendBuffer> outgoing;
@@ -79,72 +184,24 @@ ExchangeStats ParticleExchange::migrate(const domain::BlockForest& forest,
     ++stats.particles_sent;
     storage.removeLocal(i);
   }
-  if (!leaving.empty()) {
-    const auto keys = history.keys();
-    const auto entries = history.entries();
-    for (std::size_t k = 0; k < keys.size(); ++k) {
-      for (Uid uid : {keys[k].lo, keys[k].hi}) {
-        const auto it = leaving.find(uid);
-        if (it == leaving.end()) continue;
-        if (uid == keys[k].hi) {  // both members leaving to the same rank: send once
-          const auto lo = leaving.find(keys[k].lo);
-          if (lo != leaving.end() && lo->second == it->second) continue;
-        }
-        SendBuffer& out = outgoing[it->second];
-        out << kPairRecord;
-        pack(out, keys[k], entries[k]);
-        const auto [first, last] = history.subRange(keys[k]);
-        for (std::size_t s = first; s < last; ++s) {
-          out << kSubRecord;
-          pack(out, history.subKeys()[s], history.subEntries()[s]);
-        }
-        ++stats.histories_sent;
-      }
-    }
-  }
-  const auto messages = sparseExchange(outgoing, comm_, kMigrateTag, &stats.bytes_sent);
-  particles::HistoryRecords received;
-  for (const auto& m : messages) {
-    RecvBuffer in(m.bytes.data(), m.bytes.size());
-    while (!in.atEnd()) {
-      std::uint8_t type = 0;
-      in >> type;
-      if (type == kParticleRecord) {
-        Particle p;
-        unpack(in, p);
-        storage.addLocal(p);
-        ++stats.particles_received;
-      } else if (type == kPairRecord) {
-        PairKey key;
-        PairHistory h;
-        unpack(in, key, h);
-        if (const PairHistory* mine = history.find(key);
-            mine && !sameBits<PairKey, PairHistory>(*mine, h)) {
-          ++stats.history_conflicts;
-        }
-        received.keys.push_back(key);
-        received.entries.push_back(h);
-        ++stats.histories_received;
-      } else {
-        particles::SubKey key;
-        particles::SubHistory h;
-        unpack(in, key, h);
-        received.sub_keys.push_back(key);
-        received.sub_entries.push_back(h);
-      }
-    }
-  }
-  if (!received.empty()) history.merge(received);
+  packHistories(history, leaving, outgoing, stats);
+  ExchangeCost cost;
+  const auto messages = sparseExchange(outgoing, comm_, kMigrateTag, &cost);
+  addCost(stats, cost);
+  std::vector<std::pair<Particle, Vec3>> no_ghosts;
+  unpackRecords(messages, forest, storage, history, no_ghosts, stats);
+  stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return stats;
 }
 
 ExchangeStats ParticleExchange::refreshGhosts(const domain::BlockForest& forest,
                                               particles::ParticleStorage& storage,
                                               const particles::ShapeTable& shapes, double range) {
+  const auto t0 = Clock::now();
   ExchangeStats stats;
   storage.dropGhosts();
   std::map<int, SendBuffer> outgoing;
-  std::vector<std::pair<Particle, Vec3>> self_images;
+  std::vector<std::pair<Particle, Vec3>> ghosts;  // self images first, then the received ones
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
     const Particle& p = storage[i];
     if (p.isGlobal()) continue;
@@ -153,28 +210,79 @@ ExchangeStats ParticleExchange::refreshGhosts(const domain::BlockForest& forest,
     for (const auto& hit : hits_) {
       const bool unshifted = hit.shift.isZero(0.0);
       if (hit.rank == rank_) {
-        if (!unshifted) self_images.emplace_back(p, hit.shift);
+        if (!unshifted) ghosts.emplace_back(p, hit.shift);
         continue;
       }
-      SendBuffer& out = outgoing[hit.rank];
-      pack(out, p);
-      out << hit.shift;
+      packGhost(outgoing[hit.rank], p, hit.image);
       ++stats.particles_sent;
     }
   }
-  const auto messages = sparseExchange(outgoing, comm_, kGhostTag, &stats.bytes_sent);
-  for (const auto& [p, shift] : self_images) storage.addGhost(p, shift);
-  for (const auto& m : messages) {
-    RecvBuffer in(m.bytes.data(), m.bytes.size());
-    while (!in.atEnd()) {
-      Particle p;
-      Vec3 shift;
-      unpack(in, p);
-      in >> shift;
-      storage.addGhost(p, shift);
-      ++stats.particles_received;
+  ExchangeCost cost;
+  const auto messages = sparseExchange(outgoing, comm_, kGhostTag, &cost);
+  addCost(stats, cost);
+  ContactHistory unused;
+  unpackRecords(messages, forest, storage, unused, ghosts, stats);
+  for (const auto& [p, shift] : ghosts) storage.addGhost(p, shift);
+  stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return stats;
+}
+
+ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
+                                         particles::ParticleStorage& storage,
+                                         ContactHistory& history,
+                                         const particles::ShapeTable& shapes, double range,
+                                         std::int64_t step) {
+  const auto t0 = Clock::now();
+  ExchangeStats stats;
+  storage.dropGhosts();
+  std::map<int, SendBuffer> outgoing;
+  std::unordered_map<Uid, int> leaving;           // uid -> destination rank
+  std::vector<std::pair<Particle, Vec3>> ghosts;  // those kept here first, then the received ones
+  // One rank and no periodic axis: no ghosts at all, and no sphere queries to find that out.
+  const auto& periodic = forest.periodic();
+  const bool alone = forest.numRanks() == 1 && !periodic[0] && !periodic[1] && !periodic[2];
+  for (std::size_t i = 0; i < storage.size();) {
+    Particle& p = storage[i];
+    if (p.isGlobal()) {
+      ++i;
+      continue;
     }
+    const int owner = ownerAfterWrap(forest, p, step);
+    if (alone) {
+      ++i;
+      continue;
+    }
+    // The ghosts of the particle where it now stands, sent by the rank that moved it: to every
+    // hit but its owner's own unshifted copy. A hit on this rank is kept here: a periodic self
+    // image, or a ghost of a particle that just left for a neighbour.
+    forest.ranksIntersectingSphere(p.position, shapes[p.shape].circumradius + range, hits_);
+    for (const auto& hit : hits_) {
+      if (hit.rank == owner && hit.shift.isZero(0.0)) continue;
+      if (hit.rank == rank_) {
+        ghosts.emplace_back(p, hit.shift);
+      } else {
+        packGhost(outgoing[hit.rank], p, hit.image);
+        ++stats.particles_sent;
+      }
+    }
+    if (owner == rank_) {
+      ++i;
+      continue;
+    }
+    leaving.emplace(p.uid, owner);
+    SendBuffer& out = outgoing[owner];
+    out << kParticleRecord;
+    pack(out, p);
+    ++stats.particles_sent;
+    storage.removeLocal(i);
   }
+  packHistories(history, leaving, outgoing, stats);
+  ExchangeCost cost;
+  const auto messages = sparseExchange(outgoing, comm_, kExchangeTag, &cost);
+  addCost(stats, cost);
+  unpackRecords(messages, forest, storage, history, ghosts, stats);
+  for (const auto& [p, shift] : ghosts) storage.addGhost(p, shift);
+  stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return stats;
 }
 

@@ -1,13 +1,16 @@
 // Migration and ghost exchange over the block forest.
 //
-// After each integration step:
-//  1. migrate(): a free particle whose centroid left this rank's blocks goes to the rank owning
-//     the block it is now in, together with the contact history of every pair it belongs to
-//     (along periodic axes the centroid is wrapped back into the domain first);
-//  2. refreshGhosts(): every free particle is copied, as a ghost, to every other rank owning a
-//  block
-//     within its ghost radius (own circumradius + the largest circumradius of any free particle +
-//     the contact margin), and to this rank itself as a shifted image across periodic faces.
+// After each integration step, exchange() does both in one message per neighbour rank:
+//  - a free particle whose centroid left this rank's blocks goes to the rank owning the block it
+//    is now in, together with the contact history of every pair it belongs to (along periodic
+//    axes the centroid is wrapped back into the domain first);
+//  - every free particle is copied, as a ghost, to every rank other than its (new) owner that owns
+//    a block within its ghost radius (own circumradius + the largest circumradius of any free
+//    particle + the contact margin), and to its owner itself as a shifted image across periodic
+//    faces. The rank that held the particle before the step sends its ghosts, so a particle that
+//    migrates needs no second round.
+// migrate() and refreshGhosts() do the two halves separately (restart, rebalancing, tests); they
+// give the same particles, ghosts and histories.
 // Fixed and driven particles are replicated on all ranks and never move between them.
 // A pair whose two particles live on two ranks is evaluated on both, from identical inputs, so
 // no force is sent back; the ghost radius above guarantees each owner sees all its partners.
@@ -18,6 +21,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "comm/sparse_exchange.h"
 #include "domain/block_forest.h"
 #include "particles/contact_history.h"
 #include "particles/particle_storage.h"
@@ -29,6 +33,10 @@ struct ExchangeStats {
   std::int64_t histories_sent = 0, histories_received = 0;
   std::int64_t history_conflicts = 0;  // received copies that differ from ours: must stay 0
   std::int64_t bytes_sent = 0;
+  std::int64_t messages_sent = 0;
+  // Time: the whole call, and within it the wait for the slowest rank and the transfer proper
+  // (ExchangeCost); the rest is bookkeeping (finding destinations, packing, unpacking).
+  double seconds = 0.0, wait_seconds = 0.0, transfer_seconds = 0.0;
 
   ExchangeStats& operator+=(const ExchangeStats& o) {
     particles_sent += o.particles_sent;
@@ -37,6 +45,10 @@ struct ExchangeStats {
     histories_received += o.histories_received;
     history_conflicts += o.history_conflicts;
     bytes_sent += o.bytes_sent;
+    messages_sent += o.messages_sent;
+    seconds += o.seconds;
+    wait_seconds += o.wait_seconds;
+    transfer_seconds += o.transfer_seconds;
     return *this;
   }
 };
@@ -49,6 +61,12 @@ class ParticleExchange {
   /// particle left the domain along a non-periodic axis. Collective.
   ExchangeStats migrate(const domain::BlockForest& forest, particles::ParticleStorage& storage,
                         particles::ContactHistory& history, std::int64_t step);
+
+  /// migrate() and refreshGhosts() in one sparse exchange: one message per neighbour rank.
+  /// Collective.
+  ExchangeStats exchange(const domain::BlockForest& forest, particles::ParticleStorage& storage,
+                         particles::ContactHistory& history, const particles::ShapeTable& shapes,
+                         double range, std::int64_t step);
 
   /// Replaces all ghosts by fresh copies. `range` is added to each particle's own circumradius
   /// to get its ghost radius (the largest free circumradius plus the contact margin). Collective.

@@ -1,5 +1,6 @@
 #include "comm/sparse_exchange.h"
 
+#include <chrono>
 #include <limits>
 
 #include "core/error.h"
@@ -9,10 +10,12 @@
 namespace polydem::comm {
 
 std::vector<Message> sparseExchange(const std::map<int, SendBuffer>& outgoing, MPI_Comm comm,
-                                    int tag, std::int64_t* bytes_sent) {
+                                    int tag, ExchangeCost* cost) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
   const int ranks = mpi::size(comm);
   std::vector<std::int64_t> send_counts(ranks, 0), recv_counts(ranks, 0);
-  std::int64_t sent = 0;
+  std::int64_t sent = 0, messages = 0;
   for (const auto& [rank, buffer] : outgoing) {
     if (buffer.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
       throw Error(cat("message of ", buffer.size(), " bytes to rank ", rank,
@@ -20,9 +23,10 @@ std::vector<Message> sparseExchange(const std::map<int, SendBuffer>& outgoing, M
     }
     send_counts[rank] = static_cast<std::int64_t>(buffer.size());
     sent += send_counts[rank];
+    messages += send_counts[rank] > 0;
   }
-  if (bytes_sent) *bytes_sent = sent;
   MPI_Alltoall(send_counts.data(), 1, MPI_INT64_T, recv_counts.data(), 1, MPI_INT64_T, comm);
+  const auto t1 = Clock::now();
 
   std::vector<Message> received;
   std::vector<MPI_Request> requests;
@@ -43,6 +47,12 @@ std::vector<Message> sparseExchange(const std::map<int, SendBuffer>& outgoing, M
               &requests.back());
   }
   MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  if (cost) {
+    cost->bytes += sent;
+    cost->messages += messages;
+    cost->wait_seconds += std::chrono::duration<double>(t1 - t0).count();
+    cost->transfer_seconds += std::chrono::duration<double>(Clock::now() - t1).count();
+  }
   return received;
 }
 

@@ -68,6 +68,12 @@ class BlockForest {
   /// outside along a non-periodic axis. May return `b` itself (periodic axis with 1 block).
   int neighbourIndex(int b, const Index3& offset) const;
 
+  /// The translation of periodic image `image`: image[a] * (hi[a] - lo[a]) along every axis, the
+  /// same bits as the shifts of the sphere queries.
+  Vec3 imageShift(const Index3& image) const {
+    return Vec3(image[0] * length_[0], image[1] * length_[1], image[2] * length_[2]);
+  }
+
   // --- points -----------------------------------------------------------------------------------
 
   /// The block that owns point `x`. Half-open rule: along each axis block i owns

@@ -12,6 +12,11 @@
 
 namespace polydem::domain {
 
+enum class PartitionMethod {
+  kMetis,  ///< partitionMetis: balanced and with short rank borders
+  kSfc,    ///< partitionSfc on the Hilbert curve: no graph partitioner, contiguous chunks
+};
+
 /// Resolution of the integer vertex weights: the heaviest block weighs 1 + kWeightResolution.
 inline constexpr int kWeightResolution = 10000;
 

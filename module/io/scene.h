@@ -58,11 +58,11 @@ struct ParticleSpec {
 
 struct DomainSpec {
   std::optional<Vec3> min, max;              // default: particles' bounding box, inflated
-  std::optional<std::array<int, 3>> blocks;  // default: chosen from the rank count
+  std::optional<std::array<int, 3>> blocks;  // default: fitted to the free particles
   std::array<bool, 3> periodic{false, false, false};
-  std::int64_t rebalance_every = 0;  // steps; 0 = never
-  std::string balancer = "metis";    // "metis" | "sfc" | "cyclic" (round robin: borders everywhere,
-                                     // to stress communication in tests)
+  std::int64_t rebalance_every = 100;  // steps between balance checks; 0 = never after the start
+  std::string balancer = "metis";  // "metis" | "sfc" | "cyclic" (round robin: borders everywhere,
+                                   // to stress communication in tests)
 };
 
 /// The initial-equilibrium stage of 3DEC and Keissar section 3.3: heavy local damping and a

@@ -215,7 +215,7 @@ void readDomain(const Context& ctx, const toml::table& root, Scene& scene) {
   if ((d.periodic[0] || d.periodic[1] || d.periodic[2]) && !(d.min && d.max)) {
     s->fail("periodic", "a periodic axis needs the domain's min and max");
   }
-  d.rebalance_every = s->integer("rebalance_every", 0, Range::kNonNegative);
+  d.rebalance_every = s->integer("rebalance_every", d.rebalance_every, Range::kNonNegative);
   d.balancer = s->choice("balancer", {"metis", "sfc", "cyclic"}, d.balancer);
 }
 

@@ -128,6 +128,8 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
     rec.key = c.key;
     rec.a = local_a;
     rec.b = local_b;
+    rec.stored_a = c.a;
+    rec.stored_b = c.b;
     rec.touching = contact.touching;
     rec.status = contact.status;
     rec.a_is_local = static_cast<std::size_t>(c.a) < storage.localCount();

@@ -52,6 +52,7 @@ struct ContactSetup {
 struct ContactRecord {
   particles::PairKey key;
   std::int32_t a = -1, b = -1;  // local indices of A and B when local and free, else -1
+  std::int32_t stored_a = -1, stored_b = -1;  // storage indices of A and B (ghosts included)
   bool touching = false;
   Vec3 point = Vec3::Zero();  // in A's frame (the world frame unless A is a periodic image); with
                               // sub-contacts the centre of pressure

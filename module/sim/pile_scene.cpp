@@ -27,6 +27,9 @@ std::vector<Vec3> centred(std::vector<Vec3> v) {
 
 io::Scene makePileScene(const PileOptions& o) {
   if (o.particles < 1 || o.layers < 1) throw Error("pile: particles and layers must be >= 1");
+  if (o.floor_width != 0 && !(o.floor_width >= 1)) {
+    throw Error("pile: the floor width must be 0 (walls) or at least 1 (times the pile's)");
+  }
   io::Scene s;
   s.file = "<generated P-PILE>";
   s.id = "P-PILE";
@@ -75,14 +78,18 @@ io::Scene makePileScene(const PileOptions& o) {
       std::ceil(std::sqrt(static_cast<double>(o.particles) / static_cast<double>(layers))));
   const double width = static_cast<double>(side) * pitch;
 
-  // Floor and walls: fixed boxes around the footprint [0, width]^2.
+  // Floor and walls: fixed boxes around the footprint [0, width]^2 (or a wide floor alone).
   const int wall_shape = static_cast<int>(s.shapes.size());
   const double t = 1.0, h = static_cast<double>(layers) * pitch + 2.0;
-  s.shapes.push_back(
-      shape("floor", geometry::shapes::box(Vec3(-t, -t, -t), Vec3(width + t, width + t, 0))));
-  s.shapes.push_back(
-      shape("wall_x", geometry::shapes::box(Vec3(-t, -t, 0), Vec3(0, width + t, h))));
-  s.shapes.push_back(shape("wall_y", geometry::shapes::box(Vec3(0, -t, 0), Vec3(width, 0, h))));
+  const bool wide = o.floor_width > 0;
+  const double rim = wide ? 0.5 * (o.floor_width - 1.0) * width : t;
+  s.shapes.push_back(shape(
+      "floor", geometry::shapes::box(Vec3(-rim, -rim, -t), Vec3(width + rim, width + rim, 0))));
+  if (!wide) {
+    s.shapes.push_back(
+        shape("wall_x", geometry::shapes::box(Vec3(-t, -t, 0), Vec3(0, width + t, h))));
+    s.shapes.push_back(shape("wall_y", geometry::shapes::box(Vec3(0, -t, 0), Vec3(width, 0, h))));
+  }
   Uid uid = 1;
   auto fixed = [&](int shape_index, const Vec3& offset) {
     io::ParticleSpec p;
@@ -94,10 +101,12 @@ io::Scene makePileScene(const PileOptions& o) {
     s.particles.push_back(p);
   };
   fixed(wall_shape, Vec3::Zero());
-  fixed(wall_shape + 1, Vec3::Zero());
-  fixed(wall_shape + 1, Vec3(width + t, 0, 0));
-  fixed(wall_shape + 2, Vec3::Zero());
-  fixed(wall_shape + 2, Vec3(0, width + t, 0));
+  if (!wide) {
+    fixed(wall_shape + 1, Vec3::Zero());
+    fixed(wall_shape + 1, Vec3(width + t, 0, 0));
+    fixed(wall_shape + 2, Vec3::Zero());
+    fixed(wall_shape + 2, Vec3(0, width + t, 0));
+  }
 
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -117,8 +126,10 @@ io::Scene makePileScene(const PileOptions& o) {
     p.velocity = o.initial_speed * Vec3(unit(rng), unit(rng), unit(rng));
     s.particles.push_back(p);
   }
-  s.domain.min = Vec3(-t - 0.5, -t - 0.5, -t - 0.5);
-  s.domain.max = Vec3(width + t + 0.5, width + t + 0.5, h + 0.5);
+  if (!wide) {
+    s.domain.min = Vec3(-t - 0.5, -t - 0.5, -t - 0.5);
+    s.domain.max = Vec3(width + t + 0.5, width + t + 0.5, h + 0.5);
+  }
   s.output.series_every = 1000000;
   return s;
 }

@@ -1,6 +1,11 @@
 // P-PILE (BENCHMARKS.md): a pile of convex polyhedra settling in a box, generated in code so that
 // benchmarks and tests can ask for any particle count. Particles start on a lattice slightly
 // apart, randomly turned, and fall onto a floor between four walls.
+//
+// The wide-floor variant (floor_width > 0) drops the walls and puts the pile in the middle of a
+// floor floor_width times as wide as the pile, and leaves the [domain] box to its default (the
+// bounding box of all bodies, inflated): the scene on which blocks sized from the domain box
+// leave the whole pile in a few blocks (issue 12).
 #pragma once
 
 #include <cstdint>
@@ -20,6 +25,8 @@ struct PileOptions {
   std::uint64_t seed = 1;
   std::int64_t steps = 200;
   double initial_speed = 0.0;  // random initial velocities up to this (m/s)
+  double floor_width = 0.0;    // > 0: no walls, a floor this many times as wide as the pile,
+                               // and the default [domain] box
 };
 
 io::Scene makePileScene(const PileOptions& options);

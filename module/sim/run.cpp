@@ -12,6 +12,7 @@
 #include "core/strings.h"
 #include "io/checkpoint.h"
 #include "io/scene_reader.h"
+#include "sim/balance_figures.h"
 #include "sim/checks.h"
 #include "sim/run_checkpoint.h"
 #include "sim/run_output.h"
@@ -193,6 +194,12 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
   MPI_Allreduce(MPI_IN_PLACE, sent, 3, MPI_INT64_T, MPI_SUM, comm);
   const nlohmann::json communication = {
       {"bytes_sent", sent[0]}, {"particles_sent", sent[1]}, {"histories_sent", sent[2]}};
+  const nlohmann::json balance = toJson(balanceFigures(sim));
+  const auto& log = sim.balanceLog();
+  const nlohmann::json decomposition = {{"balance_checks", log.checks},
+                                        {"new_decompositions_computed", log.proposals},
+                                        {"new_decompositions_adopted", log.adopted},
+                                        {"work_imbalance_at_last_check", log.last_imbalance}};
   if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
     auto summary = summaryJson(scene, sim, result, reason, timing);
     summary["stopped_by_signal"] =
@@ -200,6 +207,9 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
     if (!result.checkpoint.empty()) summary["checkpoint"] = result.checkpoint;
     if (restart) summary["restarted_from"] = restart_file;
     summary["communication"] = communication;
+    summary["balance"] = balance["balance"];
+    summary["balance"]["rebalancing"] = decomposition;
+    summary["communication_seconds_per_step"] = balance["communication_seconds_per_step"];
     io::writeJsonAtomic(options.out_dir + "/summary.json", summary);
     log::info("wrote " + options.out_dir + "/summary.json, series.csv" +
               (options.snapshots ? ", snapshots.pvd" : ""));

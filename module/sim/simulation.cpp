@@ -84,6 +84,16 @@ void Simulation::computeContacts() {
   setup.dt = dt();
   setup.time = stage_ == Stage::kEquilibrium ? 0.0 : time();
   contact_stats_ = contact_phase_.run(setup, storage_, candidates_, history_, forces_);
+  // The work of this phase, and where it was if the decomposition is weighed after this step
+  // (the records hold storage indices, valid only until the particles move).
+  const auto every = scene_.domain.rebalance_every;
+  if (sample_load_ || (every > 0 && (loop_.step() + 1) % every == 0)) {
+    load_sample_ = sampleLoad(storage_, contact_phase_.records(), load_model_);
+    last_work_ = load_sample_.work;
+    sample_load_ = false;
+  } else {
+    last_work_ = stepWork(storage_, contact_phase_.records(), load_model_);
+  }
   ratio_local_.clear();
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
     if (!storage_[i].isFree()) continue;
@@ -107,36 +117,17 @@ void Simulation::integrate() {
 
 void Simulation::communicate() {
   const std::int64_t next_step = loop_.step() + 1;
-  exchange_stats_ = exchange_.migrate(*forest_, storage_, history_, next_step);
-  migrated_histories_ += exchange_stats_.histories_received;
+  // A new decomposition is weighed before the particles move, so that one exchange takes them to
+  // their new owners (and their ghosts to the new neighbours).
   if (scene_.domain.rebalance_every > 0 && next_step % scene_.domain.rebalance_every == 0) {
-    rebalance();
+    balanceDecomposition();
   }
-  exchange_stats_ += exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  exchange_stats_ =
+      exchange_.exchange(*forest_, storage_, history_, shapes_, ghost_range_, next_step);
+  migrated_histories_ += exchange_stats_.histories_received;
   exchange_totals_ += exchange_stats_;
-}
-
-void Simulation::rebalance() {
-  std::vector<double> weights(forest_->numBlocks(), 0.0);
-  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    if (!storage_[i].isFree()) continue;
-    weights[forest_->blockOf(storage_[i].position)] += 1.0;
-  }
-  std::vector<double> global(weights.size());
-  MPI_Allreduce(weights.data(), global.data(), static_cast<int>(weights.size()), MPI_DOUBLE,
-                MPI_SUM, comm_);
-  const double before = domain::imbalance(forest_->rankMap(), global, ranks_);
-  const auto old_map = forest_->rankMap();
-  forest_->setRankMap(rankMap(weights), ranks_);
-  int blocks_moved = 0;
-  for (int b = 0; b < forest_->numBlocks(); ++b)
-    blocks_moved += old_map[b] != forest_->rankOfBlock(b);
-  const double after = domain::imbalance(forest_->rankMap(), global, ranks_);
-  const auto moved = exchange_.migrate(*forest_, storage_, history_, loop_.step());
-  migrated_histories_ += moved.histories_received;
-  log::info(cat("rebalanced at step ", loop_.step(), ": imbalance ", num(before), " -> ",
-                num(after), ", ", blocks_moved, " blocks and ",
-                mpi::allreduceSum(moved.particles_sent, comm_), " particles moved"));
+  step_exchange_totals_ += exchange_stats_;
+  ++exchanges_;
 }
 
 void Simulation::observe() {

@@ -29,6 +29,7 @@
 #include "particles/material.h"
 #include "particles/particle_storage.h"
 #include "sim/contact_phase.h"
+#include "sim/load_balance.h"
 #include "timeloop/time_loop.h"
 
 namespace polydem::sim {
@@ -120,8 +121,25 @@ class Simulation {
   io::CheckpointData checkpoint(const std::string& scene_toml, const std::string& scene_file,
                                 const std::string& run_state) const;
 
-  /// Recomputes the block -> rank map from the particle counts and moves particles (collective).
-  void rebalance();
+  /// Weighs a new decomposition against the current one by the work of the last contact phase
+  /// (sim/load_balance.h) and, if it is better by the margin, installs it and moves the particles
+  /// (collective; see docs/domain.md). Returns whether it was adopted.
+  bool rebalance();
+  /// What the rebalancing did so far (the initial one at step 0 included).
+  struct BalanceLog {
+    std::int64_t checks = 0;      // times the imbalance was looked at
+    std::int64_t proposals = 0;   // times a new decomposition was computed
+    std::int64_t adopted = 0;     // times it was installed
+    double last_imbalance = 1.0;  // the work's imbalance at the last check (max / mean)
+  };
+  const BalanceLog& balanceLog() const { return balance_log_; }
+  const LoadModel& loadModel() const { return load_model_; }
+  /// The load model's cost of this rank's last contact phase and particles.
+  const StepWork& lastWork() const { return last_work_; }
+  /// The exchanges of the steps alone (not those of the start or of a rebalancing between
+  /// steps), and how many steps they were.
+  const comm::ExchangeStats& stepExchangeTotals() const { return step_exchange_totals_; }
+  std::int64_t exchanges() const { return exchanges_; }
 
   /// The dt suggested from masses and stiffnesses (see dynamics/time_step.h).
   double suggestedTimeStep() const { return suggested_dt_; }
@@ -132,6 +150,13 @@ class Simulation {
   struct Unbuilt {};
   Simulation(const io::Scene& scene, MPI_Comm comm, Unbuilt);
   std::vector<int> rankMap(std::span<const double> weights) const;
+  domain::PartitionMethod partitionMethod() const;
+  /// Block counts for `box` from the free particles' centroids; `collective`: each rank holds
+  /// some of them (sim/simulation_balance.cpp).
+  domain::Index3 fittedBlockCounts(const domain::Aabb& box, const domain::Periodic& periodic,
+                                   std::span<const Vec3> centroids, bool collective) const;
+  /// The collective part of rebalance(): installs a better decomposition, moves nothing.
+  bool balanceDecomposition();
   void buildTables();
   void buildDomain();
   void placeParticles();
@@ -173,7 +198,15 @@ class Simulation {
   std::unique_ptr<domain::BlockForest> forest_;
   comm::ParticleExchange exchange_;
   double ghost_range_ = 0.0;  // largest free circumradius + margin
-  double margin_ = 0.0;       // absolute contact margin
+  double r_free_ = 0.0;       // largest free circumradius
+  LoadModel load_model_;
+  BalanceLog balance_log_;
+  bool sample_load_ = false;  // sample the next contact phase's work for a balance check
+  LoadSample load_sample_;
+  StepWork last_work_;
+  comm::ExchangeStats step_exchange_totals_;
+  std::int64_t exchanges_ = 0;
+  double margin_ = 0.0;  // absolute contact margin
   double suggested_dt_ = 0.0;
 
   particles::ParticleStorage storage_;

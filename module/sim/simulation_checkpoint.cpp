@@ -122,17 +122,14 @@ Simulation::Simulation(const io::Scene& scene, const io::CheckpointData& checkpo
 }
 
 // The stored domain box and periodicity (they decide wrapping and what leaves the domain); the
-// writer's blocks and rank map when the rank count is the same, else blocks for this rank count
-// balanced on the stored particles. Then every particle to its owner and every history to the
+// writer's blocks and rank map when the rank count is the same, else blocks fitted to the stored
+// free particles for this rank count (the scene's blocks if it gives them), balanced on their
+// counts. Then every particle to its owner and every history to the
 // owners of its particles.
 void Simulation::restoreParticles(const io::CheckpointData& checkpoint, const std::string& file) {
   const auto& dom = checkpoint.domain;
   const domain::Aabb box{dom.lo, dom.hi};
   const bool same_ranks = dom.ranks == ranks_ && !dom.rank_map.empty();
-  const auto counts = same_ranks             ? dom.blocks
-                      : scene_.domain.blocks ? *scene_.domain.blocks
-                                             : domain::chooseBlockCounts(box, ranks_, 8);
-  forest_ = std::make_unique<domain::BlockForest>(box, counts, dom.periodic);
   for (const auto& p : checkpoint.particles) {
     if (p.shape < 0 || p.shape >= static_cast<int>(shapes_.size()) || p.material < 0 ||
         p.material >= static_cast<int>(materials_.size()) ||
@@ -144,6 +141,21 @@ void Simulation::restoreParticles(const io::CheckpointData& checkpoint, const st
     q.flags &= ~particles::kGhost;
     storage_.addLocal(q);
   }
+  domain::Index3 counts = dom.blocks;
+  if (!same_ranks) {
+    if (scene_.domain.blocks) {
+      counts = *scene_.domain.blocks;
+    } else {  // blocks fitted to the particles, which every rank holds some of
+      const domain::BlockForest whole(box, {1, 1, 1}, dom.periodic);
+      std::vector<Vec3> centroids;
+      for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+        const Vec3 x = whole.wrap(storage_[i].position);
+        if (storage_[i].isFree() && box.contains(x)) centroids.push_back(x);
+      }
+      counts = fittedBlockCounts(box, dom.periodic, centroids, /*collective=*/true);
+    }
+  }
+  forest_ = std::make_unique<domain::BlockForest>(box, counts, dom.periodic);
   if (same_ranks) {
     forest_->setRankMap(dom.rank_map, ranks_);
   } else {

@@ -31,7 +31,9 @@ Simulation::Simulation(const io::Scene& scene, MPI_Comm comm) : Simulation(scene
   suggestTimeStep();
   registerSteps();
   exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  sample_load_ = true;
   startLeapfrog();
+  rebalance();  // by the work of the contact phase at t = 0, which startLeapfrog computed
 }
 
 Simulation::~Simulation() = default;
@@ -49,6 +51,7 @@ void Simulation::buildTables() {
   materials_.finalize();
   densities_ = materials_.densities();
   kernel_ = contact::makeKernel(scene_.kernel, scene_.kernel_params);
+  load_model_ = loadModelFor(scene_.kernel);
   broadphase_ = broadphase::makeBroadPhase(scene_.broadphase);
 }
 
@@ -98,6 +101,7 @@ domain::Aabb Simulation::computeExtents() {
     if (!p.fixed && p.driver < 0) r_free = std::max(r_free, s.circumradius);
   }
   margin_ = scene_.contact_margin * r_free;
+  r_free_ = r_free;
   // The broad phase and the ghost radius need a superset of the canonical-frame pair test.
   const double slack = 1e-9 * 2.0 * r_all;
   ghost_range_ = r_free + margin_ + slack;
@@ -113,8 +117,20 @@ domain::Aabb Simulation::computeExtents() {
 
 void Simulation::buildDomain() {
   const domain::Aabb box = computeExtents();
-  const auto counts =
-      scene_.domain.blocks ? *scene_.domain.blocks : domain::chooseBlockCounts(box, ranks_, 8);
+  domain::Index3 counts;
+  if (scene_.domain.blocks) {
+    counts = *scene_.domain.blocks;
+  } else {
+    // Blocks sized from where the free particles are; the fixed and driven bodies, which may
+    // span the whole domain, play no part (domain/block_fit.h).
+    std::vector<Vec3> centroids;
+    for (const auto& p : scene_.particles) {
+      if (p.fixed || p.driver >= 0) continue;
+      const Vec3 c = p.position + p.orientation * shape_frames_[p.shape].centroid;
+      if (box.contains(c)) centroids.push_back(c);  // outside: reported below
+    }
+    counts = fittedBlockCounts(box, scene_.domain.periodic, centroids, /*collective=*/false);
+  }
   forest_ = std::make_unique<domain::BlockForest>(box, counts, scene_.domain.periodic);
   // Every rank checks (so that all of them stop on an error); rank 0 alone counts the weights.
   std::vector<double> weights(forest_->numBlocks(), 0.0);
@@ -142,9 +158,9 @@ std::vector<int> Simulation::rankMap(std::span<const double> weights) const {
     for (int b = 0; b < forest_->numBlocks(); ++b) map[b] = b % ranks_;
     return map;
   }
-  const auto method = scene_.domain.balancer == "sfc" ? domain::PartitionMethod::kSfc
-                                                      : domain::PartitionMethod::kMetis;
-  return domain::computeRankMap(*forest_, weights, comm_, method);
+  domain::BlockLoads loads(forest_->numBlocks());
+  loads.self.assign(weights.begin(), weights.end());
+  return domain::computeRankMap(*forest_, loads, comm_, partitionMethod());
 }
 
 void Simulation::placeParticles() {

@@ -115,5 +115,66 @@ TEST(ComputeRankMap, ErrorsReachEveryRank) {
   EXPECT_TRUE(sameOnAllRanks(map));
 }
 
+/// Block loads of a lump of work: self weights cornerLoad(corner) and a link of a tenth of the
+/// smaller self weight between every two face neighbours, split over the ranks by block index.
+BlockLoads lumpLoads(const BlockForest& f, int corner, bool mine_only) {
+  const std::vector<double> w = cornerLoad(f, corner);
+  BlockLoads loads(f.numBlocks());
+  for (int b = 0; b < f.numBlocks(); ++b) {
+    if (mine_only && b % mpi::size() != mpi::rank()) continue;
+    loads.self[b] = w[b];
+    for (int a = 0; a < 3; ++a) {
+      Index3 step{0, 0, 0};
+      step[a] = 1;
+      const int n = f.neighbourIndex(b, step);
+      if (n > b) loads.addPair(b, n, 0.1 * std::min(w[b], w[n]));
+    }
+  }
+  loads.merge();
+  return loads;
+}
+
+TEST(ProposeBalance, AdoptsOnlyWhatIsBetterByTheMargin) {
+  const int ranks = mpi::size();
+  BlockForest f(kBox, chooseBlockCounts(kBox, ranks, 8));
+  const BlockLoads lump = lumpLoads(f, 0, true), whole = lumpLoads(f, 0, false);
+  f.setRankMap(computeRankMap(f, lump), ranks);
+  EXPECT_TRUE(sameOnAllRanks(f.rankMap()));
+  // The same work again: nothing better by 2 % exists, so the map stays.
+  const BalanceProposal again =
+      proposeBalance(f, lump, nullptr, nullptr, MPI_COMM_WORLD, PartitionMethod::kMetis, 0.02);
+  EXPECT_DOUBLE_EQ(again.imbalance_before, imbalance(f.rankMap(), whole, ranks));
+  EXPECT_FALSE(again.adopted);
+  // Even with no margin, a proposal that is worse is never adopted.
+  const BalanceProposal strict =
+      proposeBalance(f, lump, nullptr, nullptr, MPI_COMM_WORLD, PartitionMethod::kMetis, 0.0);
+  EXPECT_EQ(strict.adopted, strict.imbalance_after <= strict.imbalance_before);
+  // The work moves to the opposite corner: the new map is adopted, the same on every rank.
+  const BlockLoads moved = lumpLoads(f, 1, true);
+  const BalanceProposal p =
+      proposeBalance(f, moved, nullptr, nullptr, MPI_COMM_WORLD, PartitionMethod::kMetis, 0.02);
+  EXPECT_TRUE(sameOnAllRanks(p.map));
+  if (ranks > 1) {
+    EXPECT_TRUE(p.adopted);
+    EXPECT_LE(p.imbalance_after * 1.02, p.imbalance_before);
+    EXPECT_GT(p.blocks_moved, 0);
+    EXPECT_DOUBLE_EQ(p.imbalance_after, imbalance(p.map, lumpLoads(f, 1, false), ranks));
+  }
+  // A candidate forest of other block counts over the same domain.
+  const BlockForest finer(kBox, chooseBlockCounts(kBox, ranks, 16));
+  const BlockLoads on_finer = lumpLoads(finer, 1, true);
+  const BalanceProposal q =
+      proposeBalance(f, moved, &finer, &on_finer, MPI_COMM_WORLD, PartitionMethod::kSfc, 0.02);
+  EXPECT_EQ(static_cast<int>(q.map.size()), finer.numBlocks());
+  EXPECT_EQ(q.blocks_moved, -1);
+  EXPECT_TRUE(sameOnAllRanks(q.map));
+  EXPECT_EQ(q.adopted, q.imbalance_after * 1.02 <= q.imbalance_before);
+  // A candidate over another domain is refused on every rank.
+  const BlockForest other(Aabb(Vec3::Zero(), Vec3::Ones()), {2, 2, 2});
+  EXPECT_THROW(
+      proposeBalance(f, moved, &other, &on_finer, MPI_COMM_WORLD, PartitionMethod::kMetis, 0.02),
+      DomainError);
+}
+
 }  // namespace
 }  // namespace polydem::domain
