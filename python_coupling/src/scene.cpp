@@ -30,6 +30,8 @@ py::list materials(const Scene& s) {
     d["normal_damping"] = m.normal_damping;
     d["local_damping"] = m.local_damping;
     d["penalty"] = m.penalty;
+    d["jkn"] = m.jkn;
+    d["jks"] = m.jks;
     out.append(d);
   }
   return out;
@@ -194,8 +196,8 @@ void bindScene(py::module_& m) {
   py::class_<Scene>(m, "Scene",
                     R"(A scene as read from a scene file (docs/scene-format.md), in SI units.
 
-A read-only view of its main fields, except the kernel and the stop condition, which may be
-overridden (as `polydem run --kernel/--steps/--end-time` do). Setting `steps` or `end_time`
+A read-only view of its main fields, except the kernel, the contact model and the stop condition,
+which may be overridden (as `polydem run --kernel/--contact-model/--steps/--end-time` do). Setting `steps` or `end_time`
 replaces the scene's whole stop condition: the other one is cleared.)")
       .def_readonly("file", &Scene::file, "Path of the scene file.")
       .def_readonly("id", &Scene::id)
@@ -209,6 +211,21 @@ replaces the scene's whole stop condition: the other one is cleared.)")
             s.kernel = name;
           },
           "Contact kernel name (one of polydem.kernels()).")
+      .def_property(
+          "contact_model", [](const Scene& s) { return s.contact_model; },
+          [](Scene& s, const std::string& model) {
+            if (model != "sub-contacts" && model != "point") {
+              throw py::value_error("unknown contact model '" + model +
+                                    "' (known: sub-contacts, point)");
+            }
+            if (model != "point" && s.contact_point != "kernel") {
+              throw py::value_error("contact_point = \"" + s.contact_point +
+                                    "\" needs the point model");
+            }
+            s.contact_model = model;
+          },
+          "How penalty contacts become forces: \"sub-contacts\" (a spring at every corner of a "
+          "face overlap; the default) or \"point\" (docs/dynamics.md).")
       .def_readonly("broadphase", &Scene::broadphase)
       .def_readonly("dt", &Scene::dt, "Time step [s].")
       .def_property(
@@ -240,7 +257,7 @@ replaces the scene's whole stop condition: the other one is cleared.)")
       .def_property_readonly("materials", &materials,
                              "Materials as dicts (name, density [kg/m^3], kn, ks [N/m], "
                              "friction_angle [deg], cohesion [N], normal_damping, local_damping, "
-                             "penalty [Pa]).")
+                             "penalty [Pa], jkn, jks [Pa/m]).")
       .def_property_readonly("shapes", &shapes,
                              "Shapes as dicts {name, vertices}: the corners of each hull in the "
                              "shape's own frame.")

@@ -68,6 +68,17 @@ class ReadScene(unittest.TestCase):
 
 
 class Overrides(unittest.TestCase):
+    def test_contact_model(self):
+        s = polydem.read_scene(SCENE)
+        self.assertEqual(s.contact_model, "sub-contacts")
+        s.contact_model = "point"
+        self.assertEqual(s.contact_model, "point")
+        with self.assertRaises(ValueError) as e:
+            s.contact_model = "3dec"
+        self.assertIn("sub-contacts, point", str(e.exception))
+        self.assertEqual(s.contact_model, "point")
+        self.assertEqual(s.materials[0]["jkn"], 0.0)
+
     def test_kernel(self):
         s = polydem.read_scene(SCENE)
         s.kernel = "gjk-epa"
