@@ -255,6 +255,8 @@ RunResult continueRun(const std::string& file, const std::optional<std::string>&
     scene = io::parseScene(data.scene_toml, data.scene_file);
     options.scene_text = data.scene_toml;
   }
+  // The kernel and contact model the run used (a command line may have set them over the scene).
+  restoreRunSettings(data.run_state, file, scene);
   if (data.format_version < 2 && scene.contact_model != "point") {
     // Version 1 was written before sub-contacts existed, by the single-point model; continuing
     // with another model would not continue that run (docs/checkpoint.md).

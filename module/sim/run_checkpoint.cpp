@@ -4,6 +4,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "contact/contact.h"
 #include "core/error.h"
 #include "core/logging.h"
 #include "core/mpi_env.h"
@@ -60,14 +61,34 @@ std::string signalName(int signal) {
   return cat("signal ", signal);
 }
 
-std::string runStateJson(const Tracker& tracker,
+std::string runStateJson(const io::Scene& scene, const Tracker& tracker,
                          const std::vector<std::unique_ptr<Check>>& checks) {
   nlohmann::json j;
+  j["kernel"] = scene.kernel;
+  j["contact_model"] = scene.contact_model;
   j["tracker_initial_bits"] = toBits(tracker.initialState());
   nlohmann::json c = nlohmann::json::object();
   for (const auto& check : checks) c[check->spec().name] = toBits(check->state());
   j["checks_bits"] = c;
   return j.dump();
+}
+
+void restoreRunSettings(const std::string& json, const std::string& file, io::Scene& scene) {
+  try {
+    const auto j = nlohmann::json::parse(json);
+    if (const auto k = j.find("kernel"); k != j.end()) {
+      scene.kernel = k->get<std::string>();
+      contact::makeKernel(scene.kernel);  // throws for a name this build does not know
+    }
+    if (const auto m = j.find("contact_model"); m != j.end()) {
+      scene.contact_model = m->get<std::string>();
+      if (scene.contact_model != "sub-contacts" && scene.contact_model != "point") {
+        throw Error(cat("unknown contact model '", scene.contact_model, "'"));
+      }
+    }
+  } catch (const std::exception& e) {
+    throw CheckpointError(cat(file, ": /run/state: ", e.what()));
+  }
 }
 
 void restoreRunState(const std::string& json, const std::string& file, Tracker& tracker,
@@ -139,7 +160,7 @@ std::filesystem::path CheckpointSchedule::write(Simulation& sim) {
   if (mpi::rank(comm_) == 0) std::filesystem::create_directories(path.parent_path());
   MPI_Barrier(comm_);
   io::CheckpointData data =
-      sim.checkpoint(scene_toml_, scene_file_, runStateJson(tracker_, checks_));
+      sim.checkpoint(scene_toml_, scene_file_, runStateJson(sim.scene(), tracker_, checks_));
   data.code_version = code_version_;
   io::writeCheckpoint(path, data, comm_);
   if (mpi::rank(comm_) == 0) {

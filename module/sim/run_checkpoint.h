@@ -27,8 +27,15 @@ int stopSignalReceived();
 std::string signalName(int signal);
 
 /// The run state a checkpoint stores besides the simulation (io::CheckpointData::run_state):
-/// the tracker's initial states and every check's accumulated values, bit for bit (JSON).
-std::string runStateJson(const Tracker& tracker, const std::vector<std::unique_ptr<Check>>& checks);
+/// the tracker's initial states and every check's accumulated values, bit for bit, and the
+/// kernel and contact model the run used, which a command line may have set over the stored
+/// scene's (JSON).
+std::string runStateJson(const io::Scene& scene, const Tracker& tracker,
+                         const std::vector<std::unique_ptr<Check>>& checks);
+/// Sets the kernel and contact model `json` stores on the scene a run continues with; a file
+/// that stores none (written before they were stored) leaves the scene's. Throws CheckpointError
+/// naming `file` for an unknown kernel or model.
+void restoreRunSettings(const std::string& json, const std::string& file, io::Scene& scene);
 /// Puts them back; throws CheckpointError naming `file` if they do not fit the scene's checks.
 void restoreRunState(const std::string& json, const std::string& file, Tracker& tracker,
                      std::vector<std::unique_ptr<Check>>& checks);

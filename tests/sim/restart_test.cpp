@@ -210,5 +210,37 @@ TEST(Restart, VersionOneFileContinuesWithThePointModel) {
       << "the two models should differ on this scene, or the test shows nothing";
 }
 
+// A run whose kernel and contact model the command line set (polydem run --kernel fcp
+// --contact-model point) continues from its checkpoints with them, not with the stored scene's
+// (which say gjk-epa-ipm and sub-contacts): the same bits as the run straight through.
+TEST(Restart, CommandLineSettingsCarryOver) {
+  log::setLevel(log::Level::kWarning);
+  const std::string dir = POLYDEM_TEST_DATA_DIR;
+  const std::string text = io::readSceneText(dir + "/v1-restart.toml");
+  const io::Scene scene = io::parseScene(text, "v1-restart.toml");
+  const fs::path out = sharedPath("settings"), out2 = sharedPath("settings2");
+  RunOptions first;
+  first.out_dir = out.string();
+  first.snapshots = false;
+  first.scene_text = text;
+  first.kernel = "fcp";
+  first.contact_model = "point";
+  first.checkpoint_every = 200;
+  const auto straight = runScene(scene, first, MPI_COMM_WORLD);
+  RunOptions second;
+  second.out_dir = out2.string();
+  second.snapshots = false;
+  const auto continued = continueRun((out / "checkpoints" / "checkpoint_000000000200.h5").string(),
+                                     std::nullopt, second, MPI_COMM_WORLD);
+  EXPECT_EQ(continued.hash.combined, straight.hash.combined);
+  EXPECT_NE(runScene(scene, RunOptions{}, MPI_COMM_WORLD).hash.combined, straight.hash.combined)
+      << "the scene's own settings should give another run, or the test shows nothing";
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (mpi::rank() == 0) {
+    fs::remove_all(out);
+    fs::remove_all(out2);
+  }
+}
+
 }  // namespace
 }  // namespace polydem::sim
