@@ -90,11 +90,12 @@ Sample makeSample(std::int64_t particles, int per_particle, MPI_Comm comm) {
   d.code_version = version();
   d.scene_file = "bench.toml";
   d.scene_toml = "# synthetic checkpoint benchmark\n";
-  ExactSum time;
-  time.add(0.125);
+  d.step = 1000;
+  d.dt = 1e-5;
+  ExactSum time;  // as a time loop has it: step x dt
+  for (std::int64_t i = 0; i < d.step; ++i) time.add(d.dt);
   d.time_digits = time.digits();
   d.time = time.value();
-  d.dt = 1e-5;
   io::CheckpointShape cube;
   cube.name = "cube";
   for (int i = 0; i < 8; ++i)

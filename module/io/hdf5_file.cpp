@@ -266,6 +266,10 @@ Handle File::openDataset(const std::string& dataset) const {
                 H5Dclose);
 }
 
+FileDigest File::digest() const {
+  return fileDigest(file_.get(), context(""));
+}
+
 void File::createGroup(const std::string& group, const std::string& description) {
   Handle g(check(H5Gcreate2(file_.get(), group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                  context("cannot create group " + group)),

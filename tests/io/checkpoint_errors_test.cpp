@@ -1,5 +1,7 @@
 // Damaged and mismatched checkpoints: each problem is a CheckpointError on every rank that names
-// the file and the dataset, and reading never changes the file.
+// the file and the dataset, and reading never changes the file. Edits of the file's structure are
+// refused by the whole-file digest (checkpoint_edit_test.cpp); here they are resealed (the digest
+// recomputed) to reach the checks behind it.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <mpi.h>
@@ -8,9 +10,11 @@
 #include <functional>
 #include <sstream>
 
+#include "checkpoint_edit_util.h"
 #include "checkpoint_test_data.h"
 #include "core/error.h"
 #include "core/mpi_env.h"
+#include "core/strings.h"
 #include "io/checkpoint.h"
 
 namespace polydem::io {
@@ -18,7 +22,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+using testing::editFile;
 using testing::readBytes;
+using testing::reseal;
 using testing::writeBytes;
 
 /// Byte offset of a contiguous dataset's data in the file (serial HDF5).
@@ -29,14 +35,6 @@ std::uint64_t dataOffset(const fs::path& path, const char* dataset) {
   H5Dclose(d);
   H5Fclose(f);
   return offset;
-}
-
-/// Opens `path` serially for writing, calls `edit` with the file id, closes it.
-void editFile(const fs::path& path, const std::function<void(hid_t)>& edit) {
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  ASSERT_GE(f, 0);
-  edit(f);
-  H5Fclose(f);
 }
 
 class CheckpointErrors : public ::testing::Test {
@@ -116,20 +114,25 @@ TEST_F(CheckpointErrors, CorruptedBytesNameTheDataset) {
 }
 
 TEST_F(CheckpointErrors, AnotherFormatVersion) {
-  const auto path = damaged("version.h5", [](const fs::path& p) {
-    editFile(p, [](hid_t f) {
-      const hid_t a = H5Aopen_by_name(f, "/", "format_version", H5P_DEFAULT, H5P_DEFAULT);
-      const std::int32_t two = 2;
-      H5Awrite(a, H5T_NATIVE_INT32, &two);
-      H5Aclose(a);
+  for (const std::int32_t version : {1, 3}) {
+    const auto path = damaged(cat("version", version, ".h5"), [&](const fs::path& p) {
+      editFile(p, [&](hid_t f) {
+        const hid_t a = H5Aopen_by_name(f, "/", "format_version", H5P_DEFAULT, H5P_DEFAULT);
+        H5Awrite(a, H5T_NATIVE_INT32, &version);
+        H5Aclose(a);
+      });
     });
-  });
-  expectRejected(path, {"format version 2", "reads version 1"});
+    expectRejected(path, {cat("format version ", version, " (written by polydem "),
+                          cat("reads version ", kCheckpointFormatVersion, " only")});
+  }
+  // Version 1 (before the digest) is told apart from a newer layout.
+  expectRejected(dir_ / "version1.h5", {"from before the whole-file digest"});
 }
 
 TEST_F(CheckpointErrors, MissingDataset) {
   const auto path = damaged("missing.h5", [](const fs::path& p) {
     editFile(p, [](hid_t f) { H5Ldelete(f, "/contacts/normal", H5P_DEFAULT); });
+    reseal(p);
   });
   expectRejected(path, {"dataset /contacts/normal is missing"});
 }
@@ -137,6 +140,7 @@ TEST_F(CheckpointErrors, MissingDataset) {
 TEST_F(CheckpointErrors, MissingGroup) {
   const auto path = damaged("nogroup.h5", [](const fs::path& p) {
     editFile(p, [](hid_t f) { H5Ldelete(f, "/materials", H5P_DEFAULT); });
+    reseal(p);
   });
   expectRejected(path, {"/materials/name is missing"});
 }
@@ -155,6 +159,7 @@ TEST_F(CheckpointErrors, InconsistentSizes) {
       H5Dclose(d);
       H5Sclose(space);
     });
+    reseal(p);
   });
   expectRejected(path, {"dataset /particles/velocity has shape " + std::to_string(n - 1) +
                             " x 3, expected " + std::to_string(n) + " x 3",
@@ -173,6 +178,7 @@ TEST_F(CheckpointErrors, WrongType) {
       H5Dclose(d);
       H5Sclose(space);
     });
+    reseal(p);
   });
   expectRejected(path, {"dataset /particles/shape holds 64-bit float values"});
 }
@@ -190,6 +196,7 @@ TEST_F(CheckpointErrors, TimeThatIsNotTheExactTime) {
       H5Aclose(a);
       H5Sclose(space);
     });
+    reseal(p);
   });
   expectRejected(path, {"/run: time 0.5 is not the rounded time_digits"});
 }
