@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/logging.h"
 #include "core/mpi_env.h"
+#include "io/checkpoint.h"
 #include "sim/run_checkpoint.h"
 
 namespace {
@@ -93,5 +94,6 @@ int main(int argc, char** argv) {
   polydem::mpi::Environment env(argc, argv);
   const int status = dispatch(argc, argv);
   reportStatus(status);
+  polydem::io::closeHdf5Library();  // before MPI_Finalize (env's destructor), without noise
   return status;
 }

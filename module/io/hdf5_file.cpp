@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/file_kind.h"
 #include "core/state_hash.h"
 #include "core/strings.h"
 #include "io/checkpoint_checksum.h"
@@ -215,8 +216,8 @@ File File::open(const std::filesystem::path& path, MPI_Comm comm,
   File f(path.string(), comm, options, false);
   std::optional<std::string> error;
   try {
-    if (!std::filesystem::is_regular_file(path)) {
-      throw CheckpointError(f.context("no such file"));
+    if (const std::string problem = notARegularFile(path.string()); !problem.empty()) {
+      throw CheckpointError(f.context(problem));
     }
     Handle fapl = accessList(comm);
     f.file_ = Handle(check(H5Fopen(f.name_.c_str(), H5F_ACC_RDONLY, fapl.get()),
@@ -420,3 +421,12 @@ POLYDEM_H5_INSTANTIATE(std::uint8_t)
 #undef POLYDEM_H5_INSTANTIATE
 
 }  // namespace polydem::io::h5
+
+namespace polydem::io {
+
+void closeHdf5Library() {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // H5_term_library reports only if printing is on
+  H5close();
+}
+
+}  // namespace polydem::io

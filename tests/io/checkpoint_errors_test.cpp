@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <mpi.h>
+#include <sys/stat.h>
 
 #include <fstream>
 #include <functional>
@@ -228,6 +229,15 @@ TEST_F(CheckpointErrors, NotACheckpoint) {
     message = e.what();
   }
   EXPECT_NE(message.find("absent.h5: no such file"), std::string::npos) << message;
+  // A directory and a FIFO are named as such (a FIFO must not block the reader).
+  const fs::path directory = dir_ / "directory.h5", fifo = dir_ / "fifo.h5";
+  if (mpi::rank() == 0) {
+    fs::create_directory(directory);
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  expectRejected(directory, {"directory.h5: is a directory"});
+  expectRejected(fifo, {"fifo.h5: is a FIFO (named pipe), not a file"});
 }
 
 }  // namespace

@@ -240,8 +240,10 @@ inline std::filesystem::path scratchDirectory(const std::string& name, MPI_Comm 
   return path;
 }
 
-/// A file's bytes ("" if it cannot be read), to check that a failed operation left it alone.
+/// A file's bytes ("" if it cannot be read or is not a regular file, which opening could block),
+/// to check that a failed operation left it alone.
 inline std::string readBytes(const std::filesystem::path& path) {
+  if (!std::filesystem::is_regular_file(path)) return "";
   std::ifstream in(path, std::ios::binary);
   std::ostringstream out;
   out << in.rdbuf();
