@@ -248,9 +248,4 @@ double toStoredUnit(const ParsedQuantity& p, Quantity q) {
   return v;
 }
 
-double toNaturalUnit(const ParsedQuantity& p) {
-  const bool pure_angle = p.dimension == Dimension{0, 0, 0, 1};
-  return toStoredUnit(p, pure_angle ? Quantity::kAngle : Quantity::kDimensionless);
-}
-
 }  // namespace polydem::io

@@ -63,8 +63,5 @@ ParsedQuantity parseQuantity(std::string_view text);
 
 /// The parsed value in the unit `q` is stored in. The caller has checked the dimension.
 double toStoredUnit(const ParsedQuantity& p, Quantity q);
-/// For check parameters, whose dimension the reader does not know: angles (pure angle
-/// dimension) in degrees, everything else in SI with angles in radians.
-double toNaturalUnit(const ParsedQuantity& p);
 
 }  // namespace polydem::io
