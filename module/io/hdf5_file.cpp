@@ -358,10 +358,12 @@ void File::readAttributeRaw(const std::string& object, const std::string& attrib
                             void* values) const {
   const std::string what = "attribute " + attribute + " of " + object;
   if (object != "/" && !exists(object)) throw CheckpointError(context(object + " is missing"));
-  if (H5Aexists_by_name(file_.get(), object.c_str(), attribute.c_str(), H5P_DEFAULT) <= 0) {
-    H5Eclear2(H5E_DEFAULT);
-    throw CheckpointError(context(what + " is missing"));
+  const htri_t exists =
+      H5Aexists_by_name(file_.get(), object.c_str(), attribute.c_str(), H5P_DEFAULT);
+  if (exists < 0) {  // damaged metadata, e.g. an object header whose checksum fails
+    throw CheckpointError(context("cannot read " + what + ": " + hdf5ErrorMessage()));
   }
+  if (exists == 0) throw CheckpointError(context(what + " is missing"));
   Handle a(check(H5Aopen_by_name(file_.get(), object.c_str(), attribute.c_str(), H5P_DEFAULT,
                                  H5P_DEFAULT),
                  context("cannot open " + what)),
