@@ -321,7 +321,8 @@ class SeparationCheck : public Check {
   void observe(const Simulation& sim, const Tracker& t) override {
     const int contacts = t.states()[t.slot(uid_)].contacts;
     if (contacts > 0) touched_ = true;
-    if (touched_ && contacts == 0 && std::isnan(time_)) time_ = sim.time();
+    // A step's contacts are those of the positions at its start, time() - dt.
+    if (touched_ && contacts == 0 && std::isnan(time_)) time_ = sim.time() - sim.dt();
   }
   double value(Simulation&) override {
     if (std::isnan(time_)) note = touched_ ? "still in contact at the end" : "never in contact";

@@ -149,15 +149,17 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
     if (!tracker.empty()) tracker.gather(sim);
     for (auto& c : checks) c->observe(sim, tracker);
     if (!output) return;
-    const std::int64_t step = sim.stepCount() + 1;  // the step just completed
+    const std::int64_t step = sim.stepCount();  // the step just completed (observers run after it)
     if (step % series_every == 0) output->writeSeries(sim, tracker, checks);
     if (snapshot_every > 0 && step % snapshot_every == 0) output->writeSnapshot(sim);
   });
   if (!stopped_early) reason = sim.run();
   testPause("after-run");  // test hook (core/test_pause.h)
   if (output) {
-    output->writeSeries(sim, tracker, checks);
-    output->writeSnapshot(sim);
+    // The final state, unless the observer has just written it (or nothing has happened since
+    // the rows written at the start).
+    output->writeSeriesOnce(sim, tracker, checks);
+    output->writeSnapshotOnce(sim);
     output->close();
   }
   // A signal that came after the last step's check (during the final outputs) still ends in a

@@ -28,7 +28,7 @@ void Simulation::registerSteps() {
   loop_.add("contacts", [this] { computeContacts(); });
   loop_.add("integrate", [this] { integrate(); });
   loop_.add("communicate", [this] { communicate(); });
-  loop_.add("observe", [this] { observe(); });
+  loop_.addObserver("observe", [this] { observe(); });  // after step and time count the step
   loop_.stopWhen("interruption requested", [this] { return step_hook_ && step_hook_(); });
   loop_.setMonitor([this] {
     const auto m = monitors();

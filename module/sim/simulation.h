@@ -106,7 +106,9 @@ class Simulation {
   /// Hash of the whole state, the same on any rank count (collective).
   comm::StateHash stateHash() const;
 
-  /// Called after every step (all ranks), e.g. by checks and output.
+  /// Called after every step (all ranks), e.g. by checks and output, once stepCount() and time()
+  /// count the step: positions are those at time(), leapfrog velocities those at time() - dt/2,
+  /// and contacts() those the step evaluated, at the positions of time() - dt.
   void addObserver(std::function<void()> observer) { observers_.push_back(std::move(observer)); }
   /// Called on every rank after every step of either stage, once the step is complete (step
   /// count and time advanced, particles migrated, ghosts fresh): the place to write a

@@ -73,7 +73,13 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"D-SLIDING-BLOCK", "fcp", 1.2},
         Case{"D-SLIDING-BLOCK", "fcp-ipm", 1.2, {"mu 0.6"}, kRocking},
         Case{"D-SLIDING-BLOCK", "gjk-epa-ipm", 1.2, {"mu 0.6"}, kRocking},
-        Case{"D-SLIDING-BLOCK-KN", "fcp-ipm", 1.2, {"kn 1.5e+07", "kn 1.5e+09"}, kRocking},
+        // (Compared at the exact step times, the softest block's displacement is within 1 %:
+        // 0.9988 %; its velocity is not.)
+        Case{"D-SLIDING-BLOCK-KN",
+             "fcp-ipm",
+             1.2,
+             {"velocity (mu 0.4, kn 1.5e+07)", "kn 1.5e+09"},
+             kRocking},
         // Zhao eq. 45, within 1 %.
         Case{"D-WEDGE-SLIDE", "fcp-ipm", 0.6}, Case{"D-WEDGE-SLIDE", "gjk-epa-ipm", 0.6},
         // Keissar figs. 2.9-2.10: no drift, no rotation with IPM / FCP.
