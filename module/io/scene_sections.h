@@ -17,6 +17,10 @@ void readParticles(const Context& ctx, const toml::table& root, Scene& scene);
 /// [[check]], each against its kind's declared parameters (io/check_kinds.h); needs particles.
 void readChecks(const Context& ctx, const toml::table& root, Scene& scene);
 
+/// Refuses, at `key` of `s`, a scene of `particles` particles that cannot fit in the memory
+/// available (core/memory.h), before they are made.
+void checkParticleMemory(const Section& s, std::string_view key, std::uint64_t particles);
+
 /// Index of the entry called `name` in `items` (by their .name), or -1.
 template <typename T>
 int indexByName(const std::vector<T>& items, const std::string& name) {
