@@ -3,14 +3,17 @@
 
 #include <cmath>
 
+#include "core/error.h"
 #include "core/exact_sum.h"
 #include "core/logging.h"
+#include "core/memory.h"
 #include "core/mpi_env.h"
 #include "core/strings.h"
 #include "domain/partition.h"
 #include "domain/rebalance.h"
 #include "dynamics/driver.h"
 #include "dynamics/integrator.h"
+#include "sim/pair_memory.h"
 
 namespace polydem::sim {
 
@@ -68,7 +71,22 @@ void Simulation::findCandidates() {
   }
   // A superset of the contact phase's own test, which is made in each pair's canonical frame.
   const double margin = margin_ + 1e-9 * 2.0 * r_max;
-  broadphase_->findPairs({centers_, radii_, uids_, active_}, margin, candidates_);
+  try {
+    broadphase_->findPairs({centers_, radii_, uids_, active_}, margin, candidates_);
+  } catch (const std::bad_alloc&) {
+    throw SimulationError(cat("step ", loop_.step(), ": the broad phase ran out of memory for ",
+                              "its candidate pairs (", candidates_.size(),
+                              " so far): particles "
+                              "overlap massively; check the scene for particles placed on top of "
+                              "each other"));
+  }
+  // Before the contact phase allocates its records and histories for every pair.
+  if (candidates_.size() * bytesPerCandidatePair() > (std::size_t{64} << 20)) {
+    if (const auto problem = pairMemoryProblem(scene_, storage_, candidates_, loop_.step(),
+                                               availableMemoryBytes())) {
+      throw SimulationError(*problem);
+    }
+  }
 }
 
 void Simulation::computeContacts() {

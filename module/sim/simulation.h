@@ -142,6 +142,7 @@ class Simulation {
   void startLeapfrog();
   void enterEquilibrium();
   domain::Aabb computeExtents();
+  void checkFreeBodies() const;
   void suggestTimeStep();
   void restoreParticles(const io::CheckpointData& checkpoint, const std::string& file);
 
