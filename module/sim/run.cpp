@@ -104,6 +104,7 @@ io::CheckpointSpec checkpointSpec(const io::Scene& scene, const RunOptions& opti
 RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
                   const io::CheckpointData* restart, const std::string& restart_file) {
   applyOverrides(scene, options);
+  requireStopCondition(scene);  // before anything is built or written
   const auto wall0 = std::chrono::steady_clock::now();
   log::info(cat("scene ", scene.id, " (", scene.file, "): ", scene.particles.size(),
                 " particles, kernel ", scene.kernel, ", ", mpi::size(comm), " rank(s)"));

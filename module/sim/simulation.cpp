@@ -221,7 +221,17 @@ std::int64_t Simulation::runEquilibrium() {
   return equilibrium_steps_;
 }
 
+void requireStopCondition(const io::Scene& scene) {
+  // The scene reader requires one; a scene changed from Python may have neither, and the loop's
+  // own stop condition (the step hook) would then never hold.
+  if (!scene.end_time && !scene.steps) {
+    throw Error(cat("scene ", scene.file, ": neither end_time nor steps is set: nothing would ",
+                    "stop the run"));
+  }
+}
+
 timeloop::StopReason Simulation::run() {
+  requireStopCondition(scene_);
   if (scene_.end_time) loop_.stopAtTime(*scene_.end_time);
   if (scene_.steps) loop_.stopAtStep(*scene_.steps);
   return loop_.run();

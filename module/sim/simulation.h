@@ -33,6 +33,10 @@
 
 namespace polydem::sim {
 
+/// Throws polydem::Error if `scene` has neither end_time nor steps (a scene changed from Python
+/// may have neither): Simulation::run() and runScene() would never stop.
+void requireStopCondition(const io::Scene& scene);
+
 /// The two stages of a run (Keissar section 3.3, after 3DEC): an optional initial-equilibrium
 /// stage with heavy damping and high friction, then the scene's own values.
 enum class Stage { kEquilibrium, kMain };
