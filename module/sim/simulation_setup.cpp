@@ -7,6 +7,7 @@
 #include "core/logging.h"
 #include "core/mpi_env.h"
 #include "core/strings.h"
+#include "domain/domain_error.h"
 #include "domain/rebalance.h"
 #include "dynamics/integrator.h"
 #include "dynamics/time_step.h"
@@ -118,9 +119,13 @@ domain::Aabb Simulation::computeExtents() {
 
 void Simulation::buildDomain() {
   const domain::Aabb box = computeExtents();
-  const auto counts =
-      scene_.domain.blocks ? *scene_.domain.blocks : domain::chooseBlockCounts(box, ranks_, 8);
-  forest_ = std::make_unique<domain::BlockForest>(box, counts, scene_.domain.periodic);
+  try {
+    const auto counts =
+        scene_.domain.blocks ? *scene_.domain.blocks : domain::chooseBlockCounts(box, ranks_, 8);
+    forest_ = std::make_unique<domain::BlockForest>(box, counts, scene_.domain.periodic);
+  } catch (const domain::DomainError& e) {  // the same on every rank: all stop alike
+    throw InputError(scene_.file, scene_.domain.line, cat("[domain]: ", e.what()));
+  }
   // Every rank checks (so that all of them stop on an error); rank 0 alone counts the weights.
   std::vector<double> weights(forest_->numBlocks(), 0.0);
   for (const auto& p : scene_.particles) {
@@ -139,9 +144,9 @@ void Simulation::buildDomain() {
 std::vector<int> Simulation::rankMap(std::span<const double> weights) const {
   if (scene_.domain.balancer == "cyclic") {
     if (forest_->numBlocks() < ranks_) {
-      throw InputError(
-          scene_.file, 0,
-          cat("[domain] has ", forest_->numBlocks(), " blocks for ", ranks_, " ranks"));
+      throw InputError(scene_.file, scene_.domain.line,
+                       cat("[domain] has ", forest_->numBlocks(), " blocks for ", ranks_,
+                           " ranks: balancer \"cyclic\" needs at least one block per rank"));
     }
     std::vector<int> map(forest_->numBlocks());
     for (int b = 0; b < forest_->numBlocks(); ++b) map[b] = b % ranks_;

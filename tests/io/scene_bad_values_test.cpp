@@ -46,5 +46,21 @@ TEST(SceneBadValues, GridsTooLargeForTheMemory) {
                "of memory available on this machine"});
 }
 
+TEST(SceneBadValues, DomainValuesAtTheirLine) {
+  const std::string box = "[domain]\nmin = [-5, -5, -5]\nmax = [5, 5, 5]\n";
+  expectError(kBase + box + "blocks = [100000, 100000, 100000]  # <-\n",
+              {"[domain] blocks: 1000000000000000 blocks exceed the limit of 2147483647"});
+  expectError(kBase + box + "blocks = [2147483647, 1, 1]  # <-\n",
+              {"blocks need about 550 GB, more than the"});
+  expectError(kBase + "[domain]\nmin = [-1e308, -5, -5]\nmax = [1e308, 5, 5]  # <-\n",
+              {"[domain] max: the box from min to max is too large: its extent overflows"});
+  expectError(kBase + "[domain]\nmin = [-1e-305, -5, -5]\nmax = [1e-305, 5, 5]\n" +
+                  "blocks = [100000, 1, 1]  # <-\n",
+              {"make blocks of edge", "below the smallest normal number"});
+  // The line kept for errors found later (the block count against the rank count).
+  EXPECT_EQ(parseScene(kBase + box + "blocks = [2, 2, 1]\n", "t").domain.line,
+            lineContaining(kBase + box + "blocks = [2, 2, 1]\n", "blocks ="));
+}
+
 }  // namespace
 }  // namespace polydem::io
