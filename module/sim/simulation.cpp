@@ -122,8 +122,38 @@ void Simulation::integrate() {
   }
 }
 
+// A particle whose state is no longer finite, or that left the domain, ends the run with the
+// scene file and the particle's line in the message (the exchange below would stop it too, but
+// knows nothing of the scene).
+void Simulation::checkParticlesInside(std::int64_t step) const {
+  const auto& box = forest_->domain();
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    const auto& p = storage_[i];
+    if (!p.isFree()) continue;
+    const bool finite = p.position.allFinite() && p.velocity.allFinite() &&
+                        p.angular_momentum.allFinite() && p.orientation.coeffs().allFinite();
+    if (finite && forest_->blockOf(forest_->wrap(p.position)) >= 0) continue;
+    const std::string where = p.uid >= 1 && p.uid <= scene_.particles.size()
+                                  ? cat(scene_.file, ":", scene_.particles[p.uid - 1].line, ": ")
+                                  : cat(scene_.file, ": ");
+    if (!finite) {
+      throw SimulationError(cat(where, "particle ", p.uid, " has a state that is no longer finite ",
+                                "at step ", step, " (position (", p.position.transpose(),
+                                "), velocity (", p.velocity.transpose(), ")): forces or ",
+                                "velocities overflowed; check gravity, densities, stiffnesses and ",
+                                "dt in the scene"));
+    }
+    throw SimulationError(cat(where, "particle ", p.uid, " left the domain at (", p.position.x(),
+                              ", ", p.position.y(), ", ", p.position.z(), ") at step ", step,
+                              "; the domain is [", box.lo.x(), ", ", box.hi.x(), "] x [",
+                              box.lo.y(), ", ", box.hi.y(), "] x [", box.lo.z(), ", ", box.hi.z(),
+                              "]: enlarge [domain] min/max in the scene"));
+  }
+}
+
 void Simulation::communicate() {
   const std::int64_t next_step = loop_.step() + 1;
+  checkParticlesInside(next_step);
   exchange_stats_ = exchange_.migrate(*forest_, storage_, history_, next_step);
   migrated_histories_ += exchange_stats_.histories_received;
   if (scene_.domain.rebalance_every > 0 && next_step % scene_.domain.rebalance_every == 0) {

@@ -154,6 +154,7 @@ class Simulation {
   void findCandidates();
   void computeContacts();
   void integrate();
+  void checkParticlesInside(std::int64_t step) const;
   void communicate();
   void observe();
 
