@@ -119,6 +119,38 @@ Dimension dimensionOf(Quantity q) {
   return {};
 }
 
+std::string storedUnit(Quantity q) {
+  switch (q) {
+    case Quantity::kDimensionless:
+      return "1";
+    case Quantity::kLength:
+      return "m";
+    case Quantity::kTime:
+      return "s";
+    case Quantity::kVelocity:
+      return "m/s";
+    case Quantity::kAcceleration:
+      return "m/s^2";
+    case Quantity::kDensity:
+      return "kg/m^3";
+    case Quantity::kStiffness:
+      return "N/m";
+    case Quantity::kPressure:
+      return "Pa";
+    case Quantity::kForce:
+      return "N";
+    case Quantity::kAngle:
+      return "deg";
+    case Quantity::kPhase:
+      return "rad";
+    case Quantity::kAngularVelocity:
+      return "rad/s";
+    case Quantity::kFrequency:
+      return "Hz";
+  }
+  return "1";
+}
+
 std::string describe(Quantity q) {
   switch (q) {
     case Quantity::kDimensionless:

@@ -42,6 +42,8 @@ enum class Quantity {
 Dimension dimensionOf(Quantity q);
 /// "a stiffness (N/m)": for messages.
 std::string describe(Quantity q);
+/// The unit a Quantity is stored in: "m", "m/s", "deg", "rad", "1" (dimensionless)...
+std::string storedUnit(Quantity q);
 /// "kg m^-1 s^-2" or "dimensionless": for messages.
 std::string toString(const Dimension& d);
 /// "a pressure (Pa)" when the dimension is one the reader knows, else toString(d).

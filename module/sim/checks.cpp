@@ -448,6 +448,7 @@ std::vector<io::CheckResult> evaluateChecks(std::vector<std::unique_ptr<Check>>&
     r.name = s.name;
     r.kind = s.kind;
     r.value = c->value(sim);
+    if (const io::CheckKind* kind = io::findCheckKind(s.kind)) r.unit = io::storedUnit(kind->value);
     r.expected = s.expected;
     r.tolerance = s.tolerance;
     r.compare = s.compare;
