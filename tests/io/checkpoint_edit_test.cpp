@@ -206,7 +206,8 @@ TEST_F(CheckpointEdits, ThingsAddedOrRemoved) {
                 "attribute digest of / is missing");
   // Resealed, a dataset the reader does not read is still refused rather than ignored.
   expectRefused(edited("added_dataset", add_dataset, true),
-                "dataset /particles/extra is not part of a version 2 checkpoint");
+                cat("dataset /particles/extra is not part of a version ", kCheckpointFormatVersion,
+                    " checkpoint"));
 }
 
 TEST_F(CheckpointEdits, ResealedStepsAreStillChecked) {

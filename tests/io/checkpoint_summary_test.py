@@ -90,6 +90,8 @@ def main(script, sample_dir):
                             % (name, code, message, stderr))
 
     changed = "the file was changed after it was written"
+    with h5py.File(sample, "r") as f:
+        version = int(f.attrs["format_version"])
 
     def step(f):
         f["run"].attrs["step"] = numpy.int64(-5)
@@ -97,7 +99,7 @@ def main(script, sample_dir):
     edited("step", step, changed)
     edited("extra", lambda f: f.create_dataset("/particles/extra", data=[1.0, 2.0]), changed)
     edited("extra", lambda f: f.create_dataset("/particles/extra", data=[1.0, 2.0]),
-           "dataset /particles/extra is not part of a version 2 checkpoint")
+           "dataset /particles/extra is not part of a version %d checkpoint" % version)
 
     # Version 1, before the digest: summarised, checksums verified, with a warning.
     def version1(f):
