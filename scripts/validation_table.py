@@ -44,6 +44,14 @@ def fmt(v):
     return str(v)
 
 
+def unit(check):
+    """The unit a figure is in (summary.json "unit"; "1" is a ratio)."""
+    u = check.get("unit")
+    if not u:
+        return ""
+    return " (ratio)" if u == "1" else " " + u
+
+
 def cell(run_dir, log):
     summary = run_dir / "summary.json"
     if not summary.exists():
@@ -54,7 +62,7 @@ def cell(run_dir, log):
               c.get("compare") != "report"]
     ok = all(c["pass"] for c in checks)
     h = headline(checks)
-    text = ("PASS" if ok else "FAIL") + (f" {h['name']} {fmt(h['value'])}" if h else "")
+    text = ("PASS" if ok else "FAIL") + (f" {h['name']} {fmt(h['value'])}{unit(h)}" if h else "")
     eq = s.get("equilibrium")
     if eq:
         text += f"; equilibrium {'in ' + str(eq['steps']) + ' steps' if eq['reached'] else 'not reached in ' + str(eq['steps'])}"
@@ -89,7 +97,7 @@ def main():
         print(f"- {scene} / {k} / {model}: {s['steps']} steps, {s['wall_seconds']:.1f} s wall, "
               f"hash {s['state_hash']}")
         for c in s.get("checks", []):
-            print(f"  - {c['name']}: {fmt(c['value'])} (expected {fmt(c['expected'])}, "
+            print(f"  - {c['name']}: {fmt(c['value'])}{unit(c)} (expected {fmt(c['expected'])}, "
                   f"{c['compare']} {fmt(c['tolerance'])}) {'pass' if c['pass'] else 'FAIL'}")
 
 

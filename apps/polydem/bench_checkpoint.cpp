@@ -90,11 +90,12 @@ Sample makeSample(std::int64_t particles, int per_particle, MPI_Comm comm) {
   d.code_version = version();
   d.scene_file = "bench.toml";
   d.scene_toml = "# synthetic checkpoint benchmark\n";
-  ExactSum time;
-  time.add(0.125);
+  d.step = 1000;
+  d.dt = 1e-5;
+  ExactSum time;  // as a time loop has it: step x dt
+  for (std::int64_t i = 0; i < d.step; ++i) time.add(d.dt);
   d.time_digits = time.digits();
   d.time = time.value();
-  d.dt = 1e-5;
   io::CheckpointShape cube;
   cube.name = "cube";
   for (int i = 0; i < 8; ++i)
@@ -319,6 +320,55 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
+/// The benchmark's own directory: a new one, polydem_bench_checkpoint.<rank 0's pid>, inside
+/// `parent` (made if missing). remove() deletes only what the benchmark wrote there, then that
+/// directory, then `parent` if the benchmark made it and it is empty: files that were there before
+/// are never touched (`--dir .` must not wipe the working directory).
+class WorkDirectory {
+ public:
+  WorkDirectory(const fs::path& parent, MPI_Comm comm) {
+    std::string path, error;
+    if (mpi::rank(comm) == 0) {
+      std::error_code ec;
+      made_parent_ = !fs::exists(parent, ec) && fs::create_directories(parent, ec);
+      path = (parent / ("polydem_bench_checkpoint." + std::to_string(getpid()))).string();
+      if (ec) {
+        error = "cannot create " + parent.string() + ": " + ec.message();
+      } else if (!fs::create_directory(path, ec)) {  // false: it existed, so it is not ours
+        error = "cannot create a new directory " + path + (ec ? ": " + ec.message() : ": exists");
+      }
+    }
+    path_ = broadcast(path, comm);
+    error = broadcast(error, comm);
+    if (!error.empty()) throw Error("bench checkpoint: " + error);
+    parent_ = parent;
+    MPI_Barrier(comm);
+  }
+  const std::string& path() const { return path_; }
+
+  void remove(MPI_Comm comm) const {
+    MPI_Barrier(comm);
+    if (mpi::rank(comm) != 0) return;
+    std::error_code ec;
+    for (const char* name : {"checkpoint.h5", "raw.h5"}) fs::remove(fs::path(path_) / name, ec);
+    fs::remove(path_, ec);  // only if empty: never recursive
+    if (made_parent_) fs::remove(parent_, ec);
+  }
+
+ private:
+  static std::string broadcast(std::string text, MPI_Comm comm) {
+    std::uint64_t length = text.size();
+    MPI_Bcast(&length, 1, MPI_UINT64_T, 0, comm);
+    text.resize(length);
+    MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, 0, comm);
+    return text;
+  }
+
+  std::string path_;
+  fs::path parent_;
+  bool made_parent_ = false;
+};
+
 std::vector<std::int64_t> parseCounts(const std::string& text) {
   std::vector<std::int64_t> out;
   std::stringstream in(text);
@@ -342,7 +392,11 @@ int benchCheckpoint(int argc, char** argv) {
         "         [--json FILE] [--keep]\n"
         "  writes and reads a checkpoint of N particles (and 6 N pair histories) on the P\n"
         "  launched ranks, and the same bytes with plain parallel HDF5, and prints times,\n"
-        "  bandwidths (payload bytes / wall time, best of --repeat) and their ratios.\n");
+        "  bandwidths (payload bytes / wall time, best of --repeat) and their ratios.\n"
+        "  The files go to a new directory polydem_bench_checkpoint.<pid> inside DIR (default:\n"
+        "  the working directory); the benchmark deletes only the files it wrote there and that\n"
+        "  directory (and DIR itself if it created DIR and DIR is empty). --keep keeps the last\n"
+        "  checkpoint file and its directory.\n");
     return 0;
   }
   const auto counts = parseCounts(args.value("particles", "100000,1000000"));
@@ -353,17 +407,12 @@ int benchCheckpoint(int argc, char** argv) {
   io::CheckpointIoOptions options;
   options.round_bytes = static_cast<std::size_t>(
       args.number("round-mib", static_cast<double>(options.round_bytes) / (1 << 20)) * (1 << 20));
-  std::string dir = args.value("dir", "");
+  const std::string parent = args.value("dir", ".");
   args.rejectUnknown();
   const MPI_Comm comm = MPI_COMM_WORLD;
   const int rank = mpi::rank(comm), ranks = mpi::size(comm);
-  if (dir.empty()) dir = "bench_checkpoint_" + std::to_string(getpid());  // rank 0's pid below
-  std::uint64_t length = dir.size();
-  MPI_Bcast(&length, 1, MPI_UINT64_T, 0, comm);
-  dir.resize(length);
-  MPI_Bcast(dir.data(), static_cast<int>(length), MPI_CHAR, 0, comm);
-  if (rank == 0) fs::create_directories(dir);
-  MPI_Barrier(comm);
+  const WorkDirectory work(parent, comm);
+  const std::string& dir = work.path();
 
   if (rank == 0) {
     std::printf(
@@ -434,8 +483,9 @@ int benchCheckpoint(int argc, char** argv) {
       std::ofstream(*json_path) << out.dump(2) << "\n";
       std::printf("written: %s\n", json_path->c_str());
     }
-    if (!keep) fs::remove_all(dir);
+    if (keep) std::printf("kept: %s\n", (fs::path(dir) / "checkpoint.h5").c_str());
   }
+  if (!keep) work.remove(comm);
   return 0;
 }
 

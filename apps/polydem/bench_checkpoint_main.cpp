@@ -5,11 +5,14 @@
 #include "commands.h"
 #include "core/logging.h"
 #include "core/mpi_env.h"
+#include "io/checkpoint.h"
 
 int main(int argc, char** argv) {
   polydem::mpi::Environment env(argc, argv);
   try {
-    return polydem::app::benchCheckpoint(argc - 1, argv + 1);
+    const int status = polydem::app::benchCheckpoint(argc - 1, argv + 1);
+    polydem::io::closeHdf5Library();
+    return status;
   } catch (const polydem::app::UsageError& e) {
     polydem::log::error(e.what());
     return 2;

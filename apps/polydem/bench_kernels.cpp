@@ -96,6 +96,8 @@ Resolver ccdResolver(bool mpr, const PairSet& set) {
 struct Row {
   std::string name;
   std::string set;
+  std::string states;  // "warm": each pair keeps its PairState across passes; "cold": none;
+                       // "none": a stateless peer (libccd)
   double per_second = 0.0;
   int missed = 0;                                                 // overlapping pairs not found
   double point_error = std::numeric_limits<double>::quiet_NaN();  // mean, face-face only
@@ -186,22 +188,25 @@ std::string rate(double per_second) {
   return buf;
 }
 
+/// One line per kernel and pair-state mode: the warm and the cold line of a kernel side by side,
+/// so that the figures against the stateless libccd are read for both.
 void printTable(const std::vector<Row>& rows, const std::vector<std::string>& sets) {
-  std::printf("\n%-20s", "kernel");
+  std::printf("\n%-20s %-6s", "kernel", "states");
   for (const auto& s : sets) std::printf(" %24s", s.c_str());
   std::printf("   face-face point error mean / max\n");
-  std::vector<std::string> names;
+  std::vector<std::pair<std::string, std::string>> lines;
   for (const Row& r : rows) {
-    if (std::find(names.begin(), names.end(), r.name) == names.end()) names.push_back(r.name);
+    const std::pair line{r.name, r.states};
+    if (std::find(lines.begin(), lines.end(), line) == lines.end()) lines.push_back(line);
   }
-  for (const auto& name : names) {
-    std::printf("%-20s", name.c_str());
+  for (const auto& [name, states] : lines) {
+    std::printf("%-20s %-6s", name.c_str(), states.c_str());
     const Row* ff = nullptr;
     for (const auto& s : sets) {
       const Row* row = nullptr;
       const Row* peer = nullptr;
       for (const Row& r : rows) {
-        if (r.set == s && r.name == name) row = &r;
+        if (r.set == s && r.name == name && r.states == states) row = &r;
         if (r.set == s && r.name == kCcdGjkEpa) peer = &r;
       }
       if (row == nullptr) {
@@ -226,7 +231,7 @@ void printTable(const std::vector<Row>& rows, const std::vector<std::string>& se
 }  // namespace
 
 int benchKernels(int argc, char** argv) {
-  Args args(argc, argv, {"help", "cold"});
+  Args args(argc, argv, {"help", "cold", "warm"});
   if (args.flag("help")) {
     std::printf(
         "usage: polydem bench kernels [--pairs N] [--seconds S] [--passes P] [--kernels a,b]\n"
@@ -236,15 +241,21 @@ int benchKernels(int argc, char** argv) {
         "  of each set: face-face cube pairs, randomly oriented cube pairs, random polyhedra of\n"
         "  8-40 vertices. A figure is the median of P round-robin passes (default 7) over S\n"
         "  seconds (default 1) of this thread's CPU time per row. Ratios are against %s,\n"
-        "  which always runs. Pairs keep a PairState across passes (a static scene step after\n"
-        "  step); --cold passes none. --json writes one record per kernel and set.\n",
+        "  which always runs. Each kernel is measured warm (every pair keeps its PairState across\n"
+        "  passes, as in a static scene step after step) and cold (no state: a pair's first\n"
+        "  contact), side by side; --warm or --cold measures one of them only. libccd keeps no\n"
+        "  state. --json writes one record per kernel, set and state mode.\n",
         kCcdGjkEpa, kCcdMpr, kCcdGjkEpa);
     return 0;
   }
   const int pairs = static_cast<int>(args.integer("pairs", 1000));
   const double seconds = args.number("seconds", 1.0);
   const int passes = static_cast<int>(args.integer("passes", 7));
-  const bool cold = args.flag("cold");
+  const bool only_cold = args.flag("cold"), only_warm = args.flag("warm");
+  if (only_cold && only_warm) throw UsageError("--warm and --cold exclude each other");
+  std::vector<bool> modes;  // cold?
+  if (!only_cold) modes.push_back(false);
+  if (!only_warm) modes.push_back(true);
   const auto json_path = args.value("json");
   std::vector<std::string> names = contact::kernelNames();
   names.push_back(kCcdGjkEpa);
@@ -268,10 +279,11 @@ int benchKernels(int argc, char** argv) {
   }
   if (mpi::rank() != 0) return 0;  // one core: rank 0 measures, other ranks have nothing to do
 
-  std::printf(
-      "P-KERNELS: %d pairs per set, median of %d passes of ~%.2g s thread CPU time, %s pair "
-      "states\n",
-      pairs, passes, seconds / passes, cold ? "no" : "warm");
+  std::printf("P-KERNELS: %d pairs per set, median of %d passes of ~%.2g s thread CPU time, %s\n",
+              pairs, passes, seconds / passes,
+              modes.size() == 2 ? "warm and cold pair states"
+              : only_cold       ? "cold"
+                                : "warm");
   std::printf(
       "libccd 2.1: epa/mpr/dist tolerance %g (absolute; bodies of unit size), %lu "
       "iterations at most\n",
@@ -292,16 +304,19 @@ int benchKernels(int argc, char** argv) {
     if (name != kCcdGjkEpa && name != kCcdMpr) kernels.push_back(contact::makeKernel(name));
     const contact::Kernel* kernel =
         (name != kCcdGjkEpa && name != kCcdMpr) ? kernels.back().get() : nullptr;
-    for (const PairSet& set : sets) {
-      Measurement m;
-      m.row.name = name;
-      m.row.set = set.name;
-      m.set = &set;
-      m.states = std::make_unique<std::vector<contact::PairState>>(set.size());
-      m.resolve = kernel ? kernelResolver(*kernel, set, *m.states, cold)
-                         : ccdResolver(name == kCcdMpr, set);
-      checkRow(m);
-      all.push_back(std::move(m));
+    for (const bool cold : kernel ? modes : std::vector<bool>{false}) {
+      for (const PairSet& set : sets) {
+        Measurement m;
+        m.row.name = name;
+        m.row.set = set.name;
+        m.row.states = kernel ? (cold ? "cold" : "warm") : "none";
+        m.set = &set;
+        m.states = std::make_unique<std::vector<contact::PairState>>(set.size());
+        m.resolve = kernel ? kernelResolver(*kernel, set, *m.states, cold)
+                           : ccdResolver(name == kCcdMpr, set);
+        checkRow(m);
+        all.push_back(std::move(m));
+      }
     }
   }
   measureAll(all, seconds, passes);
@@ -309,14 +324,15 @@ int benchKernels(int argc, char** argv) {
   for (const Measurement& m : all) rows.push_back(m.row);
   printTable(rows, set_names);
   std::printf(
-      "(ratios: throughput / %s on the same set; 'miss': overlapping pairs reported "
-      "apart)\n",
+      "(ratios: throughput / %s on the same set; warm: pair states kept across passes, cold: "
+      "none; 'miss': overlapping pairs reported apart)\n",
       kCcdGjkEpa);
 
   if (json_path) {
     nlohmann::json out = nlohmann::json::array();
     for (const Row& r : rows) {
-      nlohmann::json j = {{"kernel", r.name}, {"set", r.set}, {"per_second", r.per_second}};
+      nlohmann::json j = {
+          {"kernel", r.name}, {"set", r.set}, {"states", r.states}, {"per_second", r.per_second}};
       j["point_error"] =
           std::isnan(r.point_error) ? nlohmann::json() : nlohmann::json(r.point_error);
       j["point_error_max"] =

@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "core/error.h"
 #include "core/logging.h"
+#include "core/test_pause.h"
 #include "io/scene_reader.h"
 #include "sim/run.h"
 
@@ -22,6 +23,7 @@ std::string programPath() {
 }  // namespace
 
 int runCommand(int argc, char** argv) {
+  testPause("startup");  // test hook: signal handlers are in place (main.cpp), no file read yet
   Args args(argc, argv, {"help", "no-snapshots", "quiet", "check"});
   const auto restart = args.value("restart");
   if (args.flag("help") || (args.positional().empty() && !restart)) {
@@ -45,8 +47,9 @@ int runCommand(int argc, char** argv) {
         "                    the stored one, or SCENE.toml if given (it may differ only in\n"
         "                    end_time/steps, [output] and [checkpoint]); --steps/--end-time\n"
         "                    extend the run (they count from the start of the main stage)\n"
-        "SIGTERM or SIGUSR1 (e.g. kill -TERM <mpirun pid>): a checkpoint at the end of the step,\n"
-        "then exit 0 with the command that continues the run.\n"
+        "SIGTERM or SIGUSR1 to the ranks (or to scripts/polydem-mpirun, which forwards it): a\n"
+        "checkpoint at the end of the step, then exit 0 with the command that continues the run\n"
+        "(docs/checkpoint.md, 'Stopping on a signal', for mpirun, Slurm and PBS).\n"
         "writes DIR/summary.json, DIR/series.csv and DIR/snapshots.pvd (+ snapshots/); after\n"
         "--restart they hold the continued part of the run only\n");
     return args.flag("help") ? 0 : 2;
@@ -95,13 +98,13 @@ int runCommand(int argc, char** argv) {
     std::optional<std::string> scene_file;
     if (!args.positional().empty()) scene_file = args.positional()[0];
     const auto result = sim::continueRun(*restart, scene_file, options, MPI_COMM_WORLD);
-    return check && result.stop_signal.empty() && !result.all_checks_pass() ? 3 : 0;
+    return check && !result.stopped_early() && !result.all_checks_pass() ? 3 : 0;
   }
   const std::string path = args.positional()[0];
   options.scene_text = io::readSceneText(path);
   const io::Scene scene = io::parseScene(options.scene_text, path);
   const auto result = sim::runScene(scene, options, MPI_COMM_WORLD);
-  return check && result.stop_signal.empty() && !result.all_checks_pass() ? 3 : 0;
+  return check && !result.stopped_early() && !result.all_checks_pass() ? 3 : 0;
 }
 
 }  // namespace polydem::app

@@ -1,5 +1,6 @@
 // polydem: the command-line entry point. Each sub-command lives in its own file (cmd_*.cpp).
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <string>
@@ -8,6 +9,8 @@
 #include "core/error.h"
 #include "core/logging.h"
 #include "core/mpi_env.h"
+#include "io/checkpoint.h"
+#include "sim/run_checkpoint.h"
 
 namespace {
 
@@ -28,10 +31,8 @@ void usage() {
       polydem::app::version());
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  polydem::mpi::Environment env(argc, argv);
+// Runs the command named by argv[1]; its exit status.
+int dispatch(int argc, char** argv) {
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     usage();
     return argc < 2 ? 2 : 0;
@@ -69,4 +70,30 @@ int main(int argc, char** argv) {
     if (polydem::mpi::size() > 1) MPI_Abort(MPI_COMM_WORLD, 1);
     return 1;
   }
+}
+
+// For scripts/polydem-mpirun: rank 0 writes "polydem exit status N" to $POLYDEM_STATUS_FILE once
+// the command has returned on every rank that got this far, so that the wrapper can tell a clean
+// stop from a failure even when mpirun itself exits 1 because it was signalled.
+void reportStatus(int status) {
+  const char* file = std::getenv("POLYDEM_STATUS_FILE");
+  if (file == nullptr || *file == '\0' || polydem::mpi::rank() != 0) return;
+  if (std::FILE* f = std::fopen(file, "w")) {
+    std::fprintf(f, "polydem exit status %d\n", status);
+    std::fclose(f);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // `run` turns SIGTERM and SIGUSR1 into a checkpoint at the end of the step. The handlers go in
+  // before MPI starts and before any file is read, so that no moment of the start-up is left in
+  // which a signal would end the job with nothing written.
+  if (argc >= 2 && std::strcmp(argv[1], "run") == 0) polydem::sim::installStopSignals();
+  polydem::mpi::Environment env(argc, argv);
+  const int status = dispatch(argc, argv);
+  reportStatus(status);
+  polydem::io::closeHdf5Library();  // before MPI_Finalize (env's destructor), without noise
+  return status;
 }

@@ -11,8 +11,9 @@
 // Reading is collective: every rank reads the replicated parts and a contiguous share of the
 // particles and pair histories (rank r of P gets slice r); the caller then moves particles to their
 // owners (ParticleExchange::migrate) and pair histories to the owners of their particles
-// (comm/history_routing.h). Every dataset's checksum, shape and type is verified; every problem is
-// a CheckpointError naming the file and the dataset.
+// (comm/history_routing.h). The whole-file digest (io/checkpoint_digest.h) is verified first, then
+// every dataset's checksum, shape and type, and that the file holds no dataset the reader does not
+// read; every problem is a CheckpointError naming the file and the dataset.
 #pragma once
 
 #include <mpi.h>
@@ -33,11 +34,14 @@
 
 namespace polydem::io {
 
-/// Version of the file layout. readCheckpoint() reads it and version 1 (before sub-contacts and
-/// joint stiffnesses: no /subcontacts, no jkn/jks columns; a run continued from it keeps the
-/// single-point contact model it was written with, see docs/checkpoint.md) and refuses others.
-inline constexpr int kCheckpointFormatVersion = 2;
+/// Version of the file layout. Version 2 added sub-contacts (/subcontacts) and the joint
+/// stiffnesses (jkn/jks columns), version 3 the whole-file digest (io/checkpoint_digest.h).
+/// readCheckpoint() reads versions 1 to 3 and refuses others: a version 1 file continues with the
+/// single-point contact model it was written with, and files before version 3 are read on their
+/// per-dataset checksums alone, with a warning (docs/checkpoint.md, 'Older files').
+inline constexpr int kCheckpointFormatVersion = 3;
 inline constexpr int kOldestReadableCheckpointVersion = 1;
+inline constexpr int kFirstDigestCheckpointVersion = 3;
 
 /// The stage a run was in (see sim::Stage): the initial-equilibrium stage or the main stage.
 enum class CheckpointStage : std::int32_t { kEquilibrium = 0, kMain = 1 };
@@ -75,10 +79,11 @@ struct CheckpointData {
   // --- replicated: the same on every rank (written from rank 0's copy)
   // ----------------------------
   int format_version = kCheckpointFormatVersion;  // as read; writing always writes the current one
-  std::string code_version;                       // polydem version of the writer
-  int writer_ranks = 0;    // as read: the number of ranks that wrote the file (ignored on write)
-  std::string scene_toml;  // the scene file's text, verbatim
-  std::string scene_file;  // its file name, for messages
+  std::uint64_t digest = 0;  // as read and verified (io/checkpoint_digest.h); 0 before version 3; ignored on write
+  std::string code_version;  // polydem version of the writer
+  int writer_ranks = 0;      // as read: the number of ranks that wrote the file (ignored on write)
+  std::string scene_toml;    // the scene file's text, verbatim
+  std::string scene_file;    // its file name, for messages
   std::uint64_t scene_hash = 0;  // checksumOfBytes(scene_toml): computed by the writer, verified
                                  // by the reader; the scene's identity in summaries
 
@@ -141,6 +146,7 @@ struct CheckpointDatasetInfo {
 struct CheckpointSummary {
   std::string file;
   int format_version = 0;
+  std::uint64_t digest = 0;  // the whole-file digest, verified; 0 for files before version 3
   std::string code_version;
   std::string scene_file;
   std::uint64_t scene_hash = 0;
@@ -170,6 +176,12 @@ std::string formatCheckpointSummary(const CheckpointSummary& summary);
 /// "equilibrium" or "main".
 const char* toString(CheckpointStage stage);
 
+/// Closes the HDF5 library before MPI_Finalize, quietly. HDF5 1.10 keeps internal objects it
+/// cannot release after it has read damaged metadata, and its own shutdown at MPI_Finalize would
+/// then print "HDF5: infinite loop closing library" after polydem's error message; with its
+/// error printing off it says nothing. Call once, after the last HDF5 use of the process.
+void closeHdf5Library();
+
 // --- files in a checkpoint directory (not collective: call on one rank)
 // ---------------------------
 
@@ -187,5 +199,23 @@ std::vector<CheckpointFile> listCheckpoints(const std::filesystem::path& dir);
 /// Deletes all but the `keep` (>= 1) newest checkpoints of listCheckpoints(dir); nothing else is
 /// touched. Returns the deleted paths.
 std::vector<std::filesystem::path> pruneCheckpoints(const std::filesystem::path& dir, int keep);
+
+/// A temporary file of a checkpoint write: named exactly checkpointFileName(dir, step) +
+/// ".tmp.<pid>", pid being rank 0's process id of the writer (writeCheckpoint).
+struct TemporaryCheckpointFile {
+  std::filesystem::path path;
+  long pid = 0;
+  std::uintmax_t bytes = 0;
+  bool writer_alive = false;  // a process with that id runs on this machine (or it is this one)
+  bool removed = false;       // by removeStaleTemporaryCheckpoints
+};
+/// The regular files in `dir` named as writeCheckpoint names its temporary files; every other
+/// name is left out.
+std::vector<TemporaryCheckpointFile> listTemporaryCheckpoints(const std::filesystem::path& dir);
+/// Deletes the temporary files of listTemporaryCheckpoints(dir) whose writer is gone (a write
+/// cut short by kill -9 or a crash leaves one); those of a process that still runs on this
+/// machine are left. Returns what it found, `removed` telling which are gone.
+std::vector<TemporaryCheckpointFile> removeStaleTemporaryCheckpoints(
+    const std::filesystem::path& dir);
 
 }  // namespace polydem::io

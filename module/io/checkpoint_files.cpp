@@ -1,5 +1,9 @@
-// Checkpoint file names in a run directory, and keeping the newest K of them.
+// Checkpoint file names in a run directory, keeping the newest K of them, and removing the
+// temporary files of writes that were cut short.
+#include <signal.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <string_view>
 
@@ -28,6 +32,23 @@ std::int64_t stepOf(const std::string& name) {
     step = 10 * step + (name[i] - '0');
   }
   return step;
+}
+
+/// The writer's pid of a temporary file's name (checkpoint name + ".tmp." + digits), or -1.
+long temporaryPid(const std::string& name) {
+  constexpr std::string_view kTmp = ".tmp.";
+  const std::size_t base = kPrefix.size() + kStepDigits + kSuffix.size();
+  if (name.size() <= base + kTmp.size() || stepOf(name.substr(0, base)) < 0) return -1;
+  if (name.compare(base, kTmp.size(), kTmp) != 0) return -1;
+  const std::string digits = name.substr(base + kTmp.size());
+  if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+  return std::stol(digits);
+}
+
+/// Whether a process with this id exists on this machine (kill with signal 0 sends nothing).
+bool processExists(long pid) {
+  if (pid <= 0) return false;
+  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
 }
 
 }  // namespace
@@ -64,6 +85,33 @@ std::vector<fs::path> pruneCheckpoints(const fs::path& dir, int keep) {
     if (fs::remove(files[i].path, ec)) deleted.push_back(files[i].path);
   }
   return deleted;
+}
+
+std::vector<TemporaryCheckpointFile> listTemporaryCheckpoints(const fs::path& dir) {
+  std::vector<TemporaryCheckpointFile> out;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    if (!entry.is_regular_file(ec)) continue;
+    const long pid = temporaryPid(entry.path().filename().string());
+    if (pid < 0) continue;
+    TemporaryCheckpointFile t;
+    t.path = entry.path();
+    t.pid = pid;
+    t.bytes = entry.file_size(ec);
+    t.writer_alive = processExists(pid);
+    out.push_back(std::move(t));
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.path < b.path; });
+  return out;
+}
+
+std::vector<TemporaryCheckpointFile> removeStaleTemporaryCheckpoints(const fs::path& dir) {
+  auto files = listTemporaryCheckpoints(dir);
+  for (auto& t : files) {
+    std::error_code ec;
+    if (!t.writer_alive) t.removed = fs::remove(t.path, ec);
+  }
+  return files;
 }
 
 }  // namespace polydem::io

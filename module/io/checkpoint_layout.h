@@ -14,6 +14,9 @@ struct Dataset {
 };
 
 inline constexpr const char* kFormatName = "polydem-checkpoint";
+inline constexpr const char* kDigestAlgorithm =
+    "polydem-sum64 over the bytes of a walk of every group, dataset, link and attribute of the "
+    "file (the root's digest attribute left out), docs/checkpoint.md";
 inline constexpr const char* kChecksumAlgorithm =
     "polydem-sum64: mix64((sum_j mix64(u_j + (j+1)*0x9e3779b97f4a7c15)) xor E) over the E "
     "elements u_j in row-major order, mix64 = SplitMix64 finaliser (docs/checkpoint.md)";

@@ -1,12 +1,16 @@
 // readCheckpoint: every dataset read, its type, shape and checksum verified, and the contents
 // checked for consistency (offsets, index ranges, the replicated rows, the exact time).
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "core/error.h"
 #include "core/mpi_env.h"
+#include "core/state_hash.h"
 #include "core/strings.h"
 #include "io/checkpoint.h"
 #include "io/checkpoint_checksum.h"
+#include "io/checkpoint_digest.h"
 #include "io/checkpoint_layout.h"
 #include "io/checkpoint_read_all.h"
 #include "io/hdf5_file.h"
@@ -29,6 +33,32 @@ Vec3 vec3At(const std::vector<double>& v, std::size_t row) {
 Vec3 vec3At(const double* v) {
   return {v[0], v[1], v[2]};
 }
+
+}  // namespace
+
+std::optional<std::string> stepTimeProblem(const CheckpointData& d) {
+  if (d.step < 0 || d.equilibrium_steps < 0) {
+    return cat("step ", d.step, " or equilibrium_steps ", d.equilibrium_steps, " is negative");
+  }
+  if (d.stage == CheckpointStage::kEquilibrium && d.equilibrium_steps != d.step) {
+    return cat("equilibrium stage at step ", d.step, " but equilibrium_steps is ",
+               d.equilibrium_steps);
+  }
+  if (!(d.dt > 0.0) || !std::isfinite(d.dt)) return cat("dt ", d.dt, " is not a positive number");
+  // step x dt exactly: the rounded product plus its rounding error (exact by fma).
+  const auto n = static_cast<double>(d.step);
+  const double product = n * d.dt;
+  ExactSum exact;
+  exact.add(product);
+  exact.add(std::fma(n, d.dt, -product));
+  if (d.step > (std::int64_t{1} << 53) ||
+      exact.digits() != ExactSum::fromDigits(d.time_digits).digits()) {
+    return cat("time ", d.time, " s is not step ", d.step, " x dt ", d.dt, " s");
+  }
+  return std::nullopt;
+}
+
+namespace {
 
 /// One column of a table being read: its dataset and the buffer of one round.
 template <typename T>
@@ -62,6 +92,7 @@ class Reader {
     readParticles();
     readContacts();
     if (d_.format_version >= 2) readSubContacts();
+    refuseUnread();
     return std::move(d_);
   }
 
@@ -101,13 +132,48 @@ class Reader {
       throw inconsistent("not a polydem checkpoint (attribute format is '" + format + "')");
     }
     d_.format_version = f_.readAttribute<std::int32_t>("/", "format_version");
+    d_.code_version = f_.readStringAttribute("/", "code_version");
     if (d_.format_version < kOldestReadableCheckpointVersion ||
         d_.format_version > kCheckpointFormatVersion) {
-      throw inconsistent(cat("format version ", d_.format_version, "; this polydem reads versions ",
-                             kOldestReadableCheckpointVersion, " to ", kCheckpointFormatVersion));
+      throw inconsistent(cat("format version ", d_.format_version, " (written by polydem ",
+                             d_.code_version, "); this polydem reads versions ",
+                             kOldestReadableCheckpointVersion, " to ", kCheckpointFormatVersion,
+                             " (docs/checkpoint.md, 'Older files')"));
     }
-    d_.code_version = f_.readStringAttribute("/", "code_version");
+    verifyDigest();
     d_.writer_ranks = f_.readAttribute<std::int32_t>("/", "writer_ranks");
+    if (d_.writer_ranks < 1) throw inconsistent(cat("writer_ranks ", d_.writer_ranks, " < 1"));
+  }
+
+  /// The digest first: an edited or mixed file is refused as such, before any of its values is
+  /// looked at (io/checkpoint_digest.h).
+  /// Files older than the digest (versions 1 and 2) are read on their per-dataset checksums alone;
+  /// d_.digest stays 0 and the restart says so.
+  void verifyDigest() {
+    digest_ = f_.digest();
+    if (d_.format_version < kFirstDigestCheckpointVersion) return;
+    const auto stored = f_.readAttribute<std::uint64_t>("/", kDigestAttribute);
+    if (stored != digest_.digest) {
+      throw inconsistent(cat("the file was changed after it was written: its whole-file digest is ",
+                             BitHasher::hex(stored), " but its groups, datasets and attributes ",
+                             "hash to ", BitHasher::hex(digest_.digest), " (an edited file, or ",
+                             "one with datasets from another checkpoint, cannot continue a run)"));
+    }
+    d_.digest = stored;
+  }
+
+  /// Every dataset of the file was read and verified: one the reader does not know is refused
+  /// rather than ignored.
+  void refuseUnread() const {
+    const auto& read = f_.datasets();
+    for (const auto& path : digest_.datasets) {
+      const bool known = std::any_of(
+          read.begin(), read.end(), [&](const CheckpointDatasetInfo& d) { return d.name == path; });
+      if (!known) {
+        throw inconsistent(cat("dataset ", path, " is not part of a version ",
+                               kCheckpointFormatVersion, " checkpoint (inconsistent data)"));
+      }
+    }
   }
 
   void readRun() {
@@ -125,6 +191,7 @@ class Reader {
     if (!sameBits(exact, d_.time)) {
       throw inconsistent(cat("/run: time ", d_.time, " is not the rounded time_digits ", exact));
     }
+    if (const auto problem = stepTimeProblem(d_)) throw inconsistent("/run: " + *problem);
     d_.run_state = f_.readText(layout::kRunState.name);
 
     d_.scene_toml = f_.readText(layout::kSceneToml.name);
@@ -409,6 +476,7 @@ class Reader {
   h5::File& f_;
   MPI_Comm comm_;
   CheckpointData d_;
+  FileDigest digest_;
   std::uint64_t replicated_ = 0;
 };
 

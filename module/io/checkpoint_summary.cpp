@@ -39,6 +39,7 @@ CheckpointSummary verifyCheckpoint(const std::filesystem::path& path, MPI_Comm c
   const CheckpointData d = readCheckpointVerified(path, comm, {}, &s.datasets);
   s.file = path.string();
   s.format_version = d.format_version;
+  s.digest = d.digest;
   s.code_version = d.code_version;
   s.scene_file = d.scene_file;
   s.scene_hash = d.scene_hash;
@@ -90,6 +91,12 @@ std::string formatCheckpointSummary(const CheckpointSummary& s) {
   auto vec = [](const Vec3& v) { return cat("(", v.x(), ", ", v.y(), ", ", v.z(), ")"); };
   out << "file: " << s.file << "\n"
       << "format version: " << s.format_version << "\n"
+      << "digest: "
+      << (s.format_version >= kFirstDigestCheckpointVersion
+              ? BitHasher::hex(s.digest) + " (whole file, verified)"
+              : std::string("none (the format predates the whole-file digest; per-dataset "
+                            "checksums verified)"))
+      << "\n"
       << "written by: polydem " << s.code_version << " on " << s.writer_ranks << " ranks\n"
       << "scene: " << s.scene_file << " (hash " << BitHasher::hex(s.scene_hash) << ")\n"
       << "step: " << s.step << "\n"

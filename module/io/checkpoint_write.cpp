@@ -4,16 +4,16 @@
 #include <sys/statvfs.h>
 #include <unistd.h>
 
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <system_error>
 
 #include "core/error.h"
 #include "core/mpi_env.h"
 #include "core/strings.h"
+#include "core/test_pause.h"
 #include "io/checkpoint.h"
 #include "io/checkpoint_layout.h"
+#include "io/checkpoint_read_all.h"
 #include "io/checkpoint_writer.h"
 #include "io/hdf5_file.h"
 
@@ -79,7 +79,7 @@ std::optional<std::string> invalidData(const CheckpointData& data, int rank) {
     return cat("time ", data.time, " is not the rounded exact time ", exact,
                " (pass TimeLoop::exactTime().digits())");
   }
-  return std::nullopt;
+  return stepTimeProblem(data);
 }
 
 /// Bytes the file will take, about: every dataset's payload (the replicated tables are small) and
@@ -126,18 +126,6 @@ void syncDirectory(const fs::path& dir) {
   ::close(fd);
 }
 
-/// Test hook: POLYDEM_CHECKPOINT_PAUSE_BEFORE_RENAME=S makes rank 0 announce the complete
-/// temporary file on stderr and sleep S seconds before the rename, so that a test can kill the
-/// process exactly there (tests/apps/checkpoint_cli_test.sh).
-void pauseBeforeRename(const fs::path& temporary) {
-  const char* pause = std::getenv("POLYDEM_CHECKPOINT_PAUSE_BEFORE_RENAME");
-  if (pause == nullptr || *pause == '\0') return;
-  std::fprintf(stderr, "checkpoint: %s written, pausing %s s before the rename\n",
-               temporary.c_str(), pause);
-  std::fflush(stderr);
-  ::sleep(static_cast<unsigned>(std::atoi(pause)));
-}
-
 }  // namespace
 
 const char* toString(CheckpointStage stage) {
@@ -161,6 +149,7 @@ void writeCheckpoint(const fs::path& path, const CheckpointData& data, MPI_Comm 
   std::optional<std::string> failure;
   try {
     h5::File file = h5::File::create(temporary, comm, options);
+    if (rank == 0) testPause("checkpoint-write");  // test hook (core/test_pause.h)
     writeContents(file, data);
     file.close();  // H5Fflush (MPI_File_sync) and H5Fclose
   } catch (const CheckpointError& e) {
@@ -169,7 +158,7 @@ void writeCheckpoint(const fs::path& path, const CheckpointData& data, MPI_Comm 
   MPI_Barrier(comm);
   if (rank == 0) {
     std::error_code ec;
-    if (!failure) pauseBeforeRename(temporary);
+    if (!failure) testPause("before-rename");
     if (!failure) {
       fs::rename(temporary, path, ec);  // atomic on POSIX: readers see the old or the new file
       if (ec) {

@@ -8,6 +8,7 @@
 #include "core/byte_buffer.h"
 #include "core/mpi_env.h"
 #include "io/checkpoint_checksum.h"
+#include "io/checkpoint_digest.h"
 #include "io/checkpoint_layout.h"
 
 namespace polydem::io {
@@ -121,6 +122,8 @@ class Writer {
     writeParticles();
     writeContacts();
     writeSubContacts();
+    // Last: the digest covers everything written above (io/checkpoint_digest.h).
+    f_.writeAttribute<std::uint64_t>("/", kDigestAttribute, f_.digest().digest);
   }
 
  private:
@@ -158,6 +161,7 @@ class Writer {
     f_.writeAttribute("/", "code_version", h.code_version);
     f_.writeAttribute<std::int32_t>("/", "writer_ranks", mpi::size(comm_));
     f_.writeAttribute("/", "checksum_algorithm", std::string(layout::kChecksumAlgorithm));
+    f_.writeAttribute("/", "digest_algorithm", std::string(layout::kDigestAlgorithm));
 
     f_.createGroup("/run", "step, time and stage of the run");
     f_.writeAttribute("/run", "step", h.step);

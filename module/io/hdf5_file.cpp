@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/file_kind.h"
 #include "core/state_hash.h"
 #include "core/strings.h"
 #include "io/checkpoint_checksum.h"
@@ -215,8 +216,8 @@ File File::open(const std::filesystem::path& path, MPI_Comm comm,
   File f(path.string(), comm, options, false);
   std::optional<std::string> error;
   try {
-    if (!std::filesystem::is_regular_file(path)) {
-      throw CheckpointError(f.context("no such file"));
+    if (const std::string problem = notARegularFile(path.string()); !problem.empty()) {
+      throw CheckpointError(f.context(problem));
     }
     Handle fapl = accessList(comm);
     f.file_ = Handle(check(H5Fopen(f.name_.c_str(), H5F_ACC_RDONLY, fapl.get()),
@@ -264,6 +265,10 @@ Handle File::openDataset(const std::string& dataset) const {
   return Handle(check(H5Dopen2(file_.get(), dataset.c_str(), H5P_DEFAULT),
                       context("cannot open dataset " + dataset)),
                 H5Dclose);
+}
+
+FileDigest File::digest() const {
+  return fileDigest(file_.get(), context(""));
 }
 
 void File::createGroup(const std::string& group, const std::string& description) {
@@ -353,10 +358,12 @@ void File::readAttributeRaw(const std::string& object, const std::string& attrib
                             void* values) const {
   const std::string what = "attribute " + attribute + " of " + object;
   if (object != "/" && !exists(object)) throw CheckpointError(context(object + " is missing"));
-  if (H5Aexists_by_name(file_.get(), object.c_str(), attribute.c_str(), H5P_DEFAULT) <= 0) {
-    H5Eclear2(H5E_DEFAULT);
-    throw CheckpointError(context(what + " is missing"));
+  const htri_t exists =
+      H5Aexists_by_name(file_.get(), object.c_str(), attribute.c_str(), H5P_DEFAULT);
+  if (exists < 0) {  // damaged metadata, e.g. an object header whose checksum fails
+    throw CheckpointError(context("cannot read " + what + ": " + hdf5ErrorMessage()));
   }
+  if (exists == 0) throw CheckpointError(context(what + " is missing"));
   Handle a(check(H5Aopen_by_name(file_.get(), object.c_str(), attribute.c_str(), H5P_DEFAULT,
                                  H5P_DEFAULT),
                  context("cannot open " + what)),
@@ -416,3 +423,12 @@ POLYDEM_H5_INSTANTIATE(std::uint8_t)
 #undef POLYDEM_H5_INSTANTIATE
 
 }  // namespace polydem::io::h5
+
+namespace polydem::io {
+
+void closeHdf5Library() {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // H5_term_library reports only if printing is on
+  H5close();
+}
+
+}  // namespace polydem::io

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "io/checkpoint.h"
+#include "io/checkpoint_digest.h"
 
 namespace polydem::io::h5 {
 
@@ -225,6 +226,8 @@ class File {
 
   /// Datasets read so far, with their verified checksums.
   const std::vector<CheckpointDatasetInfo>& datasets() const { return datasets_; }
+  /// The whole-file digest (io/checkpoint_digest.h) of the file as it is now (collective).
+  FileDigest digest() const;
 
  private:
   File(std::string name, MPI_Comm comm, const CheckpointIoOptions& options, bool writable);

@@ -63,6 +63,7 @@ struct DomainSpec {
   std::int64_t rebalance_every = 100;  // steps between balance checks; 0 = never after the start
   std::string balancer = "metis";  // "metis" | "sfc" | "cyclic" (round robin: borders everywhere,
                                    // to stress communication in tests)
+  int line = 0;  // of `blocks` (else of [domain]), for errors found once the rank count is known
 };
 
 /// The initial-equilibrium stage of 3DEC and Keissar section 3.3: heavy local damping and a

@@ -271,6 +271,8 @@ class ParticleReader {
     if (static_cast<double>(n[0]) * static_cast<double>(n[1]) * static_cast<double>(n[2]) > 1e9) {
       s.fail("count", "more than 1e9 particles in one grid");
     }
+    checkParticleMemory(s, "count",
+                        scene_.particles.size() + static_cast<std::uint64_t>(n[0] * n[1] * n[2]));
     const double jitter = s.number("jitter", Quantity::kLength, 0.0, Range::kNonNegative);
     SplitMix64 random(static_cast<std::uint64_t>(s.integer("seed", 0, Range::kNonNegative)));
     // x fastest, then y, then z: uids follow this order.

@@ -1,15 +1,18 @@
 // The run settings of a scene file: [scene], [simulation], [kernel_params], [[material]],
-// [[interaction]], [[driver]], [domain], [equilibrium], [output], [checkpoint], [[check]].
-// Shapes and particles are in scene_bodies.cpp.
+// [[interaction]], [[driver]], [domain], [equilibrium], [output], [checkpoint]. Shapes and
+// particles are in scene_bodies.cpp, [[check]] in scene_checks.cpp.
 #include "io/scene_reader.h"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
 #include "contact/contact.h"
 #include "core/error.h"
+#include "core/file_kind.h"
+#include "core/memory.h"
 #include "core/strings.h"
 #include "io/scene_sections.h"
 #include "particles/material.h"
@@ -200,16 +203,40 @@ void readDomain(const Context& ctx, const toml::table& root, Scene& scene) {
   if (!s) return;
   s->allowOnly({"min", "max", "blocks", "periodic", "rebalance_every", "balancer"});
   DomainSpec& d = scene.domain;
+  d.line = s->lineOf("blocks");
   d.min = s->vec3("min", Quantity::kLength);
   d.max = s->vec3("max", Quantity::kLength);
   if (d.min && d.max && !((*d.max - *d.min).array() > 0.0).all()) {
     s->fail("max", "must exceed min in every coordinate");
   }
+  if (d.min && d.max && !(*d.max - *d.min).allFinite()) {
+    s->fail("max", "the box from min to max is too large: its extent overflows");
+  }
   if (const auto b = s->int3("blocks", Range::kPositive)) {
-    if (std::max({(*b)[0], (*b)[1], (*b)[2]}) > std::numeric_limits<int>::max()) {
-      s->fail("blocks", "is too large");
+    // The block forest numbers blocks with an int; each block costs memory whether it holds
+    // particles or not (kBytesPerBlock: measured 51 bytes on one rank, more with METIS).
+    constexpr double kBytesPerBlock = 256.0;
+    const double count =
+        static_cast<double>((*b)[0]) * static_cast<double>((*b)[1]) * static_cast<double>((*b)[2]);
+    if (count > std::numeric_limits<int>::max()) {
+      s->fail("blocks",
+              cat(count, " blocks exceed the limit of ", std::numeric_limits<int>::max()));
+    }
+    const double available = static_cast<double>(availableMemoryBytes());
+    if (available > 0.0 && kBytesPerBlock * count > available) {
+      s->fail("blocks", cat(count, " blocks need about ", formatBytes(kBytesPerBlock * count),
+                            ", more than the ", formatBytes(available), " of memory available"));
     }
     d.blocks = {static_cast<int>((*b)[0]), static_cast<int>((*b)[1]), static_cast<int>((*b)[2])};
+    if (d.min && d.max) {
+      for (int a = 0; a < 3; ++a) {
+        if (!std::isnormal(((*d.max)[a] - (*d.min)[a]) / (*d.blocks)[a])) {
+          s->fail("blocks",
+                  cat("make blocks of edge ", ((*d.max)[a] - (*d.min)[a]) / (*d.blocks)[a],
+                      " m along ", "xyz"[a], ", below the smallest normal number"));
+        }
+      }
+    }
   }
   d.periodic = s->bool3("periodic").value_or(d.periodic);
   if ((d.periodic[0] || d.periodic[1] || d.periodic[2]) && !(d.min && d.max)) {
@@ -266,89 +293,6 @@ void readCheckpoint(const Context& ctx, const toml::table& root, Scene& scene) {
   c.keep = static_cast<int>(keep);
 }
 
-// A check parameter string that starts with a number is a quantity ("2 mm"); anything else
-// ("block-1") is a label or a word.
-bool looksLikeQuantity(const std::string& s) {
-  std::size_t i = 0;
-  while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
-  if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
-  if (i < s.size() && s[i] == '.') ++i;
-  return i < s.size() && s[i] >= '0' && s[i] <= '9';
-}
-
-// One number of a check: a plain number, or a quantity string converted to SI (angles to degrees).
-double checkNumber(const Context& ctx, const toml::node& node, const std::string& what) {
-  if (const auto* s = node.as_string()) {
-    ParsedQuantity p;
-    try {
-      p = parseQuantity(s->get());
-    } catch (const std::invalid_argument& e) {
-      ctx.fail(detail::lineOf(node), what + ": cannot read '" + s->get() + "' (" + e.what() + ")");
-    }
-    return toNaturalUnit(p);
-  }
-  return detail::toNumber(ctx, node, what, Quantity::kDimensionless);
-}
-
-void readCheckParameter(const Section& s, std::string_view key, const toml::node& node,
-                        CheckSpec& c) {
-  const std::string what = s.where(key);
-  const Context& ctx = s.context();
-  if (const auto* str = node.as_string(); str && !looksLikeQuantity(str->get())) {
-    c.strings[std::string(key)] = str->get();
-  } else if (node.is_number() || node.is_string()) {
-    c.numbers[std::string(key)] = {checkNumber(ctx, node, what)};
-  } else if (const toml::array* a = node.as_array()) {
-    std::vector<double> values;
-    for (std::size_t i = 0; i < a->size(); ++i) {
-      const toml::node& e = (*a)[i];
-      const std::string item = detail::element(what, i);
-      if (!e.is_number() && !(e.is_string() && looksLikeQuantity(e.as_string()->get()))) {
-        ctx.fail(detail::lineOf(e), item + ": expected a number, got " + detail::typeName(e));
-      }
-      values.push_back(checkNumber(ctx, e, item));
-    }
-    c.numbers[std::string(key)] = std::move(values);
-  } else {
-    s.fail(key,
-           "expected a number, an array of numbers or a string, got " + detail::typeName(node));
-  }
-}
-
-void readChecks(const Context& ctx, const toml::table& root, Scene& scene) {
-  const std::vector<std::string_view> fixed = {"name",      "kind",    "expected",
-                                               "tolerance", "compare", "reference"};
-  for (const Section& s : detail::entries(ctx, root, "check", "name")) {
-    CheckSpec c;
-    c.name = s.requiredString("name");
-    for (const CheckSpec& other : scene.checks) {
-      if (other.name == c.name) {
-        s.fail("name",
-               "check '" + c.name + "' is already defined at line " + std::to_string(other.line));
-      }
-    }
-    c.kind = s.requiredString("kind");
-    c.compare = s.choice("compare", {"abs", "rel", "max", "min", "report"}, c.compare);
-    if (const toml::node* e = s.find("expected")) {
-      c.expected = checkNumber(ctx, *e, s.where("expected"));
-    } else if (c.compare != "report") {
-      s.missing("expected");
-    }
-    if (const toml::node* t = s.find("tolerance")) {
-      c.tolerance = checkNumber(ctx, *t, s.where("tolerance"));
-      if (!(c.tolerance >= 0.0)) s.fail("tolerance", "must be >= 0");
-    }
-    c.reference = s.string("reference").value_or("");
-    for (auto&& [key, value] : s.table()) {
-      if (std::find(fixed.begin(), fixed.end(), key.str()) == fixed.end()) {
-        readCheckParameter(s, key.str(), value, c);
-      }
-    }
-    c.line = s.line();
-    scene.checks.push_back(std::move(c));
-  }
-}
-
 }  // namespace
 
 Scene parseScene(std::string_view text, const std::string& name_for_messages) {
@@ -380,11 +324,15 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
   readEquilibrium(ctx, root, scene);
   readOutput(ctx, root, scene);
   readCheckpoint(ctx, root, scene);
-  readChecks(ctx, root, scene);
+  detail::readChecks(ctx, root, scene);
   return scene;
 }
 
 std::string readSceneText(const std::string& path) {
+  // A FIFO would block the open below forever, a directory "opens" and reads as nothing.
+  if (const std::string problem = notARegularFile(path); !problem.empty()) {
+    throw InputError(path, 0, "cannot open the scene file: " + problem);
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open the scene file");
   std::ostringstream text;

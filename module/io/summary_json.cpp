@@ -30,6 +30,7 @@ nlohmann::json toJson(const CheckResult& check) {
   return {{"name", check.name},
           {"kind", check.kind},
           {"value", number(check.value)},
+          {"unit", check.unit},
           {"expected", number(check.expected)},
           {"tolerance", number(check.tolerance)},
           {"compare", check.compare},

@@ -25,6 +25,7 @@ struct CheckResult {
   bool pass = false;
   std::string reference;  // where `expected` comes from (paper, table, equation)
   std::string note;       // anything a reader needs to judge the value
+  std::string unit;       // of value, expected and tolerance: "m", "rad", "1" for a ratio...
 };
 
 /// Whether `value` meets `expected` under `compare`:
@@ -34,8 +35,8 @@ struct CheckResult {
 /// A NaN value never passes (except "report"). Throws polydem::Error on an unknown `compare`.
 bool checkPasses(std::string_view compare, double value, double expected, double tolerance);
 
-/// {name, kind, value, expected, tolerance, compare, pass, reference, note}; non-finite numbers
-/// become null (JSON has no NaN).
+/// {name, kind, value, unit, expected, tolerance, compare, pass, reference, note}; non-finite
+/// numbers become null (JSON has no NaN).
 nlohmann::json toJson(const CheckResult& check);
 /// The "checks" array.
 nlohmann::json checksJson(const std::vector<CheckResult>& checks);

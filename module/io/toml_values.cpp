@@ -30,6 +30,13 @@ std::string given(const toml::node& node) {
 
 void checkRange(const Context& ctx, const toml::node& node, const std::string& what, double v,
                 Range range) {
+  // A subnormal number has lost precision and turns into infinities once divided by (an inverse
+  // mass, a stiffness ratio): no physical input is that small.
+  if (v != 0.0 && !std::isnormal(v)) {
+    ctx.fail(lineOf(node), what + ": " + given(node) + " is below the smallest normal number (" +
+                               show(std::numeric_limits<double>::min()) + "); write 0 or a " +
+                               "larger value");
+  }
   if (range == Range::kPositive && !(v > 0.0)) {
     ctx.fail(lineOf(node), what + ": must be > 0, got " + given(node));
   }
@@ -70,9 +77,10 @@ Quat singleRotation(const Context& ctx, const toml::table& table, const std::str
     for (std::size_t i = 0; i < 4; ++i) {
       c[i] = toNumber(ctx, (*a)[i], element(s.where("quaternion"), i), Quantity::kDimensionless);
     }
-    Quat q(c[0], c[1], c[2], c[3]);
-    if (!(q.norm() > 0.0)) s.fail("quaternion", "must not be zero");
-    return q.normalized();
+    // Scaled by the largest component first: the norm of [1e308, 1e308, 0, 0] overflows.
+    const double scale = std::max({std::abs(c[0]), std::abs(c[1]), std::abs(c[2]), std::abs(c[3])});
+    if (!(scale > 0.0)) s.fail("quaternion", "must not be zero");
+    return Quat(c[0] / scale, c[1] / scale, c[2] / scale, c[3] / scale).normalized();
   }
   if (s.has("euler_zyx")) {
     // Yaw about z, then pitch about the new y, then roll about the newest x (intrinsic z-y'-x'').
@@ -84,8 +92,9 @@ Quat singleRotation(const Context& ctx, const toml::table& table, const std::str
   if (!s.has("axis")) s.missing("axis");
   const Vec3 axis = *s.vec3("axis", Quantity::kDimensionless);
   const double angle = s.requiredNumber("angle", Quantity::kAngle);
-  if (!(axis.norm() > 0.0)) s.fail("axis", "must not be zero");
-  return Quat(Eigen::AngleAxisd(degToRad(angle), axis.normalized()));
+  const double scale = axis.cwiseAbs().maxCoeff();  // scaled first, as the quaternion above
+  if (!(scale > 0.0)) s.fail("axis", "must not be zero");
+  return Quat(Eigen::AngleAxisd(degToRad(angle), (axis / scale).normalized()));
 }
 
 }  // namespace
@@ -147,6 +156,9 @@ double toNumber(const Context& ctx, const toml::node& node, const std::string& w
                                  ", which is " + describe(p.dimension));
     }
     v = p.has_unit ? toStoredUnit(p, q) : p.value;
+    if (!std::isfinite(v)) {
+      ctx.fail(lineOf(node), what + ": " + given(node) + " overflows in " + describe(q));
+    }
   } else {
     ctx.fail(lineOf(node), what + ": expected " + describe(q) + ", got " + typeName(node));
   }

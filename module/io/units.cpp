@@ -121,6 +121,38 @@ Dimension dimensionOf(Quantity q) {
   return {};
 }
 
+std::string storedUnit(Quantity q) {
+  switch (q) {
+    case Quantity::kDimensionless:
+      return "1";
+    case Quantity::kLength:
+      return "m";
+    case Quantity::kTime:
+      return "s";
+    case Quantity::kVelocity:
+      return "m/s";
+    case Quantity::kAcceleration:
+      return "m/s^2";
+    case Quantity::kDensity:
+      return "kg/m^3";
+    case Quantity::kStiffness:
+      return "N/m";
+    case Quantity::kPressure:
+      return "Pa";
+    case Quantity::kForce:
+      return "N";
+    case Quantity::kAngle:
+      return "deg";
+    case Quantity::kPhase:
+      return "rad";
+    case Quantity::kAngularVelocity:
+      return "rad/s";
+    case Quantity::kFrequency:
+      return "Hz";
+  }
+  return "1";
+}
+
 std::string describe(Quantity q) {
   switch (q) {
     case Quantity::kDimensionless:
@@ -250,11 +282,6 @@ double toStoredUnit(const ParsedQuantity& p, Quantity q) {
   if (p.deg_power != 0) v *= std::pow(deg, p.deg_power);
   if (p.rad_power != 0) v *= std::pow(rad, p.rad_power);
   return v;
-}
-
-double toNaturalUnit(const ParsedQuantity& p) {
-  const bool pure_angle = p.dimension == Dimension{0, 0, 0, 1};
-  return toStoredUnit(p, pure_angle ? Quantity::kAngle : Quantity::kDimensionless);
 }
 
 }  // namespace polydem::io

@@ -43,6 +43,8 @@ enum class Quantity {
 Dimension dimensionOf(Quantity q);
 /// "a stiffness (N/m)": for messages.
 std::string describe(Quantity q);
+/// The unit a Quantity is stored in: "m", "m/s", "deg", "rad", "1" (dimensionless)...
+std::string storedUnit(Quantity q);
 /// "kg m^-1 s^-2" or "dimensionless": for messages.
 std::string toString(const Dimension& d);
 /// "a pressure (Pa)" when the dimension is one the reader knows, else toString(d).
@@ -64,8 +66,5 @@ ParsedQuantity parseQuantity(std::string_view text);
 
 /// The parsed value in the unit `q` is stored in. The caller has checked the dimension.
 double toStoredUnit(const ParsedQuantity& p, Quantity q);
-/// For check parameters, whose dimension the reader does not know: angles (pure angle
-/// dimension) in degrees, everything else in SI with angles in radians.
-double toNaturalUnit(const ParsedQuantity& p);
 
 }  // namespace polydem::io

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/mpi_env.h"
 #include "core/strings.h"
+#include "io/check_kinds.h"
 #include "sim/simulation.h"
 
 namespace polydem::sim {
@@ -19,6 +20,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // --- parameters of a check --------------------------------------------------------------------
 
+// The scene reader has checked every parameter against its kind's declaration (io/check_kinds.h):
+// a kind reads only what it declares, so that the declarations stay the whole truth.
 class Params {
  public:
   Params(const io::Scene& scene, const io::CheckSpec& spec) : scene_(scene), spec_(spec) {}
@@ -28,6 +31,7 @@ class Params {
                      cat("[[check]] '", spec_.name, "' (kind ", spec_.kind, "): ", message));
   }
   double number(const std::string& key, std::optional<double> fallback = std::nullopt) const {
+    declared(key);
     const auto it = spec_.numbers.find(key);
     if (it == spec_.numbers.end()) {
       if (fallback) return *fallback;
@@ -37,6 +41,7 @@ class Params {
     return it->second[0];
   }
   std::optional<Vec3> vector(const std::string& key, bool required = false) const {
+    declared(key);
     const auto it = spec_.numbers.find(key);
     if (it == spec_.numbers.end()) {
       if (required) fail("needs the vector '" + key + "' = [x, y, z]");
@@ -48,6 +53,7 @@ class Params {
     return v.normalized();
   }
   std::string text(const std::string& key, const std::string& fallback = "") const {
+    declared(key);
     const auto it = spec_.strings.find(key);
     return it == spec_.strings.end() ? fallback : it->second;
   }
@@ -70,6 +76,14 @@ class Params {
   }
 
  private:
+  void declared(const std::string& key) const {
+    const io::CheckKind* kind = io::findCheckKind(spec_.kind);
+    if (!kind || !io::findCheckParam(*kind, key)) {
+      throw Error(cat("check kind '", spec_.kind, "' reads '", key,
+                      "', which io/check_kinds.cpp does not declare"));
+    }
+  }
+
   const io::Scene& scene_;
   const io::CheckSpec& spec_;
 };
@@ -307,7 +321,8 @@ class SeparationCheck : public Check {
   void observe(const Simulation& sim, const Tracker& t) override {
     const int contacts = t.states()[t.slot(uid_)].contacts;
     if (contacts > 0) touched_ = true;
-    if (touched_ && contacts == 0 && std::isnan(time_)) time_ = sim.time();
+    // A step's contacts are those of the positions at its start, time() - dt.
+    if (touched_ && contacts == 0 && std::isnan(time_)) time_ = sim.time() - sim.dt();
   }
   double value(Simulation&) override {
     if (std::isnan(time_)) note = touched_ ? "still in contact at the end" : "never in contact";
@@ -423,10 +438,7 @@ std::vector<std::unique_ptr<Check>> makeChecks(const io::Scene& scene, Tracker& 
           spec,
           [axis](Simulation& sim, std::string& note) { return maxContactForce(sim, axis, note); }));
     } else {
-      p.fail(
-          "unknown kind; known kinds: displacement, rotation, lateral_drift, sliding_block, "
-          "wedge_slide, kinetic_energy_ratio, separation_time, equilibrium_steps, mean_speed, "
-          "max_speed, contact_count, max_contact_force");
+      p.fail("unknown kind; known kinds: " + io::checkKindNames());
     }
   }
   return checks;
@@ -441,6 +453,7 @@ std::vector<io::CheckResult> evaluateChecks(std::vector<std::unique_ptr<Check>>&
     r.name = s.name;
     r.kind = s.kind;
     r.value = c->value(sim);
+    if (const io::CheckKind* kind = io::findCheckKind(s.kind)) r.unit = io::storedUnit(kind->value);
     r.expected = s.expected;
     r.tolerance = s.tolerance;
     r.compare = s.compare;

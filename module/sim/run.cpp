@@ -10,6 +10,7 @@
 #include "core/mpi_env.h"
 #include "core/state_hash.h"
 #include "core/strings.h"
+#include "core/test_pause.h"
 #include "io/checkpoint.h"
 #include "io/scene_reader.h"
 #include "sim/balance_figures.h"
@@ -112,6 +113,7 @@ io::CheckpointSpec checkpointSpec(const io::Scene& scene, const RunOptions& opti
 RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
                   const io::CheckpointData* restart, const std::string& restart_file) {
   applyOverrides(scene, options);
+  requireStopCondition(scene);  // before anything is built or written
   const auto wall0 = std::chrono::steady_clock::now();
   log::info(cat("scene ", scene.id, " (", scene.file, "): ", scene.particles.size(),
                 " particles, kernel ", scene.kernel, ", ", mpi::size(comm), " rank(s)"));
@@ -157,16 +159,22 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
     if (!tracker.empty()) tracker.gather(sim);
     for (auto& c : checks) c->observe(sim, tracker);
     if (!output) return;
-    const std::int64_t step = sim.stepCount() + 1;  // the step just completed
+    const std::int64_t step = sim.stepCount();  // the step just completed (observers run after it)
     if (step % series_every == 0) output->writeSeries(sim, tracker, checks);
     if (snapshot_every > 0 && step % snapshot_every == 0) output->writeSnapshot(sim);
   });
   if (!stopped_early) reason = sim.run();
+  testPause("after-run");  // test hook (core/test_pause.h)
   if (output) {
-    output->writeSeries(sim, tracker, checks);
-    output->writeSnapshot(sim);
+    // The final state, unless the observer has just written it (or nothing has happened since
+    // the rows written at the start).
+    output->writeSeriesOnce(sim, tracker, checks);
+    output->writeSnapshotOnce(sim);
     output->close();
   }
+  // A signal that came after the last step's check (during the final outputs) still ends in a
+  // checkpoint, of the final state: whenever a run is signalled, it leaves one.
+  result.signal_after_end = schedule.signalAfterRun();
   if (schedule.stopSignal() != 0) {
     result.stop_signal = signalName(schedule.stopSignal());
     if (!options.out_dir.empty()) result.checkpoint = schedule.write(sim).string();
@@ -203,7 +211,8 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
   if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
     auto summary = summaryJson(scene, sim, result, reason, timing);
     summary["stopped_by_signal"] =
-        result.stop_signal.empty() ? nlohmann::json() : nlohmann::json(result.stop_signal);
+        result.stopped_early() ? nlohmann::json(result.stop_signal) : nlohmann::json();
+    if (result.signal_after_end) summary["signal_after_end"] = result.stop_signal;
     if (!result.checkpoint.empty()) summary["checkpoint"] = result.checkpoint;
     if (restart) summary["restarted_from"] = restart_file;
     summary["communication"] = communication;
@@ -217,12 +226,18 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
   if (!result.stop_signal.empty() && mpi::rank(comm) == 0) {
     const std::string where =
         result.checkpoint.empty() ? std::string("no checkpoint (no --out)") : result.checkpoint;
-    log::info(cat("stopped by ", result.stop_signal, " at the end of ",
-                  sim.stage() == Stage::kEquilibrium ? "equilibrium" : "main", " step ",
-                  result.steps, "; checkpoint: ", where));
+    if (result.signal_after_end) {
+      log::info(cat(result.stop_signal, " received after the last step (the run is complete); ",
+                    "checkpoint of the final state: ", where));
+    } else {
+      log::info(cat("stopped by ", result.stop_signal, " at the end of ",
+                    sim.stage() == Stage::kEquilibrium ? "equilibrium" : "main", " step ",
+                    result.steps, "; checkpoint: ", where));
+    }
     if (!result.checkpoint.empty()) {
       log::info(cat("to continue: mpirun -n ", mpi::size(comm), " ", options.program,
                     " run --restart ", result.checkpoint, " --out ", options.out_dir,
+                    result.signal_after_end ? " --end-time T (or --steps N) beyond the end" : "",
                     "  (any rank count; use another --out to keep this part's files)"));
     }
   }
@@ -238,6 +253,11 @@ RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm) {
 RunResult continueRun(const std::string& file, const std::optional<std::string>& scene_file,
                       RunOptions options, MPI_Comm comm) {
   const io::CheckpointData data = io::readCheckpoint(file, comm);
+  if (data.format_version < io::kFirstDigestCheckpointVersion) {
+    log::warning(cat(file, ": format version ", data.format_version,
+                     " predates the whole-file digest; its datasets' checksums were verified, but ",
+                     "an edit that kept them consistent cannot be detected"));
+  }
   io::Scene scene;
   if (scene_file) {
     const std::string text = io::readSceneText(*scene_file);

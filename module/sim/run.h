@@ -40,9 +40,12 @@ struct RunResult {
   std::int64_t steps = 0;
   double time = 0.0;
   double wall_seconds = 0.0;
-  std::string stop_signal;  // "SIGTERM" or "SIGUSR1" if a signal stopped the run, else empty
-  std::string checkpoint;   // the checkpoint written when it stopped, if any
+  std::string stop_signal;  // "SIGTERM" or "SIGUSR1" if a signal came during the run, else empty
+  bool signal_after_end = false;  // it came after the last step: the run was complete anyway
+  std::string checkpoint;         // the checkpoint written because of the signal, if any
   bool all_checks_pass() const;
+  /// A signal stopped the run before its end (its checks then judge a part of the run).
+  bool stopped_early() const { return !stop_signal.empty() && !signal_after_end; }
 };
 
 /// Applies the command-line overrides to a scene (steps / end time replace both of the scene's

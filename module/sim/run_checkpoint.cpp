@@ -127,7 +127,21 @@ CheckpointSchedule::CheckpointSchedule(const io::CheckpointSpec& spec, std::file
       code_version_(std::move(code_version)),
       tracker_(tracker),
       checks_(checks),
-      comm_(comm) {}
+      comm_(comm) {
+  if (dir_.empty() || mpi::rank(comm_) != 0) return;
+  // Temporary files that a write cut short (kill -9, a crash, a node failure) left behind: only
+  // files named as polydem names them, only in this run's checkpoint directory.
+  for (const auto& t : io::removeStaleTemporaryCheckpoints(dir_ / "checkpoints")) {
+    if (t.removed) {
+      log::warning(cat("removed ", t.path.string(), " (", t.bytes,
+                       " bytes), the temporary file of a checkpoint write that did not finish"));
+    } else {
+      log::warning(cat("left ", t.path.string(), ": the temporary file of a checkpoint write by ",
+                       t.writer_alive ? cat("process ", t.pid, ", which is still running")
+                                      : std::string("a process that is gone (cannot remove it)")));
+    }
+  }
+}
 
 bool CheckpointSchedule::afterStep(Simulation& sim) {
   const bool by_steps = spec_.every_steps > 0 && runSteps(sim) % spec_.every_steps == 0;
@@ -153,6 +167,14 @@ bool CheckpointSchedule::afterStep(Simulation& sim) {
   }
   write(sim);
   return false;
+}
+
+bool CheckpointSchedule::signalAfterRun() {
+  if (stop_signal_ != 0) return false;
+  int local = stopSignalReceived(), global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, comm_);
+  stop_signal_ = global;
+  return global != 0;
 }
 
 std::filesystem::path CheckpointSchedule::write(Simulation& sim) {

@@ -20,6 +20,8 @@
 namespace polydem::sim {
 
 /// Makes SIGTERM and SIGUSR1 set a flag (async-signal-safe) instead of ending the process.
+/// `polydem run` calls it first thing, before MPI starts and before any file is read, so that a
+/// signal at any moment of the start-up is kept for the first step's check. Idempotent.
 void installStopSignals();
 /// The signal number received since installStopSignals() on this process, or 0.
 int stopSignalReceived();
@@ -55,6 +57,9 @@ class CheckpointSchedule {
   bool afterStep(Simulation& sim);
   /// Writes a checkpoint of the current state and prunes old ones (collective); its path.
   std::filesystem::path write(Simulation& sim);
+  /// After the run: whether some rank received a stop signal since the last step's check
+  /// (collective). If so, stopSignal() is that signal from now on.
+  bool signalAfterRun();
 
   /// The signal that stopped the run (0: none).
   int stopSignal() const { return stop_signal_; }

@@ -56,8 +56,22 @@ RunOutput::RunOutput(const std::string& dir, Simulation& sim, const Tracker& tra
   }
 }
 
+RunOutput::Written RunOutput::labelOf(const Simulation& sim) {
+  return {static_cast<int>(sim.stage()), sim.stepCount()};
+}
+
+void RunOutput::writeSeriesOnce(Simulation& sim, const Tracker& tracker,
+                                const std::vector<std::unique_ptr<Check>>& checks) {
+  if (!(last_series_ == labelOf(sim))) writeSeries(sim, tracker, checks);
+}
+
+void RunOutput::writeSnapshotOnce(const Simulation& sim) {
+  if (!(last_snapshot_ == labelOf(sim))) writeSnapshot(sim);
+}
+
 void RunOutput::writeSeries(Simulation& sim, const Tracker& tracker,
                             const std::vector<std::unique_ptr<Check>>& checks) {
+  last_series_ = labelOf(sim);
   const auto m = sim.monitors();
   row_ = {sim.time(), static_cast<double>(sim.stepCount()), m.kinetic_energy, m.force_ratio,
           static_cast<double>(m.contacts)};
@@ -76,6 +90,7 @@ void RunOutput::writeSeries(Simulation& sim, const Tracker& tracker,
 
 void RunOutput::writeSnapshot(const Simulation& sim) {
   if (!snapshots_) return;
+  last_snapshot_ = labelOf(sim);
   const auto& storage = sim.particles();
   const bool root = mpi::rank(sim.comm()) == 0;
   batch_.clear();

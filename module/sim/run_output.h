@@ -25,9 +25,22 @@ class RunOutput {
                    const std::vector<std::unique_ptr<Check>>& checks);
   /// A snapshot of particles and contacts (collective).
   void writeSnapshot(const Simulation& sim);
+  /// writeSeries / writeSnapshot unless the last row / snapshot already holds this step of this
+  /// stage (for the final state, which the observer may have written at its last step).
+  void writeSeriesOnce(Simulation& sim, const Tracker& tracker,
+                       const std::vector<std::unique_ptr<Check>>& checks);
+  void writeSnapshotOnce(const Simulation& sim);
   void close();
 
  private:
+  /// Stage and step of a written row or snapshot.
+  struct Written {
+    int stage = -1;
+    std::int64_t step = -1;
+    bool operator==(const Written&) const = default;
+  };
+  static Written labelOf(const Simulation& sim);
+  Written last_series_, last_snapshot_;
   std::vector<std::pair<Uid, std::string>> monitored_;
   std::unique_ptr<io::SeriesWriter> series_;
   std::unique_ptr<io::SnapshotWriter> snapshots_;

@@ -3,14 +3,17 @@
 
 #include <cmath>
 
+#include "core/error.h"
 #include "core/exact_sum.h"
 #include "core/logging.h"
+#include "core/memory.h"
 #include "core/mpi_env.h"
 #include "core/strings.h"
 #include "domain/partition.h"
 #include "domain/rebalance.h"
 #include "dynamics/driver.h"
 #include "dynamics/integrator.h"
+#include "sim/pair_memory.h"
 
 namespace polydem::sim {
 
@@ -28,7 +31,7 @@ void Simulation::registerSteps() {
   loop_.add("contacts", [this] { computeContacts(); });
   loop_.add("integrate", [this] { integrate(); });
   loop_.add("communicate", [this] { communicate(); });
-  loop_.add("observe", [this] { observe(); });
+  loop_.addObserver("observe", [this] { observe(); });  // after step and time count the step
   loop_.stopWhen("interruption requested", [this] { return step_hook_ && step_hook_(); });
   loop_.setMonitor([this] {
     const auto m = monitors();
@@ -68,7 +71,22 @@ void Simulation::findCandidates() {
   }
   // A superset of the contact phase's own test, which is made in each pair's canonical frame.
   const double margin = margin_ + 1e-9 * 2.0 * r_max;
-  broadphase_->findPairs({centers_, radii_, uids_, active_}, margin, candidates_);
+  try {
+    broadphase_->findPairs({centers_, radii_, uids_, active_}, margin, candidates_);
+  } catch (const std::bad_alloc&) {
+    throw SimulationError(cat("step ", loop_.step(), ": the broad phase ran out of memory for ",
+                              "its candidate pairs (", candidates_.size(),
+                              " so far): particles "
+                              "overlap massively; check the scene for particles placed on top of "
+                              "each other"));
+  }
+  // Before the contact phase allocates its records and histories for every pair.
+  if (candidates_.size() * bytesPerCandidatePair() > (std::size_t{64} << 20)) {
+    if (const auto problem = pairMemoryProblem(scene_, storage_, candidates_, loop_.step(),
+                                               availableMemoryBytes())) {
+      throw SimulationError(*problem);
+    }
+  }
 }
 
 void Simulation::computeContacts() {
@@ -115,8 +133,38 @@ void Simulation::integrate() {
   }
 }
 
+// A particle whose state is no longer finite, or that left the domain, ends the run with the
+// scene file and the particle's line in the message (the exchange below would stop it too, but
+// knows nothing of the scene).
+void Simulation::checkParticlesInside(std::int64_t step) const {
+  const auto& box = forest_->domain();
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    const auto& p = storage_[i];
+    if (!p.isFree()) continue;
+    const bool finite = p.position.allFinite() && p.velocity.allFinite() &&
+                        p.angular_momentum.allFinite() && p.orientation.coeffs().allFinite();
+    if (finite && forest_->blockOf(forest_->wrap(p.position)) >= 0) continue;
+    const std::string where = p.uid >= 1 && p.uid <= scene_.particles.size()
+                                  ? cat(scene_.file, ":", scene_.particles[p.uid - 1].line, ": ")
+                                  : cat(scene_.file, ": ");
+    if (!finite) {
+      throw SimulationError(cat(where, "particle ", p.uid, " has a state that is no longer finite ",
+                                "at step ", step, " (position (", p.position.transpose(),
+                                "), velocity (", p.velocity.transpose(), ")): forces or ",
+                                "velocities overflowed; check gravity, densities, stiffnesses and ",
+                                "dt in the scene"));
+    }
+    throw SimulationError(cat(where, "particle ", p.uid, " left the domain at (", p.position.x(),
+                              ", ", p.position.y(), ", ", p.position.z(), ") at step ", step,
+                              "; the domain is [", box.lo.x(), ", ", box.hi.x(), "] x [",
+                              box.lo.y(), ", ", box.hi.y(), "] x [", box.lo.z(), ", ", box.hi.z(),
+                              "]: enlarge [domain] min/max in the scene"));
+  }
+}
+
 void Simulation::communicate() {
   const std::int64_t next_step = loop_.step() + 1;
+  checkParticlesInside(next_step);
   // A new decomposition is weighed before the particles move, so that one exchange takes them to
   // their new owners (and their ghosts to the new neighbours).
   if (scene_.domain.rebalance_every > 0 && next_step % scene_.domain.rebalance_every == 0) {
@@ -195,7 +243,17 @@ std::int64_t Simulation::runEquilibrium() {
   return equilibrium_steps_;
 }
 
+void requireStopCondition(const io::Scene& scene) {
+  // The scene reader requires one; a scene changed from Python may have neither, and the loop's
+  // own stop condition (the step hook) would then never hold.
+  if (!scene.end_time && !scene.steps) {
+    throw Error(cat("scene ", scene.file, ": neither end_time nor steps is set: nothing would ",
+                    "stop the run"));
+  }
+}
+
 timeloop::StopReason Simulation::run() {
+  requireStopCondition(scene_);
   if (scene_.end_time) loop_.stopAtTime(*scene_.end_time);
   if (scene_.steps) loop_.stopAtStep(*scene_.steps);
   return loop_.run();

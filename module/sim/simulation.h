@@ -34,6 +34,10 @@
 
 namespace polydem::sim {
 
+/// Throws polydem::Error if `scene` has neither end_time nor steps (a scene changed from Python
+/// may have neither): Simulation::run() and runScene() would never stop.
+void requireStopCondition(const io::Scene& scene);
+
 /// The two stages of a run (Keissar section 3.3, after 3DEC): an optional initial-equilibrium
 /// stage with heavy damping and high friction, then the scene's own values.
 enum class Stage { kEquilibrium, kMain };
@@ -107,7 +111,9 @@ class Simulation {
   /// Hash of the whole state, the same on any rank count (collective).
   comm::StateHash stateHash() const;
 
-  /// Called after every step (all ranks), e.g. by checks and output.
+  /// Called after every step (all ranks), e.g. by checks and output, once stepCount() and time()
+  /// count the step: positions are those at time(), leapfrog velocities those at time() - dt/2,
+  /// and contacts() those the step evaluated, at the positions of time() - dt.
   void addObserver(std::function<void()> observer) { observers_.push_back(std::move(observer)); }
   /// Called on every rank after every step of either stage, once the step is complete (step
   /// count and time advanced, particles migrated, ghosts fresh): the place to write a
@@ -165,6 +171,7 @@ class Simulation {
   void startLeapfrog();
   void enterEquilibrium();
   domain::Aabb computeExtents();
+  void checkFreeBodies() const;
   void suggestTimeStep();
   void restoreParticles(const io::CheckpointData& checkpoint, const std::string& file);
 
@@ -172,6 +179,7 @@ class Simulation {
   void findCandidates();
   void computeContacts();
   void integrate();
+  void checkParticlesInside(std::int64_t step) const;
   void communicate();
   void observe();
 

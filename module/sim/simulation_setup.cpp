@@ -1,11 +1,13 @@
 // Building a Simulation from a Scene: tables, domain, particles, contact laws.
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "core/error.h"
 #include "core/logging.h"
 #include "core/mpi_env.h"
 #include "core/strings.h"
+#include "domain/domain_error.h"
 #include "domain/rebalance.h"
 #include "dynamics/integrator.h"
 #include "dynamics/time_step.h"
@@ -40,11 +42,15 @@ Simulation::~Simulation() = default;
 
 void Simulation::buildTables() {
   for (const auto& spec : scene_.shapes) {
-    geometry::BuildReport report;
-    const auto poly = geometry::ConvexPolyhedron::fromPoints(spec.vertices, &report);
-    auto frame = geometry::toBodyFrame(poly, spec.name);
-    shapes_.push_back(std::move(frame.shape));
-    shape_frames_.push_back({frame.rotation, frame.centroid});
+    try {
+      geometry::BuildReport report;
+      const auto poly = geometry::ConvexPolyhedron::fromPoints(spec.vertices, &report);
+      auto frame = geometry::toBodyFrame(poly, spec.name);
+      shapes_.push_back(std::move(frame.shape));
+      shape_frames_.push_back({frame.rotation, frame.centroid});
+    } catch (const GeometryError& e) {  // e.g. a shape scaled flat after the reader built it
+      throw InputError(scene_.file, spec.line, cat("[[shape]] '", spec.name, "': ", e.what()));
+    }
   }
   for (const auto& m : scene_.materials) materials_.add(m);
   for (const auto& i : scene_.interactions) materials_.setInteraction(i.a, i.b, i.properties);
@@ -117,21 +123,25 @@ domain::Aabb Simulation::computeExtents() {
 
 void Simulation::buildDomain() {
   const domain::Aabb box = computeExtents();
-  domain::Index3 counts;
-  if (scene_.domain.blocks) {
-    counts = *scene_.domain.blocks;
-  } else {
-    // Blocks sized from where the free particles are; the fixed and driven bodies, which may
-    // span the whole domain, play no part (domain/block_fit.h).
-    std::vector<Vec3> centroids;
-    for (const auto& p : scene_.particles) {
-      if (p.fixed || p.driver >= 0) continue;
-      const Vec3 c = p.position + p.orientation * shape_frames_[p.shape].centroid;
-      if (box.contains(c)) centroids.push_back(c);  // outside: reported below
+  try {
+    domain::Index3 counts;
+    if (scene_.domain.blocks) {
+      counts = *scene_.domain.blocks;
+    } else {
+      // Blocks sized from where the free particles are; the fixed and driven bodies, which may
+      // span the whole domain, play no part (domain/block_fit.h).
+      std::vector<Vec3> centroids;
+      for (const auto& p : scene_.particles) {
+        if (p.fixed || p.driver >= 0) continue;
+        const Vec3 c = p.position + p.orientation * shape_frames_[p.shape].centroid;
+        if (box.contains(c)) centroids.push_back(c);  // outside: reported below
+      }
+      counts = fittedBlockCounts(box, scene_.domain.periodic, centroids, /*collective=*/false);
     }
-    counts = fittedBlockCounts(box, scene_.domain.periodic, centroids, /*collective=*/false);
+    forest_ = std::make_unique<domain::BlockForest>(box, counts, scene_.domain.periodic);
+  } catch (const domain::DomainError& e) {  // the same on every rank: all stop alike
+    throw InputError(scene_.file, scene_.domain.line, cat("[domain]: ", e.what()));
   }
-  forest_ = std::make_unique<domain::BlockForest>(box, counts, scene_.domain.periodic);
   // Every rank checks (so that all of them stop on an error); rank 0 alone counts the weights.
   std::vector<double> weights(forest_->numBlocks(), 0.0);
   for (const auto& p : scene_.particles) {
@@ -150,9 +160,9 @@ void Simulation::buildDomain() {
 std::vector<int> Simulation::rankMap(std::span<const double> weights) const {
   if (scene_.domain.balancer == "cyclic") {
     if (forest_->numBlocks() < ranks_) {
-      throw InputError(
-          scene_.file, 0,
-          cat("[domain] has ", forest_->numBlocks(), " blocks for ", ranks_, " ranks"));
+      throw InputError(scene_.file, scene_.domain.line,
+                       cat("[domain] has ", forest_->numBlocks(), " blocks for ", ranks_,
+                           " ranks: balancer \"cyclic\" needs at least one block per rank"));
     }
     std::vector<int> map(forest_->numBlocks());
     for (int b = 0; b < forest_->numBlocks(); ++b) map[b] = b % ranks_;
@@ -186,7 +196,50 @@ void Simulation::placeParticles() {
   }
 }
 
+namespace {
+
+/// Below this ratio of the smallest to the largest principal moment the smallest one is decided
+/// by rounding (the moments are exact sums of terms of the size of the largest, about 1e-16 of
+/// it each): a needle thinner than about 4e-6 of its length.
+constexpr double kMinMomentRatio = 1e-10;
+
+}  // namespace
+
+// A free particle's mass and moments must be usable numbers: a subnormal or zero mass (a tiny
+// density times a tiny volume) turns into infinite accelerations, a sliver's smallest moment into
+// noise of either sign. Refused at the particle's line, once per shape and material.
+void Simulation::checkFreeBodies() const {
+  std::set<std::pair<int, int>> seen;
+  for (const auto& spec : scene_.particles) {
+    if (spec.fixed || spec.driver >= 0 || !seen.insert({spec.shape, spec.material}).second) {
+      continue;
+    }
+    const auto& s = shapes_[spec.shape];
+    const double density = densities_[spec.material];
+    const double mass = density * s.volume;
+    const Vec3 moments = density * s.principal_moments;
+    const std::string what = cat("a particle of shape '", s.name, "' and material '",
+                                 materials_[spec.material].name, "'");
+    if (!std::isnormal(mass) || !std::isfinite(1.0 / mass)) {
+      throw InputError(scene_.file, spec.line,
+                       cat(what, " has mass ", mass, " kg (density ", density, " kg/m^3 x volume ",
+                           s.volume, " m^3), not a usable number"));
+    }
+    const double largest = moments.maxCoeff(), smallest = moments.minCoeff();
+    if (!std::isnormal(smallest) || !std::isfinite(largest) ||
+        !(smallest >= kMinMomentRatio * largest)) {
+      throw InputError(scene_.file, spec.line,
+                       cat(what, " has principal moments of inertia (", moments.x(), ", ",
+                           moments.y(), ", ", moments.z(), ") kg m^2: shape '", s.name,
+                           "' is too thin (a sliver or needle; the smallest moment must be at "
+                           "least ",
+                           kMinMomentRatio, " of the largest)"));
+    }
+  }
+}
+
 void Simulation::suggestTimeStep() {
+  checkFreeBodies();
   std::vector<dynamics::TimeStepParticle> dt_particles;
   for (const auto& spec : scene_.particles) {
     if (spec.fixed || spec.driver >= 0) continue;

@@ -48,11 +48,22 @@ const char* toString(StopReason reason) {
 TimeLoop::TimeLoop(MPI_Comm comm) : comm_(comm), rank_(mpi::rank(comm)) {}
 
 void TimeLoop::add(const std::string& name, Function function) {
-  if (!function) throw Error(cat("TimeLoop: function '", name, "' is empty"));
-  for (const Step& s : steps_) {
-    if (s.name == name) throw Error(cat("TimeLoop: function '", name, "' added twice"));
-  }
+  checkNewName(name, function);
   steps_.push_back({name, std::move(function)});
+}
+
+void TimeLoop::addObserver(const std::string& name, Function function) {
+  checkNewName(name, function);
+  observers_.push_back({name, std::move(function)});
+}
+
+void TimeLoop::checkNewName(const std::string& name, const Function& function) const {
+  if (!function) throw Error(cat("TimeLoop: function '", name, "' is empty"));
+  for (const auto* list : {&steps_, &observers_}) {
+    for (const Step& s : *list) {
+      if (s.name == name) throw Error(cat("TimeLoop: function '", name, "' added twice"));
+    }
+  }
 }
 
 void TimeLoop::setTimeStep(double dt) {
@@ -116,6 +127,10 @@ void TimeLoop::singleStep() {
   ++step_;
   time_.add(dt);
   time_value_ = time_.value();
+  for (const Step& s : observers_) {
+    const TimingPool::Scope scope(timing_, s.name);
+    s.function();
+  }
 }
 
 // The first condition that holds, in the documented order. The callbacks are called on every

@@ -42,6 +42,10 @@ class TimeLoop {
   // ---- the step ------------------------------------------------------------------------------
   /// Appends a function to every step; names must be unique (they are the timer names).
   void add(const std::string& name, Function function);
+  /// Appends a function called after every step, once step() and time() count it, so that what
+  /// it records of the state the step produced carries that step's number and time (output,
+  /// checks). Timed like the step functions; names share their namespace.
+  void addObserver(const std::string& name, Function function);
   /// The time step; a function may change it during a step, and the change applies from the
   /// next step on (the step's own functions work with the dt the step started with).
   void setTimeStep(double dt);
@@ -82,7 +86,7 @@ class TimeLoop {
   void setOutput(std::function<void(const std::string&)> output);
 
   // ---- running -------------------------------------------------------------------------------
-  /// One step: each function in order, timed; then step += 1 and t += dt.
+  /// One step: each function in order, timed; then step += 1 and t += dt; then the observers.
   void singleStep();
   /// Steps until a stop condition holds and returns it; throws Error if none is set.
   StopReason run();
@@ -104,6 +108,7 @@ class TimeLoop {
     std::string name;
     Function function;
   };
+  void checkNewName(const std::string& name, const Function& function) const;
   StopReason check(bool after_step);
   std::string describe(StopReason reason) const;
   bool agree(StopReason reason, bool progress_due);
@@ -114,6 +119,7 @@ class TimeLoop {
   MPI_Comm comm_;
   int rank_ = 0;
   std::vector<Step> steps_;
+  std::vector<Step> observers_;
   TimingPool timing_;
 
   double dt_ = 0.0;

@@ -6,8 +6,12 @@ Usage: /usr/bin/python3 checkpoint_summary.py FILE [--json OUT] [--quiet]
 Prints the step, time, stage, particle and pair counts, the bounding box of the particle
 centroids, the kinetic energy of the free particles and every dataset with its checksum.
 --json OUT also writes the summary as JSON (OUT = "-" for standard output, then the text goes
-to standard error). Exit status: 0 if the file is a valid checkpoint whose checksums all
-match, 1 if not (the problems are listed), 2 for a usage error or without h5py.
+to standard error). Exit status: 0 if the file is a valid checkpoint whose checksums and
+whole-file digest all match, 1 if not (the problems are listed), 2 for a usage error or without
+h5py. Format version 1 and 2 files (no digest, written before it existed) are summarised with
+their checksums verified and a warning that edits of attributes and mixed datasets go
+undetected; polydem restarts from them with the same warning (docs/checkpoint.md, "Older
+files").
 
 Needs h5py and numpy (Debian: python3-h5py). The checksum ("polydem-sum64", docs/checkpoint.md)
 of a dataset of E elements u_0 .. u_{E-1} (row-major order; each element's little-endian bit
@@ -16,7 +20,9 @@ including their NUL padding) is
 
     mix64((sum_j mix64(u_j + (j + 1) * 0x9e3779b97f4a7c15)) xor E)     (all mod 2^64)
 
-where mix64 is the SplitMix64 finaliser. It is computed here independently of the C++ code.
+where mix64 is the SplitMix64 finaliser. The whole-file digest (version 3) is the same sum over
+the bytes of a walk of every group, dataset, link and attribute (docs/checkpoint.md, "Digest";
+module/io/checkpoint_digest.h). Both are computed here independently of the C++ code.
 """
 
 import argparse
@@ -31,13 +37,14 @@ except ImportError as e:  # pragma: no cover - reported to the user
     sys.exit(2)
 
 FORMAT = "polydem-checkpoint"
-FORMAT_VERSION = 2
-OLDEST_VERSION = 1
+FORMAT_VERSION = 3
+READABLE_VERSIONS = (1, 2, 3)  # 1: no sub-contacts; 1 and 2: no whole-file digest
+DIGEST_VERSION = 3
 MASK = (1 << 64) - 1
 GAMMA = 0x9E3779B97F4A7C15
 CHUNK = 1 << 20  # elements hashed per numpy pass
 
-# Every dataset a version-1 checkpoint holds; version 2 adds REQUIRED_V2.
+# Every dataset a version-1 checkpoint holds; versions 2 and 3 add REQUIRED_V2.
 REQUIRED = [
     "/run/state", "/scene/toml",
     "/shapes/name", "/shapes/vertex_offset", "/shapes/vertices", "/shapes/face_offset",
@@ -120,6 +127,86 @@ def dataset_checksum(ds):
     return mix64(total ^ (rows * per_row))
 
 
+def type_name(tid):
+    """The digest's name of an HDF5 type: f8, i4, u1, s12, v... (checkpoint_digest.h)."""
+    cls = tid.get_class()
+    order = "be" if cls in (h5py.h5t.INTEGER, h5py.h5t.FLOAT) and \
+        tid.get_order() == h5py.h5t.ORDER_BE else ""
+    if cls == h5py.h5t.INTEGER:
+        sign = "u" if tid.get_sign() == h5py.h5t.SGN_NONE else "i"
+        return "%s%d%s" % (sign, tid.get_size(), order)
+    if cls == h5py.h5t.FLOAT:
+        return "f%d%s" % (tid.get_size(), order)
+    if cls == h5py.h5t.STRING:
+        return "v" if tid.is_variable_str() else "s%d" % tid.get_size()
+    return "c%d" % cls
+
+
+def digest_walk(f):
+    """The byte string the whole-file digest hashes, and the datasets' paths in walk order."""
+    out = bytearray()
+    datasets = []
+
+    def text(value):
+        out.extend(value if isinstance(value, bytes) else value.encode())
+        out.append(0)
+
+    def attributes(obj, path):
+        for name in sorted(n.encode() for n in obj.attrs.keys()):
+            if path == "/" and name == b"digest":
+                continue
+            aid = h5py.h5a.open(obj.id, name)
+            tname = type_name(aid.get_type())
+            count = aid.get_space().get_simple_extent_npoints()
+            out.extend(b"A")
+            text(name)
+            text(tname)
+            text(str(count))
+            if count > 0 and tname[0] in "iufs":
+                values = np.empty(aid.shape, dtype=aid.dtype)
+                aid.read(values)
+                if tname[0] != "s":  # numbers in native (little-endian) order
+                    values = values.astype(values.dtype.newbyteorder("<"))
+                out.extend(values.tobytes())
+
+    def visit(path, obj):
+        if isinstance(obj, h5py.Group):
+            out.extend(b"G")
+            text(path)
+            attributes(obj, path)
+            for name in sorted(n.encode() for n in obj.keys()):
+                child = ("/" if path == "/" else path + "/") + name.decode()
+                link = obj.get(name.decode(), getlink=True)
+                if isinstance(link, h5py.HardLink):
+                    visit(child, obj[name.decode()])
+                elif isinstance(link, h5py.SoftLink):
+                    out.extend(b"S")
+                    text(child)
+                    text(link.path)
+                else:
+                    out.extend(b"E")
+                    text(child)
+        elif isinstance(obj, h5py.Dataset):
+            out.extend(b"D")
+            text(path)
+            text(type_name(obj.id.get_type()))
+            text(",".join(str(d) for d in (obj.shape or ())))
+            attributes(obj, path)
+            datasets.append(path)
+        else:
+            out.extend(b"O")
+            text(path)
+
+    visit("/", f)
+    return bytes(out), datasets
+
+
+def bytes_checksum(data):
+    """polydem-sum64 of a byte string (each byte one element)."""
+    elements = np.frombuffer(data, dtype=np.uint8).astype(np.uint64)
+    return mix64(partial_sum(elements, 0) ^ len(elements))
+
+
 def text_of(ds):
     return bytes(ds[()]).ljust(ds.dtype.itemsize, b"\0")[: int(ds.attrs["length"])]
 
@@ -143,13 +230,28 @@ def summarize(path):
         version = int(f.attrs.get("format_version", -1))
         if fmt != FORMAT:
             problems.append("not a polydem checkpoint (format attribute is %r)" % fmt)
-        elif not OLDEST_VERSION <= version <= FORMAT_VERSION:
-            problems.append("format version %d; this script reads versions %d to %d"
-                            % (version, OLDEST_VERSION, FORMAT_VERSION))
-        for name in REQUIRED + (REQUIRED_V2 if version >= 2 else []):
+        elif version not in READABLE_VERSIONS:
+            problems.append("format version %d; this script reads versions %s"
+                            % (version, ", ".join(str(v) for v in READABLE_VERSIONS)))
+        if problems:
+            return {"file": path, "ok": False, "problems": problems}
+        stream, walked = digest_walk(f)
+        computed_digest = bytes_checksum(stream)
+        stored_digest = int(f.attrs["digest"]) if "digest" in f.attrs else None
+        if version >= DIGEST_VERSION and stored_digest != computed_digest:
+            problems.append("the file was changed after it was written: its whole-file digest "
+                            "is %s but its groups, datasets and attributes hash to %016x"
+                            % ("missing" if stored_digest is None else "%016x" % stored_digest,
+                               computed_digest))
+        required = REQUIRED + (REQUIRED_V2 if version >= 2 else [])
+        for name in required:
             if name not in f:
                 problems.append("dataset %s is missing" % name)
-        if problems:
+        for name in walked:
+            if name not in required:
+                problems.append("dataset %s is not part of a version %d checkpoint"
+                                % (name, version))
+        if any(p.startswith("dataset ") and p.endswith("missing") for p in problems):
             return {"file": path, "ok": False, "problems": problems}
 
         def visit(name, obj):
@@ -198,6 +300,7 @@ def summarize(path):
             "ok": not problems,
             "problems": problems,
             "format_version": version,
+            "digest": "%016x" % computed_digest if version >= DIGEST_VERSION else None,
             "code_version": attr_str(f.attrs["code_version"]),
             "writer_ranks": int(f.attrs["writer_ranks"]),
             "scene_file": attr_str(f["scene"].attrs["file_name"]),
@@ -231,6 +334,9 @@ def text(summary):
     lines = [
         "file: %s" % s["file"],
         "format version: %d" % s["format_version"],
+        ("digest: %s (whole file, %s)" % (s["digest"], "verified" if s["ok"] else "see below"))
+        if s["digest"] else "digest: none (format version %d: edits of attributes and datasets "
+        "mixed from other checkpoints are not detected)" % s["format_version"],
         "written by: polydem %s on %d ranks" % (s["code_version"], s["writer_ranks"]),
         "scene: %s (hash %s)" % (s["scene_file"], s["scene_hash"]),
         "step: %d" % s["step"],

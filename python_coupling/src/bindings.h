@@ -11,6 +11,7 @@
 #include <pybind11/stl.h>
 
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/types.h"
@@ -36,6 +37,18 @@ py::array_t<double> quatArray(const Quat& q);  // (w, x, y, z)
 template <typename T>
 py::array_t<T> emptyArray(std::vector<py::ssize_t> shape) {
   return py::array_t<T>(std::move(shape));
+}
+
+/// A member function bound through a reference to self. pybind11 passes None as a null pointer to
+/// a member function bound directly (&C::f), so Simulation.time.fget(None) would call it on null
+/// and crash the interpreter; through a reference, None raises TypeError.
+template <typename C, typename R, typename... A>
+auto method(R (C::*f)(A...) const) {
+  return [f](const C& self, A... args) -> R { return (self.*f)(std::forward<A>(args)...); };
+}
+template <typename C, typename R, typename... A>
+auto method(R (C::*f)(A...)) {
+  return [f](C& self, A... args) -> R { return (self.*f)(std::forward<A>(args)...); };
 }
 
 /// Raises KeyboardInterrupt (through py::error_already_set) if Ctrl-C was pressed; called between

@@ -86,7 +86,7 @@ coordinates, duplicate points and flat clouds, with polydem's message.)")
       .def_property_readonly("face_normals", &faceNormals, "Outward unit face normals, (m, 3).")
       .def_property_readonly("face_areas", &faceAreas, "Face areas, (m,) [m^2].")
       .def_property_readonly("edges", &edgeArray, "Edges as vertex index pairs, (k, 2) int64.")
-      .def_property_readonly("volume", &ConvexPolyhedron::volume, "Volume [m^3].")
+      .def_property_readonly("volume", method(&ConvexPolyhedron::volume), "Volume [m^3].")
       .def_property_readonly(
           "centroid", [](const ConvexPolyhedron& p) { return vec3Array(p.centroid()); },
           "Centroid of the solid [m].")
@@ -94,14 +94,14 @@ coordinates, duplicate points and flat clouds, with polydem's message.)")
           "inertia", [](const ConvexPolyhedron& p) { return mat3Array(p.inertia()); },
           "Inertia tensor about the centroid for unit density, (3, 3) [m^5]; multiply by the\n"
           "density (kg/m^3) for kg m^2.")
-      .def_property_readonly("circumradius", &ConvexPolyhedron::circumradius,
+      .def_property_readonly("circumradius", method(&ConvexPolyhedron::circumradius),
                              "Largest distance from the centroid to a vertex [m].")
-      .def_property_readonly("inradius", &ConvexPolyhedron::inradius,
+      .def_property_readonly("inradius", method(&ConvexPolyhedron::inradius),
                              "Radius of the largest inscribed sphere [m].")
       .def_property_readonly(
           "incenter", [](const ConvexPolyhedron& p) { return vec3Array(p.incenter()); },
           "Centre of the largest inscribed sphere [m].")
-      .def_property_readonly("length_scale", &ConvexPolyhedron::lengthScale,
+      .def_property_readonly("length_scale", method(&ConvexPolyhedron::lengthScale),
                              "Twice the circumradius: the length relative tolerances scale with.")
       .def(
           "support",
@@ -130,7 +130,7 @@ coordinates, duplicate points and flat clouds, with polydem's message.)")
           },
           py::arg("rotation"), py::arg("translation"),
           "The polyhedron moved by x -> rotation @ x + translation (same indices).")
-      .def("scaled", &ConvexPolyhedron::scaled, py::arg("factor"),
+      .def("scaled", method(&ConvexPolyhedron::scaled), py::arg("factor"),
            "The polyhedron scaled about the origin by `factor` > 0.")
       .def("__repr__", &repr);
 }

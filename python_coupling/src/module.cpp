@@ -15,6 +15,7 @@
 #include "core/logging.h"
 #include "core/mpi_env.h"
 #include "core/strings.h"
+#include "io/checkpoint.h"
 
 namespace polydem::python {
 
@@ -81,7 +82,9 @@ void defineExceptions(py::module_& m) {
 void finalizeMpi() {
   int finalized = 0;
   MPI_Finalized(&finalized);
-  if (!finalized) MPI_Finalize();
+  if (finalized) return;
+  io::closeHdf5Library();  // quietly, before MPI_Finalize would close it (io/checkpoint.h)
+  MPI_Finalize();
 }
 
 void initializeMpi() {

@@ -208,19 +208,20 @@ principal axes, see `shapes`) into the world.)")
            "Runs the main stage to the scene's end time or step count (collective); returns why\n"
            "it stopped ('end time', 'step limit', ...).")
       .def(
-          "run_equilibrium", &Simulation::runEquilibrium,
+          "run_equilibrium", method(&Simulation::runEquilibrium),
           "Runs the initial-equilibrium stage if the scene has one (collective); returns its step\n"
           "count (0 without one). Call it before stepping the main stage, as polydem run does.")
-      .def_property_readonly("time", &Simulation::time, "Simulated time [s].")
-      .def_property_readonly("step_count", &Simulation::stepCount, "Steps taken in this stage.")
-      .def_property_readonly("dt", &Simulation::dt, "Time step [s].")
+      .def_property_readonly("time", method(&Simulation::time), "Simulated time [s].")
+      .def_property_readonly("step_count", method(&Simulation::stepCount),
+                             "Steps taken in this stage.")
+      .def_property_readonly("dt", method(&Simulation::dt), "Time step [s].")
       .def_property_readonly(
           "stage",
           [](const Simulation& s) {
             return s.stage() == sim::Stage::kEquilibrium ? "equilibrium" : "main";
           },
           "'equilibrium' or 'main'.")
-      .def_property_readonly("suggested_time_step", &Simulation::suggestedTimeStep,
+      .def_property_readonly("suggested_time_step", method(&Simulation::suggestedTimeStep),
                              "The dt suggested by masses and stiffnesses [s].")
       .def_property_readonly(
           "scene", [](const Simulation& s) { return s.scene(); },

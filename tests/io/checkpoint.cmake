@@ -3,7 +3,7 @@
 polydem_add_test(NAME io_checkpoint SOURCES checkpoint_test.cpp checkpoint_checksum_test.cpp
                  DEPENDS polydem::io PROCESSES 1 2 4)
 polydem_add_test(NAME io_checkpoint_errors
-                 SOURCES checkpoint_errors_test.cpp checkpoint_write_test.cpp
+                 SOURCES checkpoint_errors_test.cpp checkpoint_edit_test.cpp checkpoint_write_test.cpp
                  DEPENDS polydem::io PROCESSES 1 2 4)
 
 # The Python summary script (Debian's /usr/bin/python3 with h5py, not the python3 on PATH) on a

@@ -1,13 +1,17 @@
 // Damaged and mismatched checkpoints: each problem is a CheckpointError on every rank that names
-// the file and the dataset, and reading never changes the file.
+// the file and the dataset, and reading never changes the file. Edits of the file's structure are
+// refused by the whole-file digest (checkpoint_edit_test.cpp); here they are resealed (the digest
+// recomputed) to reach the checks behind it.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <mpi.h>
+#include <sys/stat.h>
 
 #include <fstream>
 #include <functional>
 #include <sstream>
 
+#include "checkpoint_edit_util.h"
 #include "checkpoint_test_data.h"
 #include "core/error.h"
 #include "core/mpi_env.h"
@@ -19,7 +23,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+using testing::editFile;
 using testing::readBytes;
+using testing::reseal;
 using testing::writeBytes;
 
 /// Byte offset of a contiguous dataset's data in the file (serial HDF5).
@@ -30,14 +36,6 @@ std::uint64_t dataOffset(const fs::path& path, const char* dataset) {
   H5Dclose(d);
   H5Fclose(f);
   return offset;
-}
-
-/// Opens `path` serially for writing, calls `edit` with the file id, closes it.
-void editFile(const fs::path& path, const std::function<void(hid_t)>& edit) {
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  ASSERT_GE(f, 0);
-  edit(f);
-  H5Fclose(f);
 }
 
 class CheckpointErrors : public ::testing::Test {
@@ -117,21 +115,25 @@ TEST_F(CheckpointErrors, CorruptedBytesNameTheDataset) {
 }
 
 TEST_F(CheckpointErrors, AnotherFormatVersion) {
-  const auto path = damaged("version.h5", [](const fs::path& p) {
-    editFile(p, [](hid_t f) {
-      const hid_t a = H5Aopen_by_name(f, "/", "format_version", H5P_DEFAULT, H5P_DEFAULT);
-      const std::int32_t next = kCheckpointFormatVersion + 1;
-      H5Awrite(a, H5T_NATIVE_INT32, &next);
-      H5Aclose(a);
+  // Versions before the oldest readable one and after this polydem's are refused (older ones that
+  // are readable are tested in sim_restart and checkpoint_summary_test.py).
+  for (const std::int32_t version : {0, kCheckpointFormatVersion + 1}) {
+    const auto path = damaged(cat("version", version, ".h5"), [&](const fs::path& p) {
+      editFile(p, [&](hid_t f) {
+        const hid_t a = H5Aopen_by_name(f, "/", "format_version", H5P_DEFAULT, H5P_DEFAULT);
+        H5Awrite(a, H5T_NATIVE_INT32, &version);
+        H5Aclose(a);
+      });
     });
-  });
-  expectRejected(path, {cat("format version ", kCheckpointFormatVersion + 1),
-                        cat("reads versions 1 to ", kCheckpointFormatVersion)});
+    expectRejected(path, {cat("format version ", version, " (written by polydem "),
+                          cat("reads versions 1 to ", kCheckpointFormatVersion)});
+  }
 }
 
 TEST_F(CheckpointErrors, MissingDataset) {
   const auto path = damaged("missing.h5", [](const fs::path& p) {
     editFile(p, [](hid_t f) { H5Ldelete(f, "/contacts/normal", H5P_DEFAULT); });
+    reseal(p);
   });
   expectRejected(path, {"dataset /contacts/normal is missing"});
 }
@@ -139,6 +141,7 @@ TEST_F(CheckpointErrors, MissingDataset) {
 TEST_F(CheckpointErrors, MissingGroup) {
   const auto path = damaged("nogroup.h5", [](const fs::path& p) {
     editFile(p, [](hid_t f) { H5Ldelete(f, "/materials", H5P_DEFAULT); });
+    reseal(p);
   });
   expectRejected(path, {"/materials/name is missing"});
 }
@@ -157,6 +160,7 @@ TEST_F(CheckpointErrors, InconsistentSizes) {
       H5Dclose(d);
       H5Sclose(space);
     });
+    reseal(p);
   });
   expectRejected(path, {"dataset /particles/velocity has shape " + std::to_string(n - 1) +
                             " x 3, expected " + std::to_string(n) + " x 3",
@@ -175,6 +179,7 @@ TEST_F(CheckpointErrors, WrongType) {
       H5Dclose(d);
       H5Sclose(space);
     });
+    reseal(p);
   });
   expectRejected(path, {"dataset /particles/shape holds 64-bit float values"});
 }
@@ -192,6 +197,7 @@ TEST_F(CheckpointErrors, TimeThatIsNotTheExactTime) {
       H5Aclose(a);
       H5Sclose(space);
     });
+    reseal(p);
   });
   expectRejected(path, {"/run: time 0.5 is not the rounded time_digits"});
 }
@@ -223,6 +229,15 @@ TEST_F(CheckpointErrors, NotACheckpoint) {
     message = e.what();
   }
   EXPECT_NE(message.find("absent.h5: no such file"), std::string::npos) << message;
+  // A directory and a FIFO are named as such (a FIFO must not block the reader).
+  const fs::path directory = dir_ / "directory.h5", fifo = dir_ / "fifo.h5";
+  if (mpi::rank() == 0) {
+    fs::create_directory(directory);
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  expectRejected(directory, {"directory.h5: is a directory"});
+  expectRejected(fifo, {"fifo.h5: is a FIFO (named pipe), not a file"});
 }
 
 }  // namespace

@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Checks python_coupling/scripts/checkpoint_summary.py on a checkpoint written by the C++ code
 (2 ranks): the same counts, time, bounding box and kinetic energy as the C++ summary, the same
-checksums recomputed independently in Python, and a damaged copy reported with its dataset.
+checksums and whole-file digest recomputed independently in Python, a damaged copy reported with
+its dataset, edited copies (an attribute, an added dataset) refused by the digest, and a file of
+format version 1 (no digest) summarised with a warning.
 
 Usage: checkpoint_summary_test.py SCRIPT SAMPLE_DIR   (SAMPLE_DIR holds sample.h5, expected.json)
 Exit 77 (ctest: skipped) when h5py is not installed.
@@ -47,6 +49,8 @@ def main(script, sample_dir):
     if set(got["datasets"]) != set(expected["datasets"]):
         failures.append("dataset lists differ: %s" %
                         sorted(set(got["datasets"]) ^ set(expected["datasets"])))
+    if got.get("digest") != expected["digest"]:
+        failures.append("digest: python %s, C++ %s" % (got.get("digest"), expected["digest"]))
     for name, checksum in expected["datasets"].items():
         mine = got["datasets"].get(name, {})
         if mine.get("checksum") != checksum or not mine.get("ok"):
@@ -73,6 +77,43 @@ def main(script, sample_dir):
     others = [n for n, d in json.loads(stdout)["datasets"].items() if not d["ok"]]
     if others != ["/particles/velocity"]:
         failures.append("damaged file: datasets reported %s" % others)
+
+    # Edited copies: each refused by the whole-file digest, exit status 1.
+    def edited(name, edit, message):
+        path = os.path.join(sample_dir, name + ".h5")
+        shutil.copyfile(sample, path)
+        with h5py.File(path, "r+") as f:
+            edit(f)
+        code, _, stderr = run(script, path)
+        if code != 1 or message not in stderr:
+            failures.append("%s: exit status %d, expected 1 and '%s':\n%s"
+                            % (name, code, message, stderr))
+
+    changed = "the file was changed after it was written"
+    with h5py.File(sample, "r") as f:
+        version = int(f.attrs["format_version"])
+
+    def step(f):
+        f["run"].attrs["step"] = numpy.int64(-5)
+
+    edited("step", step, changed)
+    edited("extra", lambda f: f.create_dataset("/particles/extra", data=[1.0, 2.0]), changed)
+    edited("extra", lambda f: f.create_dataset("/particles/extra", data=[1.0, 2.0]),
+           "dataset /particles/extra is not part of a version %d checkpoint" % version)
+
+    # Version 2, before the digest: summarised, checksums verified, with a warning.
+    def version2(f):
+        del f.attrs["digest"]
+        del f.attrs["digest_algorithm"]
+        f.attrs["format_version"] = numpy.int32(2)
+
+    old = os.path.join(sample_dir, "version2.h5")
+    shutil.copyfile(sample, old)
+    with h5py.File(old, "r+") as f:
+        version2(f)
+    code, _, stderr = run(script, old)
+    if code != 0 or "digest: none (format version 2" not in stderr:
+        failures.append("version 2: exit status %d:\n%s" % (code, stderr))
 
     for f in failures:
         print("FAIL:", f)

@@ -69,12 +69,13 @@ inline Truth makeTruth(int free_count = 57, int pair_count = 83, bool awkward = 
   d.code_version = "0.1.0-test";
   d.scene_file = "scenes/test.toml";
   d.scene_toml = "# test scene\nid = \"T\"\n[[material]]\nname = \"rock\"\n";
-  d.step = 123456789;
+  // As a time loop leaves them: time = step x dt exactly, the sum of `step` time steps.
+  d.step = 4321;
+  d.dt = 1.1e-4;
   ExactSum time;
-  for (int i = 0; i < 1000; ++i) time.add(1e-4 * (1 + i % 3));
+  for (int i = 0; i < d.step; ++i) time.add(d.dt);
   d.time_digits = time.digits();
   d.time = time.value();
-  d.dt = 1.25e-4;
   d.stage = CheckpointStage::kEquilibrium;
   d.equilibrium_steps = 4321;
   d.equilibrium_reached = true;
@@ -239,8 +240,10 @@ inline std::filesystem::path scratchDirectory(const std::string& name, MPI_Comm 
   return path;
 }
 
-/// A file's bytes ("" if it cannot be read), to check that a failed operation left it alone.
+/// A file's bytes ("" if it cannot be read or is not a regular file, which opening could block),
+/// to check that a failed operation left it alone.
 inline std::string readBytes(const std::filesystem::path& path) {
+  if (!std::filesystem::is_regular_file(path)) return "";
   std::ifstream in(path, std::ios::binary);
   std::ostringstream out;
   out << in.rdbuf();

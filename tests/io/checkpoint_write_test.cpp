@@ -4,6 +4,8 @@
 #include <mpi.h>
 #include <signal.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
@@ -176,6 +178,55 @@ TEST(CheckpointFiles, NamesListAndKeepLast) {
   EXPECT_EQ(pruneCheckpoints(dir, 1).size(), 1u);
   EXPECT_TRUE(fs::exists(checkpointFileName(dir, 1500)));
   EXPECT_THROW(pruneCheckpoints(dir, 0), Error);
+  fs::remove_all(dir);
+}
+
+/// The id of a process that has just ended (so that no process has it for a while).
+long endedProcessId() {
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  waitpid(child, nullptr, 0);
+  return child;
+}
+
+TEST(CheckpointFiles, StaleTemporaryFilesOnlyOfPolydemsNaming) {
+  if (mpi::rank() != 0) return;  // not collective
+  const fs::path dir = fs::temp_directory_path() / ("polydem_cktmp_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string base = checkpointFileName("", 50).string();
+  const long gone = endedProcessId();
+  const std::string stale = base + ".tmp." + std::to_string(gone);
+  const std::string alive = base + ".tmp." + std::to_string(getppid());
+  std::ofstream(dir / stale) << "half a checkpoint";
+  std::ofstream(dir / alive) << "being written";
+  // Names that are not polydem's temporary files, and a directory with such a name.
+  const std::vector<std::string> others = {base + ".tmp." + std::to_string(gone) + "x",
+                                           base + ".tmp.",
+                                           "checkpoint_50.h5.tmp." + std::to_string(gone),
+                                           "notes.tmp." + std::to_string(gone),
+                                           base,
+                                           base + ".bak.tmp." + std::to_string(gone)};
+  for (const auto& name : others) std::ofstream(dir / name) << "keep";
+  fs::create_directory(dir / (base + ".tmp.1"));
+
+  const auto listed = listTemporaryCheckpoints(dir);
+  ASSERT_EQ(listed.size(), 2u);
+  const auto removed = removeStaleTemporaryCheckpoints(dir);
+  ASSERT_EQ(removed.size(), 2u);
+  for (const auto& t : removed) {
+    EXPECT_EQ(t.removed, t.path.filename() == stale) << t.path;
+    EXPECT_EQ(t.writer_alive, t.path.filename() == alive) << t.path;
+    if (t.path.filename() == stale) {
+      EXPECT_EQ(t.bytes, 17u);
+    }
+  }
+  std::vector<std::string> expected = others;
+  expected.push_back(alive);
+  expected.push_back(base + ".tmp.1");
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(entries(dir), expected);
+  EXPECT_TRUE(removeStaleTemporaryCheckpoints(dir / "absent").empty());
   fs::remove_all(dir);
 }
 

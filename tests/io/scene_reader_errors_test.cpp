@@ -105,8 +105,8 @@ TEST(SceneReaderErrors, DuplicateNamesAndLabels) {
                   "[[interaction]]\nmaterials = [\"rock\", \"rock\"]\n"
                   "[[interaction]]\nmaterials = [\"rock\", \"rock\"]  # <-\n",
               {"the pair is already given at line"});
-  const std::string check = "[[check]]\nname = \"c\"\nkind = \"k\"\nexpected = 1\n";
-  expectError(kBase + check + "[[check]]\nname = \"c\"  # <-\nkind = \"k\"\nexpected = 1\n",
+  const std::string check = "[[check]]\nname = \"c\"\nkind = \"mean_speed\"\nexpected = 1\n";
+  expectError(kBase + check + "[[check]]\nname = \"c\"  # <-\nkind = \"mean_speed\"\nexpected = 1\n",
               {"check 'c' is already defined at line"});
 }
 
@@ -183,10 +183,10 @@ TEST(SceneReaderErrors, NamesOutsideTheirLists) {
   expectError(replaced(kBase, "type = \"cube\"", "type = \"sphere\"  # <-"),
               {"type: 'sphere' is not one of box, vertices"});
   expectError(kBase +
-                  "[[check]]\nname = \"c\"\nkind = \"k\"\nexpected = 1\n"
+                  "[[check]]\nname = \"c\"\nkind = \"mean_speed\"\nexpected = 1\n"
                   "compare = \"approx\"  # <-\n",
               {"'approx' is not one of abs, rel, max, min, report"});
-  expectError(kBase + "[[check]]  # <-\nname = \"c\"\nkind = \"k\"\n",
+  expectError(kBase + "[[check]]  # <-\nname = \"c\"\nkind = \"mean_speed\"\n",
               {"missing required key 'expected'"});
 }
 

@@ -160,14 +160,15 @@ tolerance = 1e-4
 compare = "rel"
 reference = "eq. 1"
 particle = "top"
-component = 2
-direction = [0, "1 m", 0]
-angle = "90 deg"
+direction = [0, 2, 0]
+at = "end"
 
 [[check]]
 name = "info"
-kind = "energy"
+kind = "rotation"
+particle = "top"
 compare = "report"
+tolerance = "1 deg"
 )";
 
 // Largest |coordinate| of the vertices, per axis.
@@ -330,12 +331,13 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
   EXPECT_EQ(c.tolerance, 1e-4);
   EXPECT_EQ(c.compare, "rel");
   EXPECT_EQ(c.reference, "eq. 1");
-  EXPECT_EQ(c.strings, (std::map<std::string, std::string>{{"particle", "top"}}));
-  EXPECT_EQ(c.numbers, (std::map<std::string, std::vector<double>>{
-                           {"angle", {90.0}}, {"component", {2.0}}, {"direction", {0, 1, 0}}}));
+  EXPECT_EQ(c.strings, (std::map<std::string, std::string>{{"particle", "top"}, {"at", "end"}}));
+  EXPECT_EQ(c.numbers, (std::map<std::string, std::vector<double>>{{"direction", {0, 1, 0}}}));
   EXPECT_EQ(c.line, lineContaining(kFull, "[[check]]", 0));
   EXPECT_EQ(s.checks[1].compare, "report");
   EXPECT_EQ(s.checks[1].expected, 0.0);
+  // A rotation check's value is in radians: its tolerance is read as an angle in radians.
+  EXPECT_NEAR(s.checks[1].tolerance, 3.14159265358979 / 180, 1e-15);
 }
 
 TEST(SceneReader, DefaultsFromTheSceneStruct) {

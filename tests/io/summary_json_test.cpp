@@ -31,8 +31,9 @@ TEST(SummaryJson, CheckComparisonsFollowTheirDefinitions) {
 }
 
 TEST(SummaryJson, ChecksCarryEveryFieldAndNonFiniteNumbersBecomeNull) {
-  CheckResult a{"drift", "centroid_drift", 3e-7, 1e-6, 0.0, "max", true, "BENCHMARKS.md S", ""};
-  CheckResult b{"energy", "kinetic_energy_ratio", std::nan(""), 1.0, 0.01, "rel", false, "", "NaN"};
+  CheckResult a{"drift", "centroid_drift", 3e-7, 1e-6, 0.0, "max", true, "BENCHMARKS.md S", "", ""};
+  CheckResult b{"energy", "kinetic_energy_ratio", std::nan(""), 1.0, 0.01, "rel", false, "", "NaN",
+                "1"};
   const auto j = checksJson({a, b});
   ASSERT_TRUE(j.is_array());
   ASSERT_EQ(j.size(), 2u);
@@ -45,9 +46,11 @@ TEST(SummaryJson, ChecksCarryEveryFieldAndNonFiniteNumbersBecomeNull) {
   EXPECT_EQ(j[0]["pass"], true);
   EXPECT_EQ(j[0]["reference"], "BENCHMARKS.md S");
   EXPECT_EQ(j[0]["note"], "");
+  EXPECT_EQ(j[0]["unit"], "");
   EXPECT_TRUE(j[1]["value"].is_null());
   EXPECT_EQ(j[1]["pass"], false);
   EXPECT_EQ(j[1]["note"], "NaN");
+  EXPECT_EQ(j[1]["unit"], "1");
 }
 
 TEST(SummaryJson, TimingRowsKeepTheReducedFiguresAndAddPerStepAndImbalance) {

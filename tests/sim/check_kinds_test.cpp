@@ -1,0 +1,64 @@
+// Every [[check]] kind of io/check_kinds.h is one sim/checks.cpp computes, and the simulation
+// reads only the parameters the kind declares (issue 13, item 6): a scene with each kind, all its
+// parameters given, builds its checks.
+#include <gtest/gtest.h>
+
+#include "core/strings.h"
+#include "io/check_kinds.h"
+#include "io/scene_reader.h"
+#include "sim/checks.h"
+
+namespace polydem::sim {
+namespace {
+
+const char* const kScene = R"([scene]
+id = "T-CHECK-KINDS"
+[simulation]
+dt = 1e-4
+steps = 10
+[[material]]
+name = "rock"
+density = 2500
+kn = 1e9
+[[shape]]
+name = "cube"
+type = "cube"
+edge = 1
+[[particle]]
+label = "a"
+shape = "cube"
+material = "rock"
+)";
+
+/// A valid TOML value for a declared parameter.
+std::string valueOf(const io::CheckParam& p) {
+  switch (p.type) {
+    case io::CheckParamType::kNumber:
+      return std::isfinite(p.hi) ? cat(0.5 * (p.lo + p.hi)) : cat(p.lo + 1.0);
+    case io::CheckParamType::kDirection:
+      return "[1, 0, 1]";
+    case io::CheckParamType::kParticles:
+    case io::CheckParamType::kParticle:
+      return "\"a\"";
+    case io::CheckParamType::kWord:
+      return cat("\"", p.words.back(), "\"");
+  }
+  return "";
+}
+
+TEST(CheckKinds, EveryDeclaredKindIsComputedFromItsDeclaredParameters) {
+  for (const auto& kind : io::checkKinds()) {
+    std::string text =
+        cat(kScene, "[[check]]\nname = \"c\"\nkind = \"", kind.name, "\"\ncompare = \"report\"\n");
+    for (const auto& p : kind.params) text += cat(p.name, " = ", valueOf(p), "\n");
+    const io::Scene scene = io::parseScene(text, "kinds.toml");
+    Tracker tracker;
+    std::vector<std::unique_ptr<Check>> checks;
+    EXPECT_NO_THROW(checks = makeChecks(scene, tracker)) << kind.name;
+    ASSERT_EQ(checks.size(), 1u) << kind.name;
+    EXPECT_EQ(checks[0]->spec().kind, kind.name);
+  }
+}
+
+}  // namespace
+}  // namespace polydem::sim
