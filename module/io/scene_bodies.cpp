@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/logging.h"
+#include "core/random.h"
 #include "core/strings.h"
 #include "geometry/convex_polyhedron.h"
 #include "geometry/shapes.h"
@@ -188,23 +189,6 @@ ShapeSpec readShape(const Section& s) {
   }
   return shape;
 }
-
-// Deterministic, portable uniform numbers for the grid jitter (std::uniform_real_distribution
-// differs between standard libraries). SplitMix64 (Steele, Lea and Flood 2014).
-class SplitMix64 {
- public:
-  explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
-  double uniform() {  // in [0, 1)
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z ^= z >> 31;
-    return static_cast<double>(z >> 11) * 0x1.0p-53;
-  }
-
- private:
-  std::uint64_t state_;
-};
 
 // Reads the particle-level keys shared by [[particle]] and [[particle_grid]].
 struct Common {
