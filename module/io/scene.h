@@ -12,6 +12,7 @@
 
 #include "contact/contact.h"
 #include "core/types.h"
+#include "geometry/rock_mass.h"
 #include "particles/material.h"
 
 namespace polydem::io {
@@ -53,6 +54,18 @@ struct ParticleSpec {
   Vec3 angular_velocity = Vec3::Zero();
   bool fixed = false;
   int driver = -1;  // index into Scene::drivers
+  int line = 0;
+};
+
+/// What a [[rock_mass]] became: its blocks are particles first_uid .. first_uid + blocks - 1,
+/// each with a shape of its own, in the order the cutting produced them (docs/scene-format.md).
+struct RockMassInfo {
+  std::string name;
+  std::string label_prefix;  // block i is labelled "<label_prefix>_<i>", i from 0
+  Uid first_uid = 0;
+  int blocks = 0;
+  std::vector<std::string> plane_names;  // every plane applied, single planes first
+  geometry::RockMassReport report;
   int line = 0;
 };
 
@@ -130,6 +143,7 @@ struct Scene {
   std::vector<ShapeSpec> shapes;
   std::vector<ParticleSpec> particles;
   std::vector<DriverSpec> drivers;
+  std::vector<RockMassInfo> rock_masses;
 
   DomainSpec domain;
   EquilibriumSpec equilibrium;

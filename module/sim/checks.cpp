@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/mpi_env.h"
 #include "core/strings.h"
+#include "sim/motion_checks.h"
 #include "sim/simulation.h"
 
 namespace polydem::sim {
@@ -417,11 +418,14 @@ std::vector<std::unique_ptr<Check>> makeChecks(const io::Scene& scene, Tracker& 
       checks.push_back(std::make_unique<FinalCheck>(
           spec,
           [axis](Simulation& sim, std::string& note) { return maxContactForce(sim, axis, note); }));
+    } else if (auto motion = makeMotionCheck(scene, spec, tracker)) {
+      checks.push_back(std::move(motion));
     } else {
       p.fail(
-          "unknown kind; known kinds: displacement, rotation, lateral_drift, sliding_block, "
-          "wedge_slide, kinetic_energy_ratio, separation_time, equilibrium_steps, mean_speed, "
-          "max_speed, max_contact_force");
+          cat("unknown kind; known kinds: displacement, rotation, lateral_drift, sliding_block, "
+              "wedge_slide, kinetic_energy_ratio, separation_time, equilibrium_steps, mean_speed, "
+              "max_speed, max_contact_force, ",
+              kMotionCheckKinds));
     }
   }
   return checks;
