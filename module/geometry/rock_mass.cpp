@@ -109,10 +109,8 @@ class Cutter {
     }
     std::optional<ConvexPolyhedron> below = tryBuild(parts.below);
     std::optional<ConvexPolyhedron> above = tryBuild(parts.above);
-    const double v_below = below ? below->volume() : 0.0;
-    const double v_above = above ? above->volume() : 0.0;
-    const bool small_below = !below || v_below < spec_.min_volume;
-    const bool small_above = !above || v_above < spec_.min_volume;
+    const bool small_below = !below || isSliver(*below);
+    const bool small_above = !above || isSliver(*above);
     if (!small_below && !small_above) {
       Work lo{std::move(*below), w.sides, w.fixed};
       lo.sides.push_back(-1);
@@ -135,6 +133,10 @@ class Cutter {
     w.sides.push_back(small_below ? 1 : -1);
     out.push_back(std::move(w));
     return true;
+  }
+
+  bool isSliver(const ConvexPolyhedron& p) const {
+    return p.volume() < spec_.min_volume || 2.0 * p.inradius() < spec_.min_thickness;
   }
 
   // The side of plane `index` a block is on; a block straddling it goes by its centroid.
@@ -189,11 +191,11 @@ class Cutter {
     work_ = std::move(kept);
   }
 
-  // Blocks still below min_volume (parts of a profile's pieces that could not be joined): merged
+  // Blocks still slivers (parts of a profile's pieces that could not be joined): merged
   // into a neighbour where the union is convex, else dropped.
   void sweepSlivers() {
     for (std::size_t i = 0; i < work_.size();) {
-      if (work_[i].poly.volume() >= spec_.min_volume) {
+      if (!isSliver(work_[i].poly)) {
         ++i;
         continue;
       }
@@ -223,6 +225,7 @@ class Cutter {
       mass.plane_names.push_back(c.name);
     }
     report_.smallest_volume = work_.empty() ? 0.0 : INFINITY;
+    report_.smallest_thickness = report_.smallest_volume;
     for (Work& w : work_) {
       RockBlock b;
       b.vertices = w.poly.vertices();
@@ -231,6 +234,7 @@ class Cutter {
       b.fixed = w.fixed;
       b.sides = std::move(w.sides);
       report_.smallest_volume = std::min(report_.smallest_volume, b.volume);
+      report_.smallest_thickness = std::min(report_.smallest_thickness, 2.0 * w.poly.inradius());
       (b.fixed ? report_.fixed_blocks : report_.free_blocks) += 1;
       mass.blocks.push_back(std::move(b));
     }
@@ -259,6 +263,9 @@ RockMass cutRockMass(const RockMassSpec& spec) {
   }
   if (!(spec.min_volume >= 0.0) || !std::isfinite(spec.min_volume)) {
     throw GeometryError("min_volume must be >= 0");
+  }
+  if (!(spec.min_thickness >= 0.0) || !std::isfinite(spec.min_thickness)) {
+    throw GeometryError("min_thickness must be >= 0");
   }
   return Cutter(spec).run();
 }

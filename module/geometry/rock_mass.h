@@ -3,7 +3,8 @@
 // of chosen planes become fixed or are removed; slivers are merged or dropped.
 //
 // Every plane is persistent: it cuts every block it crosses, except where cutting would leave a
-// piece smaller than `min_volume` (the joint then ends at that block, see RockMassSpec::slivers).
+// sliver, a piece smaller than `min_volume` or thinner than `min_thickness` (the joint then ends
+// at that block, see RockMassSpec::slivers).
 // The result depends only on the description: same blocks, same bits, on every machine and rank
 // count (planes are applied in a fixed order, each split computed from the block's vertices).
 //
@@ -52,9 +53,9 @@ struct SinglePlane {
 };
 
 enum class Slivers : std::uint8_t {
-  kMerge,  // a cut that would leave a piece below min_volume is not made in that block: the
+  kMerge,  // a cut that would leave a sliver is not made in that block: the
            // sliver stays joined to the neighbour it would have been cut from
-  kDrop,   // the piece below min_volume is cut off and dropped (its volume is reported)
+  kDrop,   // the sliver is cut off and dropped (its volume is reported)
 };
 
 struct RockMassSpec {
@@ -62,6 +63,8 @@ struct RockMassSpec {
   std::vector<SinglePlane> planes;   // applied first, in order
   std::vector<JointSet> joint_sets;  // then each set's planes, set by set
   double min_volume = 0.0;           // m^3: smaller pieces are slivers
+  double min_thickness = 0.0;        // m: so are pieces whose inscribed sphere is thinner (a thin
+                                     // flake's small rotational inertia sets the time step)
   Slivers slivers = Slivers::kMerge;
   bool joints_cut_fixed = false;  // joint sets cut fixed blocks too (default: free only)
 };
@@ -85,7 +88,8 @@ struct RockMassReport {
   int slivers_merged = 0;   // cuts not made (kMerge), and parts of a profile's pieces merged
   int slivers_dropped = 0;  // pieces dropped (kDrop, or a profile piece that could not merge)
   double dropped_volume = 0.0;
-  double smallest_volume = 0.0;  // of the blocks kept
+  double smallest_volume = 0.0;     // of the blocks kept
+  double smallest_thickness = 0.0;  // diameter of the largest inscribed sphere, of the blocks kept
 };
 
 struct RockMass {

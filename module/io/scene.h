@@ -102,6 +102,24 @@ struct CheckpointSpec {
   int keep = 2;                  // keep the last K checkpoints
 };
 
+/// How `polydem fos` finds the scene's factor of safety by strength reduction: tan(friction
+/// angle) and cohesion of the chosen material pairs are divided by F, and a trial at F is stable
+/// when, after settle_time, the mean speed of the watched free blocks is below speed_limit
+/// (Keissar section 4.5) before their mean displacement passes displacement_limit and before
+/// max_time. F is bisected between f_min and f_max to `resolution` (sim/fos.h).
+struct FosSpec {
+  std::vector<std::pair<int, int>> interactions;  // material pairs reduced; empty: all pairs
+  double f_min = 0.5, f_max = 4.0;
+  double resolution = 0.01;                  // width of the final bracket, in F
+  std::optional<double> max_time;            // s, required (here or on the command line)
+  std::optional<double> settle_time;         // s; default max_time / 4
+  double speed_limit = 1e-4;                 // m/s
+  std::optional<double> displacement_limit;  // m; default 0.1 x the blocks' mean size
+  std::int64_t check_every = 100;            // steps between evaluations of the criterion
+  std::string label_prefix;                  // the free blocks watched (default: all)
+  int line = 0;
+};
+
 /// One expected result of the scene, computed from the run by the check of that `kind`
 /// (sim/checks). `params` holds the kind's parameters (numbers, vectors, labels) as written.
 struct CheckSpec {
@@ -150,6 +168,7 @@ struct Scene {
   OutputSpec output;
   CheckpointSpec checkpoint;
   std::vector<CheckSpec> checks;
+  FosSpec fos;  // [fos]; defaults when the scene has no such table
 };
 
 }  // namespace polydem::io

@@ -156,17 +156,17 @@ void requireUniqueNames(const std::vector<Section>& sections, const std::vector<
   }
 }
 
-std::string sliverText(const geometry::RockMassReport& r, double min_volume) {
+std::string sliverText(const geometry::RockMassReport& r) {
   if (r.slivers_merged + r.slivers_dropped == 0) return "no slivers";
-  return cat(r.slivers_merged, " sliver(s) below ", num(min_volume), " m^3 merged, ",
-             r.slivers_dropped, " dropped (", num(r.dropped_volume), " m^3)");
+  return cat(r.slivers_merged, " sliver(s) merged, ", r.slivers_dropped, " dropped (",
+             num(r.dropped_volume), " m^3)");
 }
 
 }  // namespace
 
 RockMassCut readRockMass(const Section& s, const Scene& scene) {
-  s.allowOnly({"name", "material", "fixed_material", "label_prefix", "min_volume", "slivers",
-               "joints_cut_fixed", "region", "joint_set", "plane"});
+  s.allowOnly({"name", "material", "fixed_material", "label_prefix", "min_volume", "min_thickness",
+               "slivers", "joints_cut_fixed", "region", "joint_set", "plane"});
   RockMassCut out;
   out.info.name = s.requiredString("name");
   out.info.line = s.line();
@@ -184,6 +184,7 @@ RockMassCut readRockMass(const Section& s, const Scene& scene) {
   geometry::RockMassSpec spec;
   spec.region = readRegion(s);
   spec.min_volume = s.number("min_volume", Quantity::kVolume, 0.0, Range::kNonNegative);
+  spec.min_thickness = s.number("min_thickness", Quantity::kLength, 0.0, Range::kNonNegative);
   spec.slivers = s.choice("slivers", {"merge", "drop"}, "merge") == "merge"
                      ? geometry::Slivers::kMerge
                      : geometry::Slivers::kDrop;
@@ -208,7 +209,8 @@ RockMassCut readRockMass(const Section& s, const Scene& scene) {
   out.info.report = r;
   log::info(cat(s.context().file(), ":", s.line(), ": ", s.name(), ": ", r.free_blocks,
                 " free and ", r.fixed_blocks, " fixed blocks from ", r.planes, " planes; ",
-                sliverText(r, spec.min_volume),
+                sliverText(r), "; smallest block ", num(r.smallest_volume), " m^3, ",
+                num(r.smallest_thickness), " m thick",
                 r.removed_blocks > 0 ? cat("; ", r.removed_blocks, " removed") : std::string()));
   return out;
 }
