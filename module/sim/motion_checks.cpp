@@ -95,7 +95,8 @@ double pick(const FreeMotion& m, const std::string& quantity) {
 class FreeMotionCheck : public Check {
  public:
   FreeMotionCheck(const io::Scene& scene, const io::CheckSpec& spec) : Check(spec) {
-    const Keys k(scene, spec, {"quantity", "label_prefix", "direction", "at", "after", "every"});
+    const Keys k(scene, spec,
+                 {"quantity", "label_prefix", "direction", "at", "after", "every", "limit"});
     quantity_ = k.choice("quantity",
                          {"mean_displacement", "max_displacement", "mean_speed", "max_speed",
                           "max_angular_speed", "front_advance"},
@@ -103,48 +104,58 @@ class FreeMotionCheck : public Check {
     prefix_ = k.prefix(false);
     direction_ = k.direction("direction");
     if (quantity_ == "front_advance" && !direction_) k.fail("front_advance needs 'direction'");
-    at_end_ = k.choice("at", {"end", "max"}, "end") == "end";
+    at_ = k.choice("at", {"end", "max", "first_below"}, "end");
+    if (at_ == "first_below") limit_ = k.number("limit", std::nullopt, 0.0);
     after_ = k.number("after", 0.0, 0.0);
     every_ = static_cast<std::int64_t>(k.number("every", 1.0, 1.0));
   }
   void observe(const Simulation& sim, const Tracker&) override {
     if (sim.stepCount() % every_ != 0) return;  // the same decision on every rank
     now_ = pick(meter(sim).measure(sim), quantity_);
-    if (sim.time() >= after_) largest_ = std::max(largest_, now_);
+    record(sim.time());
   }
   double value(Simulation& sim) override {
     const FreeMotion m = meter(sim).measure(sim);
     now_ = pick(m, quantity_);
-    if (sim.time() >= after_) largest_ = std::max(largest_, now_);
-    note = cat(m.particles, " free blocks; mean displacement ", num(m.mean_displacement),
+    record(sim.time());
+    note = cat(m.particles, " free blocks at the end: mean displacement ", num(m.mean_displacement),
                " m, largest ", num(m.max_displacement), " m; mean speed ", num(m.mean_speed),
-               " m/s; largest angular speed ", num(m.max_angular_speed), " rad/s at the end");
-    if (!at_end_ && !(sim.time() >= after_)) return kNaN;
-    return at_end_ ? now_ : largest_;
+               " m/s; largest angular speed ", num(m.max_angular_speed), " rad/s");
+    if (at_ == "end") return now_;
+    if (at_ == "max") return sim.time() >= after_ ? largest_ : kNaN;
+    if (std::isnan(first_below_))
+      note += cat("; never below ", num(limit_), " after ", after_, " s");
+    return first_below_;
   }
   std::vector<std::pair<std::string, double>> seriesColumns(const Simulation&) const override {
     std::string name;
     for (char c : spec_.name) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
     return {{name, now_}};
   }
-  std::vector<double> state() const override { return {now_, largest_}; }
+  std::vector<double> state() const override { return {now_, largest_, first_below_}; }
   void restore(const std::vector<double>& v) override {
     now_ = v.at(0);
     largest_ = v.at(1);
+    first_below_ = v.at(2);
   }
 
  private:
+  void record(double time) {
+    if (!(time >= after_)) return;
+    largest_ = std::max(largest_, now_);
+    if (std::isnan(first_below_) && now_ < limit_) first_below_ = time;
+  }
   const FreeMotionMeter& meter(const Simulation& sim) {
     if (!meter_) meter_.emplace(sim, prefix_, direction_);
     return *meter_;
   }
   std::string quantity_, prefix_;
   std::optional<Vec3> direction_;
-  bool at_end_ = true;
-  double after_ = 0.0;
+  std::string at_;
+  double after_ = 0.0, limit_ = -INFINITY;
   std::int64_t every_ = 1;
   std::optional<FreeMotionMeter> meter_;
-  double now_ = 0.0, largest_ = 0.0;
+  double now_ = 0.0, largest_ = 0.0, first_below_ = kNaN;
 };
 
 // Blocks on a tilting platform: positions and orientations in the platform's frame.
@@ -235,12 +246,67 @@ class TiltFailureCheck : public Check {
   double value_ = kNaN;
 };
 
+// The first time two particles that pressed on each other stop doing so (Zhao section 5.4: the
+// front block of a pillar leaves the block behind it when the compression wave reaches it).
+class PairSeparationCheck : public Check {
+ public:
+  PairSeparationCheck(const io::Scene& scene, const io::CheckSpec& spec) : Check(spec) {
+    const Keys k(scene, spec, {"particle", "min_force"});
+    // Pressing means a normal force above this: contacts that only touch at rest do not count.
+    min_force_ = k.number("min_force", 0.0, 0.0);
+    const std::string list = k.text("particle", "");
+    const auto comma = list.find(',');
+    if (comma == std::string::npos) k.fail("needs 'particle' = \"a,b\" (two labels)");
+    Uid uids[2] = {0, 0};
+    for (int i = 0; i < 2; ++i) {
+      std::string label = i == 0 ? list.substr(0, comma) : list.substr(comma + 1);
+      label.erase(0, label.find_first_not_of(' '));
+      label.erase(label.find_last_not_of(' ') + 1);
+      uids[i] = uidOfLabel(scene, label);
+      if (uids[i] == 0) k.fail("no particle is labelled '" + label + "'");
+    }
+    if (uids[0] == uids[1]) k.fail("needs two different particles");
+    key_ = particles::makeKey(uids[0], uids[1]);
+  }
+  void observe(const Simulation& sim, const Tracker&) override {
+    if (!std::isnan(time_)) return;
+    double pressing = 0.0;
+    for (const auto& r : sim.contacts().records()) {
+      if (r.key == key_ && r.touching && r.normal_force > min_force_) pressing = 1.0;
+    }
+    pressing = mpi::allreduceMax(pressing, sim.comm());  // any rank that evaluated the pair
+    if (pressing > 0.0) {
+      pressed_ = true;
+    } else if (pressed_) {
+      time_ = sim.time();
+      note = cat("particles ", key_.lo, " and ", key_.hi,
+                 " pressed on each other until t = ", num(time_), " s");
+    }
+  }
+  double value(Simulation&) override {
+    if (std::isnan(time_)) note = pressed_ ? "still pressing at the end" : "they never pressed";
+    return time_;
+  }
+  std::vector<double> state() const override { return {pressed_ ? 1.0 : 0.0, time_}; }
+  void restore(const std::vector<double>& v) override {
+    pressed_ = v.at(0) != 0.0;
+    time_ = v.at(1);
+  }
+
+ private:
+  particles::PairKey key_;
+  double min_force_ = 0.0;
+  bool pressed_ = false;
+  double time_ = kNaN;
+};
+
 }  // namespace
 
 std::unique_ptr<Check> makeMotionCheck(const io::Scene& scene, const io::CheckSpec& spec,
                                        Tracker&) {
   if (spec.kind == "free_motion") return std::make_unique<FreeMotionCheck>(scene, spec);
   if (spec.kind == "tilt_failure") return std::make_unique<TiltFailureCheck>(scene, spec);
+  if (spec.kind == "pair_separation") return std::make_unique<PairSeparationCheck>(scene, spec);
   return nullptr;
 }
 
