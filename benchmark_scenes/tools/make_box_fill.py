@@ -36,7 +36,7 @@ source = "Zhao section 5.5, figs. 40-41, table 6; BENCHMARKS.md P-BOX-FILL"
 
 [simulation]
 kernel = "gjk-epa-ipm"
-dt = "5e-6 s"
+dt = "4e-6 s"
 end_time = "0.6 s"
 
 [domain]

@@ -2,6 +2,9 @@
 
 Run by ctest (python_rock_mass) with PYTHONPATH=build/python and /usr/bin/python3.
 """
+import importlib.util
+import os
+import tempfile
 import unittest
 
 import numpy as np
@@ -105,6 +108,23 @@ class SceneWithRockMass(unittest.TestCase):
             polydem.parse_scene(SCENE.replace("spacing = 1.5", "spacing = 0"), "rock.toml")
         self.assertEqual(e.exception.file, "rock.toml")
         self.assertEqual(e.exception.line, SCENE.splitlines().index("spacing = 1.5") + 1)
+
+
+class PlotRockMass(unittest.TestCase):
+    def test_writes_a_png(self):
+        source = os.environ.get("POLYDEM_SOURCE_DIR",
+                                os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
+        spec = importlib.util.spec_from_file_location(
+            "plot_rock_mass", os.path.join(source, "python_coupling", "plots", "plot_rock_mass.py"))
+        plot = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(plot)
+        with tempfile.TemporaryDirectory() as work:
+            scene = os.path.join(work, "rock.toml")
+            with open(scene, "w") as f:
+                f.write(SCENE)
+            png = plot.plot(scene, os.path.join(work, "rock.png"))
+            with open(png, "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
 
 
 if __name__ == "__main__":
