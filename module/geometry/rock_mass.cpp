@@ -54,6 +54,10 @@ std::optional<ConvexPolyhedron> convexUnion(const ConvexPolyhedron& a, const Con
   return hull;
 }
 
+// A description that would cut more blocks than this is a mistake (a spacing in mm for m), and
+// would exhaust the memory before saying so.
+constexpr std::size_t kMaxBlocks = 1'000'000;
+
 class Cutter {
  public:
   explicit Cutter(const RockMassSpec& spec) : spec_(spec) {}
@@ -94,6 +98,10 @@ class Cutter {
       cut_something |= split(std::move(w), cut.plane, next);
     }
     work_ = std::move(next);
+    if (work_.size() > kMaxBlocks) {
+      throw GeometryError(cat("more than ", kMaxBlocks, " blocks after plane '", cut.name,
+                              "': are the spacings right?"));
+    }
     report_.planes += cut_something;
     if (cut.single) classify(*cut.single, index);
   }
