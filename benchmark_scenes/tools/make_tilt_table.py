@@ -61,7 +61,7 @@ dt = "1e-5 s"
 end_time = "{START + math.radians(END_ANGLE) / TILT_RATE:.4f} s"
 
 [domain]
-min = [-1, -0.5, -1]
+min = [-1, -0.5, -1.6]
 max = [2.5, 2, 1.5]
 
 [[material]]
@@ -108,11 +108,23 @@ name = "medium"
 type = "cube"
 edge = 0.1
 
+[[shape]]
+name = "floor"      # catches the blocks that leave the platform
+type = "box"
+min = [-1, -0.5, -1.5]
+max = [2.5, 2, -1.4]
+
 [[particle]]
 label = "platform"
 shape = "platform"
 material = "block"
 driver = "tilt"
+
+[[particle]]
+label = "floor"
+shape = "floor"
+material = "block"
+fixed = true
 """
 
 
