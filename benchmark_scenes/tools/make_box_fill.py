@@ -19,9 +19,9 @@ BOX = 13e-3
 WALL = 1e-3
 
 HEADER = """# P-BOX-FILL (Zhao section 5.5, figs. 40-41, table 6): 735 cubes of 1 mm fall into a 13 mm box
-# and settle. The figure is the wall time to settle, beside the paper's 16,112 s (distance
-# potential) and 916,166 s (FDEM, each cube five tetrahedra). Written by tools/make_box_fill.py;
-# edit that, not this.
+# and settle (its walls rise 30 mm, above the cubes' start, so that none bounces out). The figure
+# is the wall time to settle, beside the paper's 16,112 s (distance potential) and 916,166 s
+# (FDEM, each cube five tetrahedra). Written by tools/make_box_fill.py; edit that, not this.
 #
 # mu = 0.4877 and a damping ratio of 0.01 as the paper (section 5.5); density 2000 (the paper's
 # other examples). The paper gives no stiffness here: its 2 GPa elsewhere is, between 1 mm faces,
@@ -66,12 +66,12 @@ max = ["28 mm", "28 mm", "0 mm"]
 [[shape]]
 name = "wall_x"
 type = "box"
-size = ["1 mm", "15 mm", "13 mm"]
+size = ["1 mm", "15 mm", "30 mm"]
 
 [[shape]]
 name = "wall_y"
 type = "box"
-size = ["13 mm", "1 mm", "13 mm"]
+size = ["13 mm", "1 mm", "30 mm"]
 
 [[particle]]
 label = "base"
@@ -84,28 +84,28 @@ label = "wall_west"
 shape = "wall_x"
 material = "cube"
 fixed = true
-position = ["-0.5 mm", "6.5 mm", "6.5 mm"]
+position = ["-0.5 mm", "6.5 mm", "15 mm"]
 
 [[particle]]
 label = "wall_east"
 shape = "wall_x"
 material = "cube"
 fixed = true
-position = ["13.5 mm", "6.5 mm", "6.5 mm"]
+position = ["13.5 mm", "6.5 mm", "15 mm"]
 
 [[particle]]
 label = "wall_south"
 shape = "wall_y"
 material = "cube"
 fixed = true
-position = ["6.5 mm", "-0.5 mm", "6.5 mm"]
+position = ["6.5 mm", "-0.5 mm", "15 mm"]
 
 [[particle]]
 label = "wall_north"
 shape = "wall_y"
 material = "cube"
 fixed = true
-position = ["6.5 mm", "13.5 mm", "6.5 mm"]
+position = ["6.5 mm", "13.5 mm", "15 mm"]
 """
 
 FOOTER = """
