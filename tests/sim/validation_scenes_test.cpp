@@ -37,6 +37,12 @@ std::ostream& operator<<(std::ostream& out, const Case& c) {
 constexpr const char* kRocking =
     "undamped single-point contact: the stopped block rocks and creeps down the slope";
 
+// D-PILLAR (Zhao section 5.4): a stack of 6 rigid blocks on springs disperses the compression
+// wave, so the front block leaves at 2.39e-3 s, as a chain of 6 masses does
+// (benchmark_scenes/tools/pillar_chain.py), not at the continuum's 6 L / V = 1.64e-3 s.
+constexpr const char* kDispersion =
+    "the wave front disperses over a stack of 6 blocks: the front block leaves later than 6 L / V";
+
 bool isKnownFailure(const Case& c, const std::string& check_name) {
   return std::any_of(
       c.known_failures.begin(), c.known_failures.end(),
@@ -80,7 +86,9 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"S-BLOCK-ON-PLANE", "gjk-epa-ipm", 1.0}, Case{"S-BLOCK-ON-PLANE", "fcp-ipm", 1.0},
         Case{"D-BOUNCING-CUBES", "gjk-epa-ipm", 1.5}, Case{"D-BOUNCING-CUBES", "fcp-ipm", 1.5},
         // Zhao section 5.1: rebound without drift and energy loss.
-        Case{"D-TETRA-IMPACT", "distance-potential", 0.0}),
+        Case{"D-TETRA-IMPACT", "distance-potential", 0.0},
+        // Zhao section 5.4, at full length (4 ms).
+        Case{"D-PILLAR", "gjk-epa-ipm", 0.0, {"vs wave speed"}, kDispersion}),
     [](const ::testing::TestParamInfo<Case>& param_info) {
       std::string name = std::string(param_info.param.scene) + "_" + param_info.param.kernel;
       for (char& ch : name) ch = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
