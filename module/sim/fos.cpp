@@ -134,6 +134,8 @@ std::vector<double> nextRound(const std::vector<FosTrial>& trials, const FosResu
   const double lo = *r.stable, hi = *r.failed;
   if (hi - lo <= r.resolution) return {};
   for (int k = 1; k <= groups; ++k) next.push_back(lo + (hi - lo) * k / (groups + 1));
+  // A resolution below round-off would split the bracket no further.
+  if (next.front() <= lo || next.back() >= hi) return {};
   return next;
 }
 
