@@ -4,6 +4,10 @@
 // silent default.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+
+#include "core/strings.h"
 #include "io/check_kinds.h"
 #include "scene_test_support.h"
 
@@ -118,8 +122,13 @@ TEST(SceneCheckKinds, HugeDirectionsAreNormalisedWithoutOverflow) {
 }
 
 TEST(SceneCheckKinds, EveryKindDeclaresItsValueAndParameters) {
-  EXPECT_EQ(checkKinds().size(), 11u);
+  // ... and docs/scene-format.md lists it.
+  std::ifstream in(std::string(POLYDEM_SOURCE_DIR) + "/docs/scene-format.md");
+  const std::string docs((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(docs.empty());
+  EXPECT_GE(checkKinds().size(), 12u);
   for (const auto& kind : checkKinds()) {
+    EXPECT_NE(docs.find(cat("`", kind.name, "`")), std::string::npos) << kind.name;
     EXPECT_FALSE(kind.value_help.empty()) << kind.name;
     for (const auto& p : kind.params) {
       EXPECT_FALSE(p.help.empty()) << kind.name << " " << p.name;
