@@ -21,6 +21,8 @@ void usage() {
       "commands:\n"
       "  run SCENE --out DIR      run a scene file (mpirun -n N polydem run ... for N ranks)\n"
       "  run --restart FILE --out DIR   continue a run from a checkpoint (any rank count)\n"
+      "  fos SCENE --out DIR      factor of safety by strength reduction (trials side by side\n"
+      "                           over the ranks)\n"
       "  checkpoint info FILE     verify a checkpoint and print its summary\n"
       "  contact --kernel NAME    resolve contacts of vertex lists given as JSON lines\n"
       "  report contact-types     the contact-type table of every kernel (BENCHMARKS.md C)\n"
@@ -42,6 +44,7 @@ int dispatch(int argc, char** argv) {
   char** sub_argv = argv + 2;
   try {
     if (command == "run") return polydem::app::runCommand(sub_argc, sub_argv);
+    if (command == "fos") return polydem::app::fosCommand(sub_argc, sub_argv);
     if (command == "contact") return polydem::app::contactCommand(sub_argc, sub_argv);
     if (command == "checkpoint") return polydem::app::checkpointCommand(sub_argc, sub_argv);
     if (command == "report") return polydem::app::reportCommand(sub_argc, sub_argv);

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "io/scene.h"
+
 namespace polydem::io {
 
 namespace {
@@ -24,6 +26,16 @@ CheckParam number(std::string_view name, bool required, Quantity q, double lo, d
 }
 CheckParam word(std::string_view name, std::vector<std::string_view> words, std::string_view help) {
   return {name, T::kWord, false, {}, -kInf, kInf, false, false, std::move(words), help};
+}
+
+CheckParam labelPrefix(bool required) {
+  return {"label_prefix", T::kText, required, {}, -kInf, kInf, false, false, {},
+          "the blocks' label prefix (prefix_0, prefix_1, ...; default: every free block)"};
+}
+CheckParam measuredNumber(std::string_view name, std::string_view help) {
+  CheckParam p = number(name, false, Quantity::kDimensionless, 0.0, kInf, false, false, help);
+  p.measured = true;
+  return p;
 }
 
 // The incline and the gravity of the curve checks (Zhao eqs. 41-42 and 45).
@@ -83,6 +95,42 @@ std::vector<CheckKind> makeKinds() {
        Q::kDimensionless,
        "largest contact force between free particles across `axis`, over their mean weight",
        {direction("axis", false, "the force component along it is left out (default: gravity)")}},
+      // The rock-slope kinds (sim/motion_checks.h).
+      {"free_motion",
+       Q::kLength,
+       "a statistic of the free blocks' motion, in its quantity's unit (m, m/s or rad/s); "
+       "with at = \"first_below\" the time it first falls below `limit`, s",
+       {{"quantity", T::kWord, true, {}, -kInf, kInf, false, false,
+         {"mean_displacement", "max_displacement", "mean_speed", "max_speed", "max_angular_speed",
+          "front_advance"},
+         "what is measured"},
+        labelPrefix(false),
+        direction("direction", false, "of the front (front_advance needs it)"),
+        word("at", {"end", "max", "first_below"},
+             "its value at the \"end\" (default), the \"max\" after `after`, or the "
+             "\"first_below\" time"),
+        number("after", false, Q::kTime, 0.0, kInf, false, false,
+               "start of the window of max / first_below, s (default 0)"),
+        number("every", false, Q::kDimensionless, 1.0, kInf, false, false,
+               "steps between samples (default 1)"),
+        measuredNumber("limit", "first_below: the value to fall below, in the quantity's unit")}},
+      {"tilt_failure",
+       Q::kAngle,
+       "the platform's tilt when a block first moves `threshold` against it, deg; with measure = "
+       "\"rotation\", the largest rotation against the platform of the block that moved `reach`",
+       {labelPrefix(true),
+        {"platform", T::kParticle, true, {}, -kInf, kInf, false, false, {}, "the tilting body"},
+        word("measure", {"angle", "rotation"}, "\"angle\" (the tilt; default) or \"rotation\""),
+        number("threshold", false, Q::kLength, 0.0, kInf, true, false,
+               "tilt: displacement against the platform that counts as failure, m"),
+        number("reach", false, Q::kLength, 0.0, kInf, true, false,
+               "rotation: displacement of the block whose rotation is reported, m")}},
+      {"pair_separation",
+       Q::kTime,
+       "first time two particles that pressed on each other with at least `min_force` stop, s",
+       {particles("the two labels, \"a, b\""),
+        number("min_force", false, Q::kForce, 0.0, kInf, false, false,
+               "the force that counts as pressing, N (default 0)")}},
   };
 }
 
@@ -105,6 +153,23 @@ const CheckParam* findCheckParam(const CheckKind& kind, std::string_view name) {
     if (p.name == name) return &p;
   }
   return nullptr;
+}
+
+Quantity measuredQuantity(const CheckKind& kind, const CheckSpec& spec) {
+  if (kind.name != "free_motion") return kind.value;
+  const auto it = spec.strings.find("quantity");
+  const std::string q = it == spec.strings.end() ? std::string() : it->second;
+  if (q == "mean_speed" || q == "max_speed") return Quantity::kVelocity;
+  if (q == "max_angular_speed") return Quantity::kAngularVelocity;
+  return Quantity::kLength;  // displacements and the front's advance
+}
+
+Quantity valueQuantity(const CheckKind& kind, const CheckSpec& spec) {
+  const auto at = spec.strings.find("at");
+  if (kind.name == "free_motion" && at != spec.strings.end() && at->second == "first_below") {
+    return Quantity::kTime;
+  }
+  return measuredQuantity(kind, spec);
 }
 
 std::string checkKindNames() {

@@ -19,6 +19,7 @@ enum class CheckParamType {
   kParticles,  // "label" or "label1, label2, ...": labelled particles
   kParticle,   // exactly one label
   kWord,       // one of `words`
+  kText,       // any non-empty text (a label prefix)
 };
 
 struct CheckParam {
@@ -31,6 +32,9 @@ struct CheckParam {
   bool lo_open = false, hi_open = false;  // open ends exclude lo, hi
   std::vector<std::string_view> words;    // kWord
   std::string_view help;                  // one line, for docs and messages
+  // kNumber: in the unit of what the check measures (free_motion's `limit`: that of its
+  // `quantity`), not in `quantity`; see measuredQuantity().
+  bool measured = false;
 };
 
 struct CheckKind {
@@ -39,6 +43,15 @@ struct CheckKind {
   std::string_view value_help;                // what the value is, with its unit
   std::vector<CheckParam> params;
 };
+
+struct CheckSpec;
+
+/// The unit of what a check of `kind` measures: the kind's `value`, except for free_motion, whose
+/// `quantity` word (already read into spec.strings) decides it.
+Quantity measuredQuantity(const CheckKind& kind, const CheckSpec& spec);
+/// The unit of a check's value, in which `expected` and `tolerance` are read and reported:
+/// measuredQuantity(), except for free_motion at = "first_below", whose value is a time.
+Quantity valueQuantity(const CheckKind& kind, const CheckSpec& spec);
 
 /// Every kind, in the order of docs/scene-format.md.
 const std::vector<CheckKind>& checkKinds();

@@ -12,6 +12,7 @@
 
 #include "contact/contact.h"
 #include "core/types.h"
+#include "geometry/rock_mass.h"
 #include "particles/material.h"
 
 namespace polydem::io {
@@ -56,6 +57,18 @@ struct ParticleSpec {
   int line = 0;
 };
 
+/// What a [[rock_mass]] became: its blocks are particles first_uid .. first_uid + blocks - 1,
+/// each with a shape of its own, in the order the cutting produced them (docs/scene-format.md).
+struct RockMassInfo {
+  std::string name;
+  std::string label_prefix;  // block i is labelled "<label_prefix>_<i>", i from 0
+  Uid first_uid = 0;
+  int blocks = 0;
+  std::vector<std::string> plane_names;  // every plane applied, single planes first
+  geometry::RockMassReport report;
+  int line = 0;
+};
+
 struct DomainSpec {
   std::optional<Vec3> min, max;              // default: particles' bounding box, inflated
   std::optional<std::array<int, 3>> blocks;  // default: fitted to the free particles
@@ -88,6 +101,24 @@ struct CheckpointSpec {
   std::int64_t every_steps = 0;  // 0 = never
   double every_seconds = 0.0;    // wall clock; 0 = never
   int keep = 2;                  // keep the last K checkpoints
+};
+
+/// How `polydem fos` finds the scene's factor of safety by strength reduction: tan(friction
+/// angle) and cohesion of the chosen material pairs are divided by F, and a trial at F is stable
+/// when, after settle_time, the mean speed of the watched free blocks is below speed_limit
+/// (Keissar section 4.5) before their mean displacement passes displacement_limit and before
+/// max_time. F is bisected between f_min and f_max to `resolution` (sim/fos.h).
+struct FosSpec {
+  std::vector<std::pair<int, int>> interactions;  // material pairs reduced; empty: all pairs
+  double f_min = 0.5, f_max = 4.0;
+  double resolution = 0.01;                  // width of the final bracket, in F
+  std::optional<double> max_time;            // s, required (here or on the command line)
+  std::optional<double> settle_time;         // s; default max_time / 4
+  double speed_limit = 1e-4;                 // m/s
+  std::optional<double> displacement_limit;  // m; default 0.1 x the blocks' mean size
+  std::int64_t check_every = 100;            // steps between evaluations of the criterion
+  std::string label_prefix;                  // the free blocks watched (default: all)
+  int line = 0;
 };
 
 /// One expected result of the scene, computed from the run by the check of that `kind`
@@ -136,12 +167,14 @@ struct Scene {
   std::vector<ShapeSpec> shapes;
   std::vector<ParticleSpec> particles;
   std::vector<DriverSpec> drivers;
+  std::vector<RockMassInfo> rock_masses;
 
   DomainSpec domain;
   EquilibriumSpec equilibrium;
   OutputSpec output;
   CheckpointSpec checkpoint;
   std::vector<CheckSpec> checks;
+  FosSpec fos;  // [fos]; defaults when the scene has no such table
 };
 
 }  // namespace polydem::io

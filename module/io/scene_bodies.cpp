@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/logging.h"
+#include "core/random.h"
 #include "core/strings.h"
 #include "geometry/convex_polyhedron.h"
 #include "geometry/shapes.h"
@@ -189,23 +190,6 @@ ShapeSpec readShape(const Section& s) {
   return shape;
 }
 
-// Deterministic, portable uniform numbers for the grid jitter (std::uniform_real_distribution
-// differs between standard libraries). SplitMix64 (Steele, Lea and Flood 2014).
-class SplitMix64 {
- public:
-  explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
-  double uniform() {  // in [0, 1)
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z ^= z >> 31;
-    return static_cast<double>(z >> 11) * 0x1.0p-53;
-  }
-
- private:
-  std::uint64_t state_;
-};
-
 // Reads the particle-level keys shared by [[particle]] and [[particle_grid]].
 struct Common {
   int shape = -1, material = -1;
@@ -296,7 +280,6 @@ class ParticleReader {
     }
   }
 
- private:
   ParticleSpec make(const Common& c, int line) {
     ParticleSpec p;
     p.uid = static_cast<Uid>(scene_.particles.size() + 1);
@@ -308,6 +291,40 @@ class ParticleReader {
     return p;
   }
 
+  // Every block a shape of its own (named "<rock mass>#<i>") and a particle at its place.
+  void rockMass(const Section& s) {
+    RockMassCut cut = readRockMass(s, scene_);
+    for (const RockMassInfo& other : scene_.rock_masses) {
+      if (other.name == cut.info.name) {
+        s.fail("name", cat("rock mass '", other.name, "' is already defined at line ", other.line));
+      }
+    }
+    cut.info.first_uid = static_cast<Uid>(scene_.particles.size() + 1);
+    cut.info.blocks = static_cast<int>(cut.mass.blocks.size());
+    for (std::size_t i = 0; i < cut.mass.blocks.size(); ++i) {
+      geometry::RockBlock& block = cut.mass.blocks[i];
+      ShapeSpec shape;
+      shape.name = cat(cut.info.name, "#", i);
+      shape.line = s.line();
+      if (const int other = indexByName(scene_.shapes, shape.name); other >= 0) {
+        s.fail("name", cat("its block shape '", shape.name, "' clashes with the [[shape]] at line ",
+                           scene_.shapes[other].line));
+      }
+      shape.vertices = std::move(block.vertices);
+      Common c;
+      c.shape = static_cast<int>(scene_.shapes.size());
+      c.material = block.fixed ? cut.fixed_material : cut.material;
+      scene_.shapes.push_back(std::move(shape));
+      ParticleSpec p = make(c, s.line());
+      p.fixed = block.fixed;
+      p.label = cat(cut.info.label_prefix, "_", i);
+      claimLabel(s, p.label, "label_prefix");
+      scene_.particles.push_back(std::move(p));
+    }
+    scene_.rock_masses.push_back(std::move(cut.info));
+  }
+
+ private:
   void claimLabel(const Section& s, const std::string& label, std::string_view key) {
     if (label.empty()) return;
     const auto [it, fresh] = labels_.emplace(label, s.line());
@@ -338,19 +355,28 @@ void readParticles(const Context& ctx, const toml::table& root, Scene& scene) {
   // Uids follow the file order of [[particle]] and [[particle_grid]] entries taken together.
   const std::vector<Section> singles = entries(ctx, root, "particle", "label");
   const std::vector<Section> grids = entries(ctx, root, "particle_grid", "label_prefix");
+  const std::vector<Section> masses = entries(ctx, root, "rock_mass", "name");
+  enum class Kind { kSingle, kGrid, kRockMass };
   struct Entry {
     int line;
-    bool grid;
+    Kind kind;
     const Section* section;
   };
   std::vector<Entry> order;
-  for (const Section& s : singles) order.push_back({s.line(), false, &s});
-  for (const Section& s : grids) order.push_back({s.line(), true, &s});
+  for (const Section& s : singles) order.push_back({s.line(), Kind::kSingle, &s});
+  for (const Section& s : grids) order.push_back({s.line(), Kind::kGrid, &s});
+  for (const Section& s : masses) order.push_back({s.line(), Kind::kRockMass, &s});
   std::stable_sort(order.begin(), order.end(),
                    [](const Entry& a, const Entry& b) { return a.line < b.line; });
   ParticleReader reader(scene);
-  for (const Entry& e : order) e.grid ? reader.grid(*e.section) : reader.single(*e.section);
-  if (scene.particles.empty()) ctx.fail(0, "the scene has no [[particle]] or [[particle_grid]]");
+  for (const Entry& e : order) {
+    if (e.kind == Kind::kSingle) reader.single(*e.section);
+    if (e.kind == Kind::kGrid) reader.grid(*e.section);
+    if (e.kind == Kind::kRockMass) reader.rockMass(*e.section);
+  }
+  if (scene.particles.empty()) {
+    ctx.fail(0, "the scene has no [[particle]], [[particle_grid]] or [[rock_mass]]");
+  }
 }
 
 }  // namespace polydem::io::detail

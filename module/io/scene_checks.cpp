@@ -70,11 +70,12 @@ std::vector<double> direction(const Section& s, const CheckParam& p) {
   return {unit.x(), unit.y(), unit.z()};
 }
 
-void readParameter(const Section& s, const CheckParam& p, const Scene& scene, CheckSpec& c) {
+void readParameter(const Section& s, const CheckParam& p, Quantity measured, const Scene& scene,
+                   CheckSpec& c) {
   const std::string key(p.name);
   switch (p.type) {
     case CheckParamType::kNumber: {
-      const double v = *s.number(p.name, p.quantity);
+      const double v = *s.number(p.name, p.measured ? measured : p.quantity);
       if (!inRange(p, v)) s.fail(p.name, cat("must be ", rangeText(p), ", got ", show(v)));
       c.numbers[key] = {v};
       break;
@@ -86,6 +87,12 @@ void readParameter(const Section& s, const CheckParam& p, const Scene& scene, Ch
     case CheckParamType::kParticle:
       c.strings[key] = join(labels(s, p, scene), ",");
       break;
+    case CheckParamType::kText: {
+      const std::string text = s.requiredString(p.name);
+      if (text.empty()) s.fail(p.name, "must not be empty");
+      c.strings[key] = text;
+      break;
+    }
     case CheckParamType::kWord: {
       std::vector<std::string> words(p.words.begin(), p.words.end());
       c.strings[key] = s.choice(p.name, words, "");
@@ -113,20 +120,25 @@ void readChecks(const Context& ctx, const toml::table& root, Scene& scene) {
     for (const auto& p : kind->params) known.push_back(p.name);
     s.allowOnly(known);
     c.compare = s.choice("compare", {"abs", "rel", "max", "min", "report"}, c.compare);
+    c.reference = s.string("reference").value_or("");
+    // Words and labels first: free_motion's `quantity` and `at` decide the unit of its numbers.
+    for (const bool numbers : {false, true}) {
+      for (const auto& p : kind->params) {
+        if ((p.type == CheckParamType::kNumber) != numbers) continue;
+        if (s.has(p.name)) {
+          readParameter(s, p, measuredQuantity(*kind, c), scene, c);
+        } else if (p.required) {
+          s.missing(p.name);
+        }
+      }
+    }
+    const Quantity value = valueQuantity(*kind, c);
     if (s.has("expected")) {
-      c.expected = *s.number("expected", kind->value);
+      c.expected = *s.number("expected", value);
     } else if (c.compare != "report") {
       s.missing("expected");
     }
-    c.tolerance = s.number("tolerance", kind->value, 0.0, Range::kNonNegative);
-    c.reference = s.string("reference").value_or("");
-    for (const auto& p : kind->params) {
-      if (s.has(p.name)) {
-        readParameter(s, p, scene, c);
-      } else if (p.required) {
-        s.missing(p.name);
-      }
-    }
+    c.tolerance = s.number("tolerance", value, 0.0, Range::kNonNegative);
     c.line = s.line();
     scene.checks.push_back(std::move(c));
   }

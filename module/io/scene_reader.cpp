@@ -307,8 +307,8 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
   }
   Section(ctx, root, "top level")
       .allowOnly({"scene", "simulation", "kernel_params", "material", "interaction", "shape",
-                  "driver", "particle", "particle_grid", "domain", "equilibrium", "output",
-                  "checkpoint", "check"});
+                  "driver", "particle", "particle_grid", "rock_mass", "domain", "equilibrium",
+                  "output", "checkpoint", "check", "fos"});
   Scene scene;
   scene.file = name_for_messages;
   // Sections that others refer to come first, whatever their order in the file.
@@ -325,6 +325,7 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
   readOutput(ctx, root, scene);
   readCheckpoint(ctx, root, scene);
   detail::readChecks(ctx, root, scene);
+  detail::readFos(ctx, root, scene);
   return scene;
 }
 

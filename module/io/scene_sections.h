@@ -12,7 +12,8 @@ namespace polydem::io::detail {
 
 /// [[shape]]: each resolved to the vertices of its convex hull.
 void readShapes(const Context& ctx, const toml::table& root, Scene& scene);
-/// [[particle]] and [[particle_grid]], in file order; needs shapes, materials and drivers.
+/// [[particle]], [[particle_grid]] and [[rock_mass]], in file order; needs shapes, materials and
+/// drivers.
 void readParticles(const Context& ctx, const toml::table& root, Scene& scene);
 /// [[check]], each against its kind's declared parameters (io/check_kinds.h); needs particles.
 void readChecks(const Context& ctx, const toml::table& root, Scene& scene);
@@ -20,6 +21,18 @@ void readChecks(const Context& ctx, const toml::table& root, Scene& scene);
 /// Refuses, at `key` of `s`, a scene of `particles` particles that cannot fit in the memory
 /// available (core/memory.h), before they are made.
 void checkParticleMemory(const Section& s, std::string_view key, std::uint64_t particles);
+
+/// One [[rock_mass]] cut into blocks, before they become shapes and particles.
+struct RockMassCut {
+  geometry::RockMass mass;
+  RockMassInfo info;  // first_uid and blocks are filled in by the particle reader
+  int material = -1, fixed_material = -1;
+};
+/// Reads and cuts one [[rock_mass]] (scene_rock_mass.cpp); needs the materials.
+RockMassCut readRockMass(const Section& s, const Scene& scene);
+
+/// [fos] (scene_fos.cpp); needs the materials.
+void readFos(const Context& ctx, const toml::table& root, Scene& scene);
 
 /// Index of the entry called `name` in `items` (by their .name), or -1.
 template <typename T>

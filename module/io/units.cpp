@@ -94,6 +94,8 @@ Dimension dimensionOf(Quantity q) {
       return {};
     case Quantity::kLength:
       return {0, 1, 0, 0};
+    case Quantity::kVolume:
+      return {0, 3, 0, 0};
     case Quantity::kTime:
       return {0, 0, 1, 0};
     case Quantity::kVelocity:
@@ -159,6 +161,8 @@ std::string describe(Quantity q) {
       return "a dimensionless number";
     case Quantity::kLength:
       return "a length (m)";
+    case Quantity::kVolume:
+      return "a volume (m^3)";
     case Quantity::kTime:
       return "a time (s)";
     case Quantity::kVelocity:
@@ -207,9 +211,9 @@ std::string describe(const Dimension& d) {
   if (d == Dimension{0, 0, 0, 1}) return "an angle";
   if (d == dimensionOf(Quantity::kAngularVelocity)) return "an angular velocity";
   for (Quantity q :
-       {Quantity::kDimensionless, Quantity::kLength, Quantity::kTime, Quantity::kVelocity,
-        Quantity::kAcceleration, Quantity::kDensity, Quantity::kStiffness, Quantity::kPressure,
-        Quantity::kJointStiffness, Quantity::kForce, Quantity::kFrequency}) {
+       {Quantity::kDimensionless, Quantity::kLength, Quantity::kVolume, Quantity::kTime,
+        Quantity::kVelocity, Quantity::kAcceleration, Quantity::kDensity, Quantity::kStiffness,
+        Quantity::kPressure, Quantity::kJointStiffness, Quantity::kForce, Quantity::kFrequency}) {
     if (dimensionOf(q) == d) return describe(q);
   }
   return toString(d);

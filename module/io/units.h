@@ -26,6 +26,7 @@ struct Dimension {
 enum class Quantity {
   kDimensionless,
   kLength,
+  kVolume,  // m^3
   kTime,
   kVelocity,
   kAcceleration,

@@ -10,6 +10,7 @@
 #include "core/mpi_env.h"
 #include "core/strings.h"
 #include "io/check_kinds.h"
+#include "sim/motion_checks.h"
 #include "sim/simulation.h"
 
 namespace polydem::sim {
@@ -437,6 +438,8 @@ std::vector<std::unique_ptr<Check>> makeChecks(const io::Scene& scene, Tracker& 
       checks.push_back(std::make_unique<FinalCheck>(
           spec,
           [axis](Simulation& sim, std::string& note) { return maxContactForce(sim, axis, note); }));
+    } else if (auto motion = makeMotionCheck(scene, spec, tracker)) {
+      checks.push_back(std::move(motion));
     } else {
       p.fail("unknown kind; known kinds: " + io::checkKindNames());
     }
@@ -453,7 +456,9 @@ std::vector<io::CheckResult> evaluateChecks(std::vector<std::unique_ptr<Check>>&
     r.name = s.name;
     r.kind = s.kind;
     r.value = c->value(sim);
-    if (const io::CheckKind* kind = io::findCheckKind(s.kind)) r.unit = io::storedUnit(kind->value);
+    if (const io::CheckKind* kind = io::findCheckKind(s.kind)) {
+      r.unit = io::storedUnit(io::valueQuantity(*kind, s));
+    }
     r.expected = s.expected;
     r.tolerance = s.tolerance;
     r.compare = s.compare;

@@ -104,6 +104,15 @@ class Simulation {
   const timeloop::TimeLoop& loop() const { return loop_; }
   const contact::Kernel& kernel() const { return *kernel_; }
 
+  /// The centroid (world frame) particle `spec` of the scene starts at, as placeParticles() puts
+  /// it.
+  Vec3 initialCentroid(const io::ParticleSpec& spec) const {
+    return spec.position + spec.orientation * shape_frames_[spec.shape].centroid;
+  }
+  /// The orientation (body -> world) particle `spec` starts with.
+  Quat initialOrientation(const io::ParticleSpec& spec) const {
+    return (spec.orientation * shape_frames_[spec.shape].rotation).normalized();
+  }
   /// Mass and principal inertia of local or ghost entry i.
   dynamics::MassProperties massProperties(std::size_t i) const;
   /// Global monitors (collective).

@@ -33,6 +33,7 @@ from ._polydem import (
     SimulationError,
     collide,
     contact_cases,
+    cut_rock_mass,
     kernels,
     log_level,
     mpi_abort,
@@ -47,7 +48,7 @@ __version__ = _polydem.__version__
 __all__ = [
     "CheckpointError", "ConvexPolyhedron", "Error", "FLAG_DRIVEN", "FLAG_FIXED", "FLAG_GHOST",
     "GeometryError", "InputError", "Scene", "Simulation", "SimulationError", "collide",
-    "contact_cases", "kernels", "log_level", "mpi_abort", "mpi_rank", "mpi_size", "parse_scene",
+    "contact_cases", "cut_rock_mass", "kernels", "log_level", "mpi_abort", "mpi_rank", "mpi_size", "parse_scene",
     "read_scene", "run", "set_log_level", "shapes",
 ]
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "geometry/rock_mass.h"
 
 namespace polydem::python {
 
@@ -59,5 +60,8 @@ void bindGeometry(py::module_& m);
 void bindContact(py::module_& m);
 void bindScene(py::module_& m);
 void bindSimulation(py::module_& m);
+void bindRockMass(py::module_& m);
+/// A rock mass's report (counts and volumes) as a dict.
+py::dict rockMassReport(const geometry::RockMassReport& r);
 
 }  // namespace polydem::python

@@ -247,4 +247,5 @@ PYBIND11_MODULE(_polydem, m) {
   bindContact(m);
   bindScene(m);
   bindSimulation(m);
+  bindRockMass(m);
 }

@@ -125,6 +125,22 @@ py::list checks(const Scene& s) {
   return out;
 }
 
+py::list rockMasses(const Scene& s) {
+  py::list out;
+  for (const auto& r : s.rock_masses) {
+    py::dict d;
+    d["name"] = r.name;
+    d["label_prefix"] = r.label_prefix;
+    d["first_uid"] = r.first_uid;
+    d["blocks"] = r.blocks;
+    d["plane_names"] = r.plane_names;
+    d["report"] = rockMassReport(r.report);
+    d["line"] = r.line;
+    out.append(d);
+  }
+  return out;
+}
+
 std::string repr(const Scene& s) {
   return cat("Scene('", s.id, "', ", s.particles.size(), " particles, kernel ", s.kernel, ", dt ",
              num(s.dt), ")");
@@ -265,6 +281,10 @@ replaces the scene's whole stop condition: the other one is cleared.)")
                              "Prescribed motions as dicts (name, velocity [m/s], angular_velocity "
                              "[rad/s], pivot [m], oscillation [m/s], frequency [Hz], phase [rad], "
                              "start_time, end_time [s]); particles()['driver'] indexes them.")
+      .def_property_readonly("rock_masses", &rockMasses,
+                             "The [[rock_mass]] entries as dicts (name, label_prefix, first_uid, "
+                             "blocks: the particles first_uid .. first_uid + blocks - 1, "
+                             "plane_names, report, line).")
       .def_property_readonly("checks", &checks,
                              "The expected results ([[check]]) as dicts (name, kind, expected, "
                              "tolerance, compare, reference, line).")

@@ -1,0 +1,106 @@
+// Rock masses cut by joints (3DEC's jset and single-plane cuts): a region of rock, cut by joint
+// sets and single planes (faults, a failure surface) into convex blocks; blocks on chosen sides
+// of chosen planes become fixed or are removed; slivers are merged or dropped.
+//
+// Every plane is persistent: it cuts every block it crosses, except where cutting would leave a
+// sliver, a piece smaller than `min_volume` or thinner than `min_thickness` (the joint then ends
+// at that block, see RockMassSpec::slivers).
+// The result depends only on the description: same blocks, same bits, on every machine and rank
+// count (planes are applied in a fixed order, each split computed from the block's vertices).
+//
+// Non-persistent joints (ending inside the rock) are the next step, designed as in 3DEC: the
+// joint plane is cut through as here, every face a block gets from a plane is tagged with the
+// plane (RockBlock::sides), and the parts of the cut outside the joint's extent (a disc or a
+// polygon in the plane) become rock bridges: the contacts across them are given the intact rock's
+// strength (bonded until broken) instead of the joint's. See docs/scene-format.md.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+#include "geometry/convex_polyhedron.h"
+#include "geometry/joint_planes.h"
+
+namespace polydem::geometry {
+
+/// The rock before cutting: convex pieces that together fill it without overlap (one for a box or
+/// a convex polyhedron; several for a non-convex slope profile).
+struct RockRegion {
+  std::vector<ConvexPolyhedron> pieces;
+  double volume = 0.0;
+  std::vector<Vec3> corners() const;  // every piece's vertices
+};
+
+/// An axis-aligned box (lo < hi).
+RockRegion boxRegion(const Vec3& lo, const Vec3& hi);
+/// The convex hull of `points`.
+RockRegion polyhedronRegion(const std::vector<Vec3>& points);
+/// A slope profile: the simple polygon `profile` of (x, z) points (convex or not, e.g. floor, toe,
+/// face, crest, top) extruded across the slope from y = y_min to y = y_max.
+RockRegion profileRegion(const std::vector<Vec2>& profile, double y_min, double y_max);
+
+/// Which side of a plane: below is where the upward normal points away from (n . x < offset).
+enum class Side : std::uint8_t { kNone, kBelow, kAbove };
+
+/// One plane that cuts the whole mass: a fault, a failure surface, an excavation.
+struct SinglePlane {
+  std::string name;
+  Plane plane;                // normal upward, as normalFromDip gives it
+  Side fixed = Side::kNone;   // blocks on this side become fixed
+  Side remove = Side::kNone;  // blocks on this side are removed
+};
+
+enum class Slivers : std::uint8_t {
+  kMerge,  // a cut that would leave a sliver is not made in that block: the
+           // sliver stays joined to the neighbour it would have been cut from
+  kDrop,   // the sliver is cut off and dropped (its volume is reported)
+};
+
+struct RockMassSpec {
+  RockRegion region;
+  std::vector<SinglePlane> planes;   // applied first, in order
+  std::vector<JointSet> joint_sets;  // then each set's planes, set by set
+  double min_volume = 0.0;           // m^3: smaller pieces are slivers
+  double min_thickness = 0.0;        // m: so are pieces whose inscribed sphere is thinner (a thin
+                                     // flake's small rotational inertia sets the time step)
+  Slivers slivers = Slivers::kMerge;
+  bool joints_cut_fixed = false;  // joint sets cut fixed blocks too (default: free only)
+};
+
+struct RockBlock {
+  std::vector<Vec3> vertices;  // corners of the convex block
+  double volume = 0.0;
+  Vec3 centroid = Vec3::Zero();
+  bool fixed = false;
+  /// For every plane of RockMass::planes: -1 below it, +1 above, 0 where the block straddles it
+  /// (the cut was not made: a sliver merge) or was not cut by it (a fixed block and a joint).
+  std::vector<std::int8_t> sides;
+};
+
+struct RockMassReport {
+  double region_volume = 0.0;
+  int planes = 0;  // planes that cut something
+  int free_blocks = 0, fixed_blocks = 0;
+  int removed_blocks = 0;  // on a `remove` side
+  double removed_volume = 0.0;
+  int slivers_merged = 0;   // cuts not made (kMerge), and parts of a profile's pieces merged
+  int slivers_dropped = 0;  // pieces dropped (kDrop, or a profile piece that could not merge)
+  double dropped_volume = 0.0;
+  double smallest_volume = 0.0;     // of the blocks kept
+  double smallest_thickness = 0.0;  // diameter of the largest inscribed sphere, of the blocks kept
+};
+
+struct RockMass {
+  std::vector<RockBlock> blocks;         // free and fixed, in the order the cutting produced them
+  std::vector<Plane> planes;             // every plane applied, single planes first
+  std::vector<std::string> plane_names;  // "fault-1", "J1#3" (set name, plane index k)
+  RockMassReport report;
+};
+
+/// Cuts the region. Throws GeometryError for an invalid description (a joint set's spacing, a
+/// region without volume); the message names the set or plane.
+RockMass cutRockMass(const RockMassSpec& spec);
+
+}  // namespace polydem::geometry

@@ -1,0 +1,55 @@
+// [fos]: the settings of `polydem fos` (strength reduction, sim/fos.h) in a scene file.
+#include <limits>
+
+#include "core/strings.h"
+#include "io/scene_sections.h"
+
+namespace polydem::io::detail {
+
+void readFos(const Context& ctx, const toml::table& root, Scene& scene) {
+  const toml::node* n = root.get("fos");
+  if (!n) return;
+  const toml::table* t = n->as_table();
+  if (!t) ctx.fail(lineOf(*n), "'fos' must be a table: write [fos], got " + typeName(*n));
+  const Section s(ctx, *t, "[fos]");
+  s.allowOnly({"interactions", "f_min", "f_max", "resolution", "max_time", "settle_time",
+               "speed_limit", "displacement_limit", "check_every", "label_prefix"});
+  FosSpec& f = scene.fos;
+  f.line = s.line();
+  if (const toml::node* list = s.find("interactions")) {
+    const toml::array* a = list->as_array();
+    if (!a)
+      s.fail("interactions", "expected a list of material pairs, as in [[\"rock\", \"rock\"]]");
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      const std::string what = element(s.where("interactions"), i);
+      const toml::array* pair = (*a)[i].as_array();
+      if (!pair || pair->size() != 2 || !(*pair)[0].is_string() || !(*pair)[1].is_string()) {
+        ctx.fail(lineOf((*a)[i]),
+                 what + ": expected two material names, as in [\"rock\", \"rock\"]");
+      }
+      int index[2];
+      for (int k = 0; k < 2; ++k) {
+        const std::string name = (*pair)[k].as_string()->get();
+        index[k] = indexByName(scene.materials, name);
+        if (index[k] < 0)
+          ctx.fail(lineOf((*pair)[k]), what + ": no [[material]] is named '" + name + "'");
+      }
+      f.interactions.emplace_back(std::min(index[0], index[1]), std::max(index[0], index[1]));
+    }
+  }
+  f.f_min = s.number("f_min", Quantity::kDimensionless, f.f_min, Range::kPositive);
+  f.f_max = s.number("f_max", Quantity::kDimensionless, f.f_max, Range::kPositive);
+  if (!(f.f_max > f.f_min)) s.fail("f_max", "must exceed f_min");
+  f.resolution = s.number("resolution", Quantity::kDimensionless, f.resolution, Range::kPositive);
+  f.max_time = s.number("max_time", Quantity::kTime, Range::kPositive);
+  f.settle_time = s.number("settle_time", Quantity::kTime, Range::kPositive);
+  if (f.max_time && f.settle_time && !(*f.settle_time < *f.max_time)) {
+    s.fail("settle_time", "must be shorter than max_time");
+  }
+  f.speed_limit = s.number("speed_limit", Quantity::kVelocity, f.speed_limit, Range::kPositive);
+  f.displacement_limit = s.number("displacement_limit", Quantity::kLength, Range::kPositive);
+  f.check_every = s.integer("check_every", f.check_every, Range::kPositive);
+  f.label_prefix = s.string("label_prefix").value_or("");
+}
+
+}  // namespace polydem::io::detail

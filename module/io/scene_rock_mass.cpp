@@ -1,0 +1,218 @@
+// [[rock_mass]]: a region cut by [[rock_mass.joint_set]] and [[rock_mass.plane]] entries into
+// blocks (geometry/rock_mass.h). Each block becomes a shape of its own and a particle, fixed where
+// a plane says so. Syntax in docs/scene-format.md.
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "core/logging.h"
+#include "core/strings.h"
+#include "geometry/rock_mass.h"
+#include "io/scene_sections.h"
+
+namespace polydem::io::detail {
+
+namespace {
+
+// The entries of an array of tables inside a table ([[rock_mass.joint_set]]).
+std::vector<Section> nestedEntries(const Section& parent, std::string_view key,
+                                   const std::string& what) {
+  std::vector<Section> out;
+  const toml::node* n = parent.find(key);
+  if (!n) return out;
+  const toml::array* a = n->as_array();
+  if (!a || (!a->empty() && !a->is_array_of_tables())) {
+    parent.fail(key, cat("must be an array of tables: write [[rock_mass.", key, "]] sections"));
+  }
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    const toml::table& t = *(*a)[i].as_table();
+    const toml::node* name = t.get("name");
+    const bool named = name && name->is_string() && !name->as_string()->get().empty();
+    out.emplace_back(parent.context(), t,
+                     cat(parent.name(), " ", what, " ",
+                         named ? "'" + name->as_string()->get() + "'" : cat("#", i + 1)));
+  }
+  return out;
+}
+
+const toml::array& pointList(const Section& s, std::string_view key) {
+  if (!s.has(key)) s.missing(key);
+  const toml::array* a = s.find(key)->as_array();
+  if (!a) s.fail(key, "expected an array of points, got " + typeName(*s.find(key)));
+  return *a;
+}
+
+geometry::RockRegion readRegion(const Section& mass) {
+  if (!mass.has("region")) mass.missing("region");
+  const toml::table* t = mass.find("region")->as_table();
+  if (!t) {
+    mass.fail("region",
+              "expected a table, as in region = { type = \"box\", min = [..], max = [..] }");
+  }
+  const Section s(mass.context(), *t, mass.name() + " region");
+  const std::string type = s.choice("type", {"box", "polyhedron", "profile"}, "");
+  if (type.empty()) s.missing("type");
+  const Context& ctx = s.context();
+  try {
+    if (type == "box") {
+      s.allowOnly({"type", "min", "max"});
+      if (!s.has("min")) s.missing("min");
+      if (!s.has("max")) s.missing("max");
+      const Vec3 lo = *s.vec3("min", Quantity::kLength), hi = *s.vec3("max", Quantity::kLength);
+      if (!((hi - lo).array() > 0.0).all()) s.fail("max", "must exceed min in every coordinate");
+      return geometry::boxRegion(lo, hi);
+    }
+    if (type == "polyhedron") {
+      s.allowOnly({"type", "vertices"});
+      const toml::array& a = pointList(s, "vertices");
+      std::vector<Vec3> points;
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        points.push_back(toVec3(ctx, a[i], element(s.where("vertices"), i), Quantity::kLength));
+      }
+      return geometry::polyhedronRegion(points);
+    }
+    s.allowOnly({"type", "profile", "y"});
+    const toml::array& a = pointList(s, "profile");
+    std::vector<Vec2> profile;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::string what = element(s.where("profile"), i);
+      const toml::array* xz = a[i].as_array();
+      if (!xz || xz->size() != 2) {
+        ctx.fail(lineOf(a[i]), what + ": expected a point [x, z], got " + typeName(a[i]));
+      }
+      profile.emplace_back(toNumber(ctx, (*xz)[0], what + "[0]", Quantity::kLength),
+                           toNumber(ctx, (*xz)[1], what + "[1]", Quantity::kLength));
+    }
+    if (!s.has("y")) s.missing("y");
+    const toml::array* y = s.find("y")->as_array();
+    if (!y || y->size() != 2) s.fail("y", "expected [y_min, y_max]");
+    const double y0 = toNumber(ctx, (*y)[0], s.where("y") + "[0]", Quantity::kLength);
+    const double y1 = toNumber(ctx, (*y)[1], s.where("y") + "[1]", Quantity::kLength);
+    if (!(y1 > y0)) s.fail("y", "y_max must exceed y_min");
+    return geometry::profileRegion(profile, y0, y1);
+  } catch (const GeometryError& e) {
+    s.failHere(std::string("invalid region: ") + e.what());
+  }
+}
+
+// dip and dip_direction of a joint set or a plane.
+void readOrientation(const Section& s, double& dip, double& dip_direction) {
+  if (!s.has("dip")) s.missing("dip");
+  if (!s.has("dip_direction")) s.missing("dip_direction");
+  dip = s.bounded("dip", Quantity::kAngle, 0.0, 0.0, 90.0, true);
+  dip_direction = s.requiredNumber("dip_direction", Quantity::kAngle);
+}
+
+geometry::JointSet readJointSet(const Section& s) {
+  s.allowOnly({"name", "dip", "dip_direction", "spacing", "offset", "origin", "spacing_jitter",
+               "orientation_jitter", "seed"});
+  geometry::JointSet j;
+  j.name = s.requiredString("name");
+  readOrientation(s, j.dip, j.dip_direction);
+  j.spacing = s.requiredNumber("spacing", Quantity::kLength, Range::kPositive);
+  j.offset = s.number("offset", Quantity::kLength, 0.0);
+  j.origin = s.vec3("origin", Quantity::kLength).value_or(j.origin);
+  j.spacing_jitter = s.bounded("spacing_jitter", Quantity::kDimensionless, 0.0, 0.0, 1.0, false);
+  j.orientation_jitter = s.bounded("orientation_jitter", Quantity::kAngle, 0.0, 0.0, 90.0, false);
+  j.seed = static_cast<std::uint64_t>(s.integer("seed", 0, Range::kNonNegative));
+  return j;
+}
+
+geometry::Side readSide(const Section& s, std::string_view key) {
+  const std::string side = s.choice(std::string(key), {"none", "below", "above"}, "none");
+  if (side == "below") return geometry::Side::kBelow;
+  if (side == "above") return geometry::Side::kAbove;
+  return geometry::Side::kNone;
+}
+
+geometry::SinglePlane readPlane(const Section& s) {
+  s.allowOnly({"name", "dip", "dip_direction", "point", "fixed", "remove"});
+  geometry::SinglePlane p;
+  p.name = s.requiredString("name");
+  double dip = 0.0, dip_direction = 0.0;
+  readOrientation(s, dip, dip_direction);
+  if (!s.has("point")) s.missing("point");
+  const Vec3 point = *s.vec3("point", Quantity::kLength);
+  p.plane.normal = geometry::normalFromDip(dip, dip_direction);
+  p.plane.offset = p.plane.normal.dot(point);
+  p.fixed = readSide(s, "fixed");
+  p.remove = readSide(s, "remove");
+  if (p.fixed != geometry::Side::kNone && p.fixed == p.remove) {
+    s.fail("remove", "the same side cannot be both fixed and removed");
+  }
+  return p;
+}
+
+// Names within one rock mass must differ: they name the planes in messages and reports.
+template <typename T>
+void requireUniqueNames(const std::vector<Section>& sections, const std::vector<T>& items) {
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (items[i].name == items[j].name) {
+        sections[i].fail("name",
+                         cat("'", items[i].name, "' is already used at line ", sections[j].line()));
+      }
+    }
+  }
+}
+
+std::string sliverText(const geometry::RockMassReport& r) {
+  if (r.slivers_merged + r.slivers_dropped == 0) return "no slivers";
+  return cat(r.slivers_merged, " sliver(s) merged, ", r.slivers_dropped, " dropped (",
+             num(r.dropped_volume), " m^3)");
+}
+
+}  // namespace
+
+RockMassCut readRockMass(const Section& s, const Scene& scene) {
+  s.allowOnly({"name", "material", "fixed_material", "label_prefix", "min_volume", "min_thickness",
+               "slivers", "joints_cut_fixed", "region", "joint_set", "plane"});
+  RockMassCut out;
+  out.info.name = s.requiredString("name");
+  out.info.line = s.line();
+  out.info.label_prefix = s.string("label_prefix").value_or(out.info.name);
+  const auto material = [&](std::string_view key, const std::string& name) {
+    const int index = indexByName(scene.materials, name);
+    if (index < 0) s.fail(key, "no [[material]] is named '" + name + "'");
+    return index;
+  };
+  out.material = material("material", s.requiredString("material"));
+  out.fixed_material = s.has("fixed_material")
+                           ? material("fixed_material", *s.string("fixed_material"))
+                           : out.material;
+
+  geometry::RockMassSpec spec;
+  spec.region = readRegion(s);
+  spec.min_volume = s.number("min_volume", Quantity::kVolume, 0.0, Range::kNonNegative);
+  spec.min_thickness = s.number("min_thickness", Quantity::kLength, 0.0, Range::kNonNegative);
+  spec.slivers = s.choice("slivers", {"merge", "drop"}, "merge") == "merge"
+                     ? geometry::Slivers::kMerge
+                     : geometry::Slivers::kDrop;
+  spec.joints_cut_fixed = s.boolean("joints_cut_fixed").value_or(false);
+  const std::vector<Section> sets = nestedEntries(s, "joint_set", "[[joint_set]]");
+  for (const Section& j : sets) spec.joint_sets.push_back(readJointSet(j));
+  requireUniqueNames(sets, spec.joint_sets);
+  const std::vector<Section> planes = nestedEntries(s, "plane", "[[plane]]");
+  for (const Section& p : planes) spec.planes.push_back(readPlane(p));
+  requireUniqueNames(planes, spec.planes);
+
+  try {
+    out.mass = geometry::cutRockMass(spec);
+  } catch (const GeometryError& e) {
+    s.failHere(std::string("cannot cut the rock mass: ") + e.what());
+  }
+  const geometry::RockMassReport& r = out.mass.report;
+  if (out.mass.blocks.empty()) s.failHere("no block is left (every block was removed)");
+  if (r.free_blocks == 0)
+    log::warning(cat(s.context().file(), ":", s.line(), ": ", s.name(), ": every block is fixed"));
+  out.info.plane_names = out.mass.plane_names;
+  out.info.report = r;
+  log::info(cat(s.context().file(), ":", s.line(), ": ", s.name(), ": ", r.free_blocks,
+                " free and ", r.fixed_blocks, " fixed blocks from ", r.planes, " planes; ",
+                sliverText(r), "; smallest block ", num(r.smallest_volume), " m^3, ",
+                num(r.smallest_thickness), " m thick",
+                r.removed_blocks > 0 ? cat("; ", r.removed_blocks, " removed") : std::string()));
+  return out;
+}
+
+}  // namespace polydem::io::detail

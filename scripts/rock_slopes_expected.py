@@ -1,0 +1,58 @@
+#!/usr/bin/python3
+"""The verdicts scripts/validation-rock-slopes expects from the full-length runs of the rock-slope
+scenes: every check passes except the known failures listed here, each with its reason (the README
+says the same). A verdict that differs either way is reported and gives exit status 1, so that a
+fix (issue 10: sub-contacts) shows up and this list and the README get updated.
+
+    scripts/rock_slopes_expected.py results/rock-slopes --kernels K... --scenes S...
+"""
+import argparse
+import json
+import pathlib
+import sys
+
+# (scene, kernel, part of the check's name, reason). Checks with compare = "report" never fail.
+KNOWN_FAILURES = [
+    ("D-PILLAR", "*", "vs wave speed",
+     "a stack of 6 rigid blocks disperses the wave front: the front block leaves at 2.39e-3 s, as a "
+     "1D chain of 6 masses does (tools/pillar_chain.py), not at 6 L / V = 1.64e-3 s"),
+]
+
+
+def known(scene, kernel, name):
+    for s, k, part, reason in KNOWN_FAILURES:
+        if s == scene and k in ("*", kernel) and part in name:
+            return reason
+    return None
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("out")
+    ap.add_argument("--kernels", nargs="+", required=True)
+    ap.add_argument("--scenes", nargs="+", required=True)
+    a = ap.parse_args()
+    bad = 0
+    for scene in a.scenes:
+        for kernel in a.kernels:
+            summary = pathlib.Path(a.out) / scene / kernel / "summary.json"
+            if not summary.exists():
+                print(f"UNEXPECTED {scene} / {kernel}: no summary.json (the run failed)")
+                bad += 1
+                continue
+            for c in json.loads(summary.read_text())["checks"]:
+                if c["compare"] == "report":
+                    continue
+                reason = known(scene, kernel, c["name"])
+                if c["pass"] == (reason is None):
+                    continue
+                bad += 1
+                what = "passes, listed as a known failure" if c["pass"] else "fails"
+                print(f"UNEXPECTED {scene} / {kernel}: '{c['name']}' {what}: value {c['value']}"
+                      f" ({c['compare']} {c['expected']}){' [' + reason + ']' if reason else ''}")
+    print(f"{bad} unexpected verdict(s)")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,204 @@
+// The check kinds of many blocks (sim/motion_checks.h) on cases with a known answer: a block in
+// free fall (free_motion), two blocks that collide and part (pair_separation), and blocks on a
+// tilting platform that slide or topple at the angle rigid-block statics gives (tilt_failure).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "core/logging.h"
+#include "io/scene_reader.h"
+#include "sim/run.h"
+
+namespace polydem::sim {
+namespace {
+
+std::map<std::string, io::CheckResult> run(const std::string& text) {
+  log::setLevel(log::Level::kWarning);
+  const io::Scene scene = io::parseScene(text, "motion_checks.toml");
+  std::map<std::string, io::CheckResult> out;
+  for (const auto& c : runScene(scene, RunOptions{}, MPI_COMM_WORLD).checks) out[c.name] = c;
+  return out;
+}
+
+const std::string kMaterial = R"(
+[[material]]
+name = "rock"
+density = 2000
+kn = "1 GN/m"
+ks = "0.5 GN/m"
+friction_angle = 30
+normal_damping = 0.2
+)";
+
+TEST(FreeMotion, FreeFallAndItsStatistics) {
+  const auto c = run(R"(
+[scene]
+id = "T-FALL"
+[simulation]
+kernel = "lp"
+dt = "1e-4 s"
+end_time = "0.5 s"
+)" + kMaterial + R"(
+[[shape]]
+name = "cube"
+type = "cube"
+edge = 1
+[[particle_grid]]
+shape = "cube"
+material = "rock"
+label_prefix = "b"
+spacing = 3
+count = [3, 1, 1]
+[[check]]
+name = "mean"
+kind = "free_motion"
+quantity = "mean_displacement"
+compare = "report"
+[[check]]
+name = "front"
+kind = "free_motion"
+quantity = "front_advance"
+direction = [0, 0, -1]
+compare = "report"
+[[check]]
+name = "fast"
+kind = "free_motion"
+quantity = "max_speed"
+at = "first_below"
+limit = "0 m/s"
+compare = "report"
+[[check]]
+name = "slow"
+kind = "free_motion"
+quantity = "max_speed"
+at = "max"
+after = "0.2 s"
+compare = "report"
+)");
+  const double g = 9.81, t = 0.5;
+  EXPECT_NEAR(c.at("mean").value, 0.5 * g * t * t, 1e-3 * 0.5 * g * t * t);
+  EXPECT_NEAR(c.at("front").value, 0.5 * g * t * t, 1e-3 * 0.5 * g * t * t);
+  EXPECT_TRUE(std::isnan(c.at("fast").value));  // a speed never falls below 0
+  // Leapfrog velocities lag half a step: g (t - dt / 2) at the end.
+  EXPECT_NEAR(c.at("slow").value, g * (t - 0.5e-4), 1e-9);
+}
+
+TEST(PairSeparation, TwoBlocksCollideAndPart) {
+  // Equal cubes, 1 m apart, closing at 2 m/s without gravity: they touch at t = 0.5 s and part
+  // after half a period of the contact spring, pi sqrt(m_eff / kn) with m_eff = m / 2.
+  const auto c = run(R"(
+[scene]
+id = "T-PART"
+[simulation]
+kernel = "fcp-ipm"
+dt = "1e-5 s"
+end_time = "0.6 s"
+gravity = [0, 0, 0]
+[[material]]
+name = "rock"
+density = 2000
+kn = "1 GN/m"
+ks = "0.5 GN/m"
+[[shape]]
+name = "cube"
+type = "cube"
+edge = 1
+[[particle]]
+label = "a"
+shape = "cube"
+material = "rock"
+velocity = [1, 0, 0]
+[[particle]]
+label = "b"
+shape = "cube"
+material = "rock"
+position = [2, 0, 0]
+velocity = [-1, 0, 0]
+[[check]]
+name = "part"
+kind = "pair_separation"
+particle = "a, b"
+compare = "report"
+)");
+  const double contact = kPi * std::sqrt(0.5 * 2000.0 / 1e9);
+  EXPECT_NEAR(c.at("part").value, 0.5 + contact, 2e-5);
+}
+
+// A block on a platform tilted at 0.03 rad/s (Zhao's rate) from t = 0.1 s, on lp (whose point
+// holds a face contact: issue 10).
+std::string tiltScene(const std::string& block, double friction, double end_time) {
+  return R"(
+[scene]
+id = "T-TILT"
+[simulation]
+kernel = "lp"
+dt = "1e-4 s"
+end_time = )" +
+         std::to_string(end_time) + R"(
+[[material]]
+name = "rock"
+density = 2000
+kn = "1 GN/m"
+ks = "0.5 GN/m"
+normal_damping = 0.3
+local_damping = 0.1
+friction_angle = )" +
+         std::to_string(friction) + R"(
+[[driver]]
+name = "tilt"
+angular_velocity = [0, 0.03, 0]
+start_time = "0.1 s"
+[[shape]]
+name = "platform"
+type = "box"
+min = [-1, -1, -0.2]
+max = [3, 1, 0]
+[[shape]]
+name = "block"
+type = "box"
+)" + block +
+         R"(
+[[particle]]
+label = "platform"
+shape = "platform"
+material = "rock"
+driver = "tilt"
+[[particle]]
+label = "b"
+shape = "block"
+material = "rock"
+[[check]]
+name = "angle"
+kind = "tilt_failure"
+platform = "platform"
+label_prefix = "b"
+threshold = "2 mm"
+compare = "report"
+[[check]]
+name = "turn"
+kind = "tilt_failure"
+platform = "platform"
+label_prefix = "b"
+measure = "rotation"
+reach = "0.05 m"
+compare = "report"
+)";
+}
+
+TEST(TiltFailure, ABlockSlidesAtItsFrictionAngle) {
+  const auto c = run(tiltScene("min = [0, -0.25, 0]\nmax = [0.5, 0.25, 0.5]", 20.0, 14.0));
+  EXPECT_NEAR(c.at("angle").value, 20.0, 1.0) << c.at("angle").note;
+  EXPECT_LT(c.at("turn").value, 2.0) << c.at("turn").note;
+}
+
+TEST(TiltFailure, ATallBlockToppling) {
+  // 0.2 m wide along the tilt and 0.8 m tall: it topples at atan(0.2 / 0.8) = 14.0 deg, long
+  // before its 40 deg friction lets it slide.
+  const auto c = run(tiltScene("min = [0.5, -0.25, 0]\nmax = [0.7, 0.25, 0.8]", 40.0, 12.0));
+  EXPECT_NEAR(c.at("angle").value, 14.0, 1.0) << c.at("angle").note;
+  EXPECT_GT(c.at("turn").value, 5.0) << c.at("turn").note << " | " << c.at("angle").note;
+}
+
+}  // namespace
+}  // namespace polydem::sim
