@@ -29,7 +29,15 @@ CheckParam word(std::string_view name, std::vector<std::string_view> words, std:
 }
 
 CheckParam labelPrefix(bool required) {
-  return {"label_prefix", T::kText, required, {}, -kInf, kInf, false, false, {},
+  return {"label_prefix",
+          T::kText,
+          required,
+          {},
+          -kInf,
+          kInf,
+          false,
+          false,
+          {},
           "the blocks' label prefix (prefix_0, prefix_1, ...; default: every free block)"};
 }
 CheckParam measuredNumber(std::string_view name, std::string_view help) {
@@ -100,7 +108,14 @@ std::vector<CheckKind> makeKinds() {
        Q::kLength,
        "a statistic of the free blocks' motion, in its quantity's unit (m, m/s or rad/s); "
        "with at = \"first_below\" the time it first falls below `limit`, s",
-       {{"quantity", T::kWord, true, {}, -kInf, kInf, false, false,
+       {{"quantity",
+         T::kWord,
+         true,
+         {},
+         -kInf,
+         kInf,
+         false,
+         false,
          {"mean_displacement", "max_displacement", "mean_speed", "max_speed", "max_angular_speed",
           "front_advance"},
          "what is measured"},

@@ -249,8 +249,8 @@ void Simulation::suggestTimeStep() {
     // A joint stiffness per area meets its largest value on the particle's largest face.
     double largest_face = 0.0;
     for (const auto& f : s.polyhedron.faces()) largest_face = std::max(largest_face, f.area);
-    const double k = std::max({props.kn, props.ks, props.jkn * largest_face,
-                               props.jks * largest_face});
+    const double k =
+        std::max({props.kn, props.ks, props.jkn * largest_face, props.jks * largest_face});
     dt_particles.push_back({spec.uid, density * s.volume, density * s.principal_moments,
                             s.circumradius, k, props.normal_damping});
   }

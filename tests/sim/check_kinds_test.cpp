@@ -24,10 +24,24 @@ kn = 1e9
 name = "cube"
 type = "cube"
 edge = 1
+[[driver]]
+name = "tilt"
+angular_velocity = [0, 0.03, 0]
 [[particle]]
 label = "a"
 shape = "cube"
 material = "rock"
+[[particle]]
+label = "b"
+shape = "cube"
+material = "rock"
+position = [2, 0, 0]
+[[particle]]
+label = "p"
+shape = "cube"
+material = "rock"
+position = [0, 0, -2]
+driver = "tilt"
 )";
 
 /// A valid TOML value for a declared parameter.
@@ -38,8 +52,11 @@ std::string valueOf(const io::CheckParam& p) {
     case io::CheckParamType::kDirection:
       return "[1, 0, 1]";
     case io::CheckParamType::kParticles:
+      return "\"a, b\"";  // pair_separation takes two
     case io::CheckParamType::kParticle:
-      return "\"a\"";
+      return p.name == "platform" ? "\"p\"" : "\"a\"";  // tilt_failure's is driven
+    case io::CheckParamType::kText:
+      return "\"a\"";  // a label prefix
     case io::CheckParamType::kWord:
       return cat("\"", p.words.back(), "\"");
   }

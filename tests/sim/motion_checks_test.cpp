@@ -36,7 +36,7 @@ TEST(FreeMotion, FreeFallAndItsStatistics) {
 [scene]
 id = "T-FALL"
 [simulation]
-kernel = "lp"
+kernel = "gjk-epa-ipm"
 dt = "1e-4 s"
 end_time = "0.5 s"
 )" + kMaterial + R"(
@@ -132,7 +132,7 @@ std::string tiltScene(const std::string& block, double friction, double end_time
 [scene]
 id = "T-TILT"
 [simulation]
-kernel = "lp"
+kernel = "gjk-epa-ipm"
 dt = "1e-4 s"
 end_time = )" +
          std::to_string(end_time) + R"(
