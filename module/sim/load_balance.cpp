@@ -14,9 +14,8 @@ double sixtyFourths(double x) {
 
 }  // namespace
 
-double LoadModel::pairCost(bool touching, int contact_points) const {
-  return sixtyFourths(evaluated_pair +
-                      (touching ? touching_pair * std::max(1, contact_points) : 0));
+double LoadModel::pairCost(bool touching, int subcontacts) const {
+  return sixtyFourths(evaluated_pair + (touching ? touching_pair + subcontact * subcontacts : 0));
 }
 
 LoadModel loadModelFor(std::string_view kernel) {
@@ -45,7 +44,7 @@ void visitWork(const particles::ParticleStorage& storage, const std::vector<Cont
     if (storage[i].isFree()) visit(model.particle, i, i, false, true);
   }
   for (const ContactRecord& r : records) {
-    const double cost = model.pairCost(r.touching);
+    const double cost = model.pairCost(r.touching, r.subcontacts);
     const bool a_global = storage[r.stored_a].isGlobal();
     if (r.a >= 0) {  // A is ours and free
       const bool b_global = storage[r.stored_b].isGlobal();
