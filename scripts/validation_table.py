@@ -44,12 +44,18 @@ def fmt(v):
     return str(v)
 
 
+# Kinds whose dimensionless value is a count, not a ratio.
+COUNTS = {"equilibrium_steps": " steps", "contact_count": " contacts"}
+
+
 def unit(check):
-    """The unit a figure is in (summary.json "unit"; "1" is a ratio)."""
+    """The unit a figure is in (summary.json "unit"; "1" is a ratio or, for COUNTS, a count)."""
     u = check.get("unit")
     if not u:
         return ""
-    return " (ratio)" if u == "1" else " " + u
+    if u == "1":
+        return COUNTS.get(check.get("kind"), " (ratio)")
+    return " " + u
 
 
 def cell(run_dir, log):
