@@ -29,6 +29,7 @@ void usage() {
       "  --f-min A, --f-max B  the range searched (overrides [fos] f_min, f_max)\n"
       "  --max-time T          longest trial in simulated seconds (overrides [fos] max_time)\n"
       "  --kernel NAME         another contact kernel\n"
+      "  --contact-model M     sub-contacts (default) or point (the scene's otherwise)\n"
       "  --quiet               only the result, warnings and errors\n"
       "writes DIR/fos.json (factor_of_safety, critical_friction_angle_deg, bracket, every\n"
       "trial's F, outcome, displacement and time), DIR/fos_trials.csv and DIR/fos.svg\n"
@@ -51,6 +52,7 @@ int fosCommand(int argc, char** argv) {
   const auto f_max = args.value("f-max");
   const auto max_time = args.value("max-time");
   const auto kernel = args.value("kernel");
+  const auto contact_model = args.value("contact-model");
   const bool quiet = args.flag("quiet");
   io::Scene scene = io::readScene(args.positional()[0]);
   io::FosSpec& f = scene.fos;
@@ -70,15 +72,23 @@ int fosCommand(int argc, char** argv) {
     contact::makeKernel(*kernel);  // throws with the list of known kernels
     scene.kernel = *kernel;
   }
+  if (contact_model) {
+    if (*contact_model != "sub-contacts" && *contact_model != "point") {
+      throw UsageError(
+          cat("unknown contact model '", *contact_model, "' (known: sub-contacts, point)"));
+    }
+    scene.contact_model = *contact_model;
+  }
   if (quiet) log::setLevel(log::Level::kWarning);
   const sim::FosCriterion criterion = sim::fosCriterion(scene);
   const int groups = ranks / static_cast<int>(per_trial);
-  log::info(cat(
-      "fos: ", scene.id, " (", scene.file, "), kernel ", scene.kernel, "; F in [", num(f.f_min),
-      ", ", num(f.f_max), "] to ", num(f.resolution), "; ", groups, " trial(s) at a time on ",
-      per_trial, " rank(s) each; stable when the mean speed < ", num(criterion.speed_limit),
-      " m/s after ", num(criterion.settle_time), " s, failed when the mean displacement > ",
-      num(criterion.displacement_limit), " m or still moving at ", num(criterion.max_time), " s"));
+  log::info(cat("fos: ", scene.id, " (", scene.file, "), kernel ", scene.kernel, ", contact model ",
+                scene.contact_model, "; F in [", num(f.f_min), ", ", num(f.f_max), "] to ",
+                num(f.resolution), "; ", groups, " trial(s) at a time on ", per_trial,
+                " rank(s) each; stable when the mean speed < ", num(criterion.speed_limit),
+                " m/s after ", num(criterion.settle_time),
+                " s, failed when the mean displacement > ", num(criterion.displacement_limit),
+                " m or still moving at ", num(criterion.max_time), " s"));
   const sim::FosResult result = sim::findFactorOfSafety(scene, criterion, groups, MPI_COMM_WORLD);
   if (mpi::rank() == 0) {
     const auto factor = result.factor();

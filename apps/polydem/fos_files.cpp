@@ -58,6 +58,7 @@ json fosJson(const io::Scene& scene, const sim::FosCriterion& c, const sim::FosR
   return {{"scene", scene.id},
           {"scene_file", scene.file},
           {"kernel", scene.kernel},
+          {"contact_model", scene.contact_model},
           {"factor_of_safety", optional(f)},
           {"bracket", {{"stable", optional(r.stable)}, {"failed", optional(r.failed)}}},
           {"resolution", r.resolution},
