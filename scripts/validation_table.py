@@ -82,25 +82,30 @@ def main():
     ap.add_argument("--scenes", nargs="+", required=True)
     ap.add_argument("--models", nargs="+", default=["sub-contacts"])
     ap.add_argument("--potential", nargs="*", default=[])
+    ap.add_argument("--flat", action="store_true",
+                    help="runs in OUT/SCENE/KERNEL, with the scenes' own contact model")
     a = ap.parse_args()
+    if a.flat:
+        a.models = [""]
     out = pathlib.Path(a.out)
     details = []
     for m, model in enumerate(a.models):
         kernels = [k for k in a.kernels if m == 0 or k not in a.potential]
-        print(f"contact_model = {model}:\n")
+        print(f"contact_model = {model or 'as in the scene files'}:\n")
         print("| scene | " + " | ".join(kernels) + " |")
         print("|---" * (len(kernels) + 1) + "|")
         for scene in a.scenes:
             row = []
             for k in kernels:
-                text, s = cell(out / model / scene / k, out / model / scene / f"{k}.log")
+                base = out / model if model else out
+                text, s = cell(base / scene / k, base / scene / f"{k}.log")
                 row.append(text)
                 if s:
                     details.append((model, scene, k, s))
             print(f"| {scene} | " + " | ".join(row) + " |")
         print()
     for model, scene, k, s in details:
-        print(f"- {scene} / {k} / {model}: {s['steps']} steps, {s['wall_seconds']:.1f} s wall, "
+        print(f"- {scene} / {k} / {model or s.get('contact_model')}: {s['steps']} steps, {s['wall_seconds']:.1f} s wall, "
               f"hash {s['state_hash']}")
         for c in s.get("checks", []):
             print(f"  - {c['name']}: {fmt(c['value'])}{unit(c)} (expected {fmt(c['expected'])}, "
