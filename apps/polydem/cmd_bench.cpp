@@ -10,6 +10,7 @@ int benchCheckpoint(int argc, char** argv);
 #ifdef POLYDEM_WITH_BENCHMARKS
 int benchKernels(int argc, char** argv);
 int benchScaling(int argc, char** argv);
+int benchYade(int argc, char** argv);
 #endif
 
 int benchCommand(int argc, char** argv) {
@@ -18,10 +19,12 @@ int benchCommand(int argc, char** argv) {
 #ifdef POLYDEM_WITH_BENCHMARKS
   if (which == "kernels") return benchKernels(argc - 1, argv + 1);
   if (which == "scaling") return benchScaling(argc - 1, argv + 1);
+  if (which == "yade") return benchYade(argc - 1, argv + 1);
   std::printf(
       "usage: polydem bench kernels [--help]   contact kernels vs libccd (P-KERNELS)\n"
       "       mpirun -n P polydem bench scaling [--help]   strong scaling of P-PILE\n"
-      "       mpirun -n P polydem bench checkpoint [--help]   checkpoint bandwidth vs raw HDF5\n");
+      "       mpirun -n P polydem bench checkpoint [--help]   checkpoint bandwidth vs raw HDF5\n"
+      "       polydem bench yade [--help]   polydem beside Yade on settled turned cubes\n");
   return which == "--help" ? 0 : 2;
 #else
   std::fprintf(stderr, "polydem was built without benchmarks (POLYDEM_BUILD_BENCHMARKS=OFF)\n");
