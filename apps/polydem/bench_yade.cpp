@@ -11,7 +11,7 @@
 // A = 1 m^2) has the same stiffness in both with young = 2 kn / A; the distance potential's
 // penalty gives it with penalty = kn r / (2 A) (docs/kernels/distance-potential.md: kn_eff =
 // penalty A (1/r_A + 1/r_B), r = 0.5 m).
-#include <unistd.h>
+#include <stdlib.h>  // mkdtemp
 
 #include <cmath>
 #include <cstdio>
@@ -41,6 +41,7 @@ struct Options {
   std::int64_t steps = 100;     // timed steps
   std::int64_t warmup = 10;
   std::vector<std::string> kernels = {"gjk-epa-ipm", "distance-potential"};
+  std::vector<std::string> models = {"sub-contacts", "point"};  // contact models (penalty kernels)
   std::string yade;  // executable; empty: "yade" on the PATH
   std::string keep;  // directory for the Yade script and its output
   std::uint64_t seed = 1;
@@ -133,9 +134,12 @@ io::Scene settle(const Options& o, std::int64_t& steps_taken, bool& reached) {
   sim::Simulation sim(scene, MPI_COMM_SELF);
   steps_taken = sim.runEquilibrium();
   reached = sim.equilibriumReached();
+  // The free cubes only: the storage holds centroids, and the walls, vertex-list shapes whose
+  // scene position is 0, would move by their centroid if theirs were copied.
   const auto& storage = sim.particles();
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
     const auto& p = storage[i];
+    if (!p.isFree()) continue;
     for (auto& spec : scene.particles) {
       if (spec.uid != p.uid) continue;
       spec.position = p.position;
@@ -147,21 +151,23 @@ io::Scene settle(const Options& o, std::int64_t& steps_taken, bool& reached) {
 }
 
 struct Result {
-  std::string code, kernel;
+  std::string code, kernel, model;
   double particle_steps_per_second = 0.0;
   std::int64_t contacts = 0, particles = 0, steps = 0;
   double seconds = 0.0;
 };
 
-Result runPolydem(io::Scene scene, const std::string& kernel, const Options& o) {
+Result runPolydem(io::Scene scene, const std::string& kernel, const std::string& model,
+                  const Options& o) {
   scene.kernel = kernel;
+  scene.contact_model = model;
   sim::Simulation sim(scene, MPI_COMM_SELF);
   for (std::int64_t i = 0; i < o.warmup; ++i) sim.step();
   const double t0 = threadSeconds();
   for (std::int64_t i = 0; i < o.steps; ++i) sim.step();
   const double seconds = threadSeconds() - t0;
   const auto mon = sim.monitors();
-  Result r{"polydem", kernel};
+  Result r{"polydem", kernel, model};
   r.particles = mon.particles;
   r.contacts = mon.contacts;
   r.steps = o.steps;
@@ -181,8 +187,9 @@ std::string yadeScript(const io::Scene& scene, const Options& o) {
      << ", poisson=" << kKs / kKn << ", frictionAngle=math.radians(" << kFriction << "))\n"
      << "O.materials.append(mat)\n"
      << "def body(v, fixed):\n"
-     << "    return O.bodies.append(polyhedra_utils.polyhedra(mat, v=[Vector3(*x) for x in v], "
-        "fixed=fixed))\n";
+     << "    b = polyhedra_utils.polyhedra(mat, v=[Vector3(*x) for x in v], fixed=fixed)\n"
+     << "    b.dynamic = not fixed\n"  // a wall: neither integrated nor counted as a particle
+     << "    return O.bodies.append(b)\n";
   for (const auto& p : scene.particles) {
     const auto& shape = scene.shapes[p.shape];
     const Mat3 r = p.orientation.toRotationMatrix();
@@ -204,7 +211,8 @@ std::string yadeScript(const io::Scene& scene, const Options& o) {
      << "t0 = time.process_time()\n"
      << "O.run(" << o.steps << ", True)\n"
      << "seconds = time.process_time() - t0\n"
-     << "contacts = sum(1 for i in O.interactions if i.isReal)\n"
+     // Contacts: interactions that push (the collider's other pairs are only near each other).
+     << "contacts = sum(1 for i in O.interactions if i.isReal and i.phys.normalForce.norm() > 0)\n"
      << "free = sum(1 for b in O.bodies if b.dynamic)\n"
      << "print('POLYDEM-YADE %d %d %d %.9g' % (free, contacts, " << o.steps << ", seconds))\n";
   return py.str();
@@ -236,13 +244,22 @@ std::optional<Result> runYade(const io::Scene& scene, const Options& o, const st
   while (std::getline(in, line)) {
     if (line.rfind("POLYDEM-YADE ", 0) != 0) continue;
     std::istringstream fields(line.substr(13));
-    Result r{"yade", "Polyhedra volumetric"};
+    Result r{"yade", "Polyhedra", "volumetric"};
     fields >> r.particles >> r.contacts >> r.steps >> r.seconds;
     if (!fields || r.seconds <= 0.0) break;
     r.particle_steps_per_second = static_cast<double>(r.particles * r.steps) / r.seconds;
     return r;
   }
-  log::warning(cat("bench yade: no result from Yade (exit status ", rc, "); see ", log.string()));
+  // No result: show the end of Yade's output, which goes with a temporary directory.
+  std::ifstream again(log);
+  std::vector<std::string> lines;
+  while (std::getline(again, line)) lines.push_back(line);
+  std::string tail;
+  for (std::size_t i = lines.size() > 20 ? lines.size() - 20 : 0; i < lines.size(); ++i) {
+    tail += "\n  " + lines[i];
+  }
+  log::warning(cat("bench yade: no result from Yade (", exe, ", exit status ", rc,
+                   "); the end of its output:", tail));
   return std::nullopt;
 }
 
@@ -254,10 +271,18 @@ Options parseOptions(Args& args) {
   o.steps = args.integer("steps", o.steps);
   o.warmup = args.integer("warmup", o.warmup);
   if (const auto k = args.value("kernels")) o.kernels = split(*k, ',');
+  if (const auto m = args.value("contact-models")) o.models = split(*m, ',');
+  for (const auto& m : o.models) {
+    if (m != "sub-contacts" && m != "point") {
+      throw UsageError(
+          cat("--contact-models: unknown model '", m, "' (known: sub-contacts, point)"));
+    }
+  }
   o.yade = args.value("yade", "");
   o.keep = args.value("keep", "");
   o.seed = static_cast<std::uint64_t>(args.integer("seed", 1));
-  if (o.particles < 1 || o.layers < 1 || o.settle < 1 || o.steps < 1 || o.warmup < 0) {
+  if (o.particles < 1 || o.layers < 1 || o.settle < 1 || o.steps < 1 || o.warmup < 0 ||
+      o.kernels.empty() || o.models.empty()) {
     throw UsageError("--particles, --layers, --settle and --steps must be >= 1, --warmup >= 0");
   }
   return o;
@@ -270,16 +295,18 @@ int benchYade(int argc, char** argv) {
   if (args.flag("help")) {
     std::printf(
         "usage: polydem bench yade [--particles N] [--layers L] [--settle S] [--steps M]\n"
-        "                          [--warmup W] [--kernels a,b] [--yade PATH] [--keep DIR]\n"
-        "                          [--json FILE]\n"
+        "                          [--warmup W] [--kernels a,b] [--contact-models m,n]\n"
+        "                          [--yade PATH] [--keep DIR] [--json FILE]\n"
         "  N randomly turned unit cubes (default 1000, L = 10 lattice layers) settled in a box by\n"
         "  polydem's equilibrium stage (at most S steps, default 30000), then M steps (default\n"
         "  100, after W = 10 untimed) from that state in polydem (each kernel, default\n"
-        "  gjk-epa-ipm,distance-potential) and in Yade's Polyhedra when Yade is installed\n"
+        "  gjk-epa-ipm,distance-potential; each contact model, default sub-contacts,point:\n"
+        "  the potential kernels' contacts keep one point in both) and in Yade's Polyhedra\n"
+        "  when Yade is installed\n"
         "  (apt-get install yade; --yade: its executable): particle-steps per second of one core\n"
         "  (CPU time) and contact counts. Same time step, density, stiffness, friction and local\n"
         "  damping (see apps/polydem/bench_yade.cpp). --keep: where the Yade script and its\n"
-        "  output go (default: a temporary directory, removed).\n");
+        "  output go (default: a temporary directory, removed). Without Yade: polydem only.\n");
     return 0;
   }
   const Options o = parseOptions(args);
@@ -302,17 +329,23 @@ int benchYade(int argc, char** argv) {
       kDamping);
 
   std::vector<Result> results;
-  for (const auto& kernel : o.kernels) results.push_back(runPolydem(scene, kernel, o));
+  for (const auto& kernel : o.kernels) {
+    for (const auto& model : o.models) results.push_back(runPolydem(scene, kernel, model, o));
+  }
   const std::string exe = yadeExecutable(o);
   if (exe.empty()) {
     std::printf("Yade not found (apt-get install yade, or --yade PATH): polydem only.\n\n");
   } else {
     const bool temporary = o.keep.empty();
-    const std::filesystem::path dir =
-        temporary ? std::filesystem::temp_directory_path() /
-                        cat("polydem-bench-yade-", static_cast<long long>(getpid()))
-                  : std::filesystem::path(o.keep);
-    std::filesystem::create_directories(dir);
+    std::filesystem::path dir(o.keep);
+    if (temporary) {  // a new directory of our own (mkdtemp), so that removing it is safe
+      std::string name =
+          (std::filesystem::temp_directory_path() / "polydem-bench-yade-XXXXXX").string();
+      if (mkdtemp(name.data()) == nullptr) throw Error("bench yade: cannot create " + name);
+      dir = name;
+    } else {
+      std::filesystem::create_directories(dir);
+    }
     if (auto r = runYade(scene, o, exe, dir)) results.push_back(*r);
     if (temporary) std::filesystem::remove_all(dir);
   }
@@ -320,7 +353,7 @@ int benchYade(int argc, char** argv) {
   for (const auto& r : results) {
     if (r.code == "yade") yade = &r;
   }
-  std::printf("%-8s %-22s %10s %14s %10s %11s %12s\n", "code", "kernel", "particles",
+  std::printf("%-8s %-22s %-13s %10s %14s %8s %9s %12s\n", "code", "kernel", "model", "particles",
               "particle-st/s", "x Yade", "contacts", "per particle");
   for (const auto& r : results) {
     char ratio[32] = "-";
@@ -328,9 +361,9 @@ int benchYade(int argc, char** argv) {
       std::snprintf(ratio, sizeof ratio, "%.1f",
                     r.particle_steps_per_second / yade->particle_steps_per_second);
     }
-    std::printf("%-8s %-22s %10lld %14.0f %10s %11lld %12.2f\n", r.code.c_str(), r.kernel.c_str(),
-                static_cast<long long>(r.particles), r.particle_steps_per_second, ratio,
-                static_cast<long long>(r.contacts),
+    std::printf("%-8s %-22s %-13s %10lld %14.0f %8s %9lld %12.2f\n", r.code.c_str(),
+                r.kernel.c_str(), r.model.c_str(), static_cast<long long>(r.particles),
+                r.particle_steps_per_second, ratio, static_cast<long long>(r.contacts),
                 static_cast<double>(r.contacts) / static_cast<double>(r.particles));
   }
   if (json_path) {
@@ -338,6 +371,7 @@ int benchYade(int argc, char** argv) {
     for (const auto& r : results) {
       out.push_back({{"code", r.code},
                      {"kernel", r.kernel},
+                     {"contact_model", r.model},
                      {"particles", r.particles},
                      {"steps", r.steps},
                      {"seconds", r.seconds},
