@@ -37,8 +37,8 @@ namespace {
 struct Options {
   std::int64_t particles = 1000;
   std::int64_t layers = 10;
-  std::int64_t settle = 30000;  // most equilibrium steps
-  std::int64_t steps = 100;     // timed steps
+  std::int64_t settle = 150000;  // most equilibrium steps (1,000 cubes: about settled)
+  std::int64_t steps = 100;      // timed steps
   std::int64_t warmup = 10;
   std::vector<std::string> kernels = {"gjk-epa-ipm", "distance-potential"};
   std::vector<std::string> models = {"sub-contacts", "point"};  // contact models (penalty kernels)
@@ -298,7 +298,7 @@ int benchYade(int argc, char** argv) {
         "                          [--warmup W] [--kernels a,b] [--contact-models m,n]\n"
         "                          [--yade PATH] [--keep DIR] [--json FILE]\n"
         "  N randomly turned unit cubes (default 1000, L = 10 lattice layers) settled in a box by\n"
-        "  polydem's equilibrium stage (at most S steps, default 30000), then M steps (default\n"
+        "  polydem's equilibrium stage (at most S steps, default 150000), then M steps (default\n"
         "  100, after W = 10 untimed) from that state in polydem (each kernel, default\n"
         "  gjk-epa-ipm,distance-potential; each contact model, default sub-contacts,point:\n"
         "  the potential kernels' contacts keep one point in both) and in Yade's Polyhedra\n"
