@@ -1,6 +1,7 @@
 #include "cube_layer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -151,10 +152,23 @@ CubeLayer makeCubeLayer(const CubeLayerSpec& spec) {
   layer.uids.resize(n);
   for (std::size_t i = 0; i < n; ++i) layer.uids[i] = i + 1;
   layer.active.assign(n, 1);
-  if (spec.shuffle) {
+  if (spec.shuffle || spec.sort_cells) {
     std::vector<std::size_t> order(n);
     for (std::size_t i = 0; i < n; ++i) order[i] = i;
-    rng.shuffle(order);
+    if (spec.shuffle) {
+      rng.shuffle(order);
+    } else {
+      // Cells of the small cubes' grid, from the lowest corner of the scene.
+      const double edge = 2.0 * circumradius(kSmallEdge);
+      auto cell = [&](std::size_t i) {
+        const Vec3& c = layer.centers[i];
+        return std::array<long, 3>{std::lround(std::floor(c.z() / edge)),
+                                   std::lround(std::floor(c.y() / edge)),
+                                   std::lround(std::floor(c.x() / edge))};
+      };
+      std::stable_sort(order.begin(), order.end(),
+                       [&](std::size_t a, std::size_t b) { return cell(a) < cell(b); });
+    }
     CubeLayer shuffled = layer;
     for (std::size_t i = 0; i < n; ++i) {
       shuffled.centers[i] = layer.centers[order[i]];

@@ -4,7 +4,8 @@
 // particle, the growth of the time per particle with N and the ratio NBS / multilevel are printed.
 //
 //   bench_broadphase [--n 1000,2000,...] [--layout pockets|sprinkle] [--big-fraction 0.1]
-//                    [--repeats 10] [--rounds 5] [--margin 0] [--shuffle] [--ground]
+//                    [--repeats 10] [--rounds 5] [--margin 0] [--shuffle | --sort-cells]
+//                    [--ground]
 //                    [--methods multilevel,nbs] [--nbs-max-n N] [--json FILE]
 #include <time.h>  // clock_gettime (POSIX)
 
@@ -78,6 +79,8 @@ Options parse(int argc, char** argv) {
       o.margin = std::stod(value());
     } else if (arg == "--shuffle") {
       o.scene.shuffle = true;
+    } else if (arg == "--sort-cells") {
+      o.scene.sort_cells = true;
     } else if (arg == "--ground") {
       o.scene.ground = true;
     } else if (arg == "--methods") {
@@ -180,7 +183,8 @@ int run(const Options& o) {
       "P-BROADPHASE (Zhao 5.5, table 7): cubes of 1.0 m and 0.1 m edge, %.0f%% big by "
       "count, layout '%s', %.1f mm gaps%s%s, margin %g m\n",
       100.0 * sc.big_fraction, sc.layout.c_str(), 1e3 * sc.gap,
-      sc.shuffle ? ", storage order shuffled" : "", sc.ground ? ", ground slab" : "", o.margin);
+      sc.shuffle ? ", storage order shuffled" : (sc.sort_cells ? ", storage in cell order" : ""),
+      sc.ground ? ", ground slab" : "", o.margin);
   std::printf(
       "CPU time of one detection: the fastest of %d rounds of %d detections; ms/10 is "
       "ten times that\n\n",
@@ -233,7 +237,8 @@ int run(const Options& o) {
                          {"layout", sc.layout},
                          {"big_fraction", sc.big_fraction},
                          {"ground", sc.ground},
-                         {"shuffled", sc.shuffle}});
+                         {"shuffled", sc.shuffle},
+                         {"sorted_cells", sc.sort_cells}});
     }
     std::printf("%8d %9zu", n, pairs);
     for (std::size_t k = 0; k < o.methods.size(); ++k) {

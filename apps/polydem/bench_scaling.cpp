@@ -160,7 +160,8 @@ int benchScaling(int argc, char** argv) {
     std::printf(
         "usage: mpirun -n P polydem bench scaling [--particles N | --per-rank N]\n"
         "         [--shapes mixed|cubes] [--layers L] [--steps S] [--warmup W] [--kernel NAME]\n"
-        "         [--ranks 1,2,...] [--control] [--json FILE]\n"
+        "         [--ranks 1,2,...] [--control] [--contact-model sub-contacts|point]\n"
+        "         [--json FILE]\n"
         "         [--gap G]   lattice gap relative to the size (default 0.05: particles start\n"
         "                     apart and fall; -0.001 with cubes: a dense pack, every face in\n"
         "                     contact from the first step)\n"
@@ -178,6 +179,11 @@ int benchScaling(int argc, char** argv) {
   pile.particles = args.integer("particles", 20000);
   pile.shapes = args.value("shapes", "mixed");
   pile.kernel = args.value("kernel", "gjk-epa-ipm");
+  const std::string model = args.value("contact-model", "sub-contacts");
+  if (model != "sub-contacts" && model != "point") {
+    throw UsageError(
+        cat("--contact-model: unknown model '", model, "' (known: sub-contacts, point)"));
+  }
   pile.layers = args.integer("layers", 10);
   pile.gap = args.number("gap", pile.gap);
   pile.floor_width = args.number("floor-width", 0.0);
@@ -193,7 +199,9 @@ int benchScaling(int argc, char** argv) {
   auto sceneFor = [&](int ranks) {
     sim::PileOptions o = pile;
     if (per_rank > 0) o.particles = per_rank * ranks;
-    return sim::makePileScene(o);
+    io::Scene scene = sim::makePileScene(o);
+    scene.contact_model = model;
+    return scene;
   };
 
   std::vector<Measurement> results;
@@ -217,12 +225,14 @@ int benchScaling(int argc, char** argv) {
   double control_ratio = 0.0;  // lone 1-rank time / side-by-side 1-rank time
   if (control && t1 > 0) control_ratio = t1 / results.back().seconds;
   std::printf(
-      "P-PILE %s scaling: %s %s particles%s, kernel %s, %lld steps after %lld warm-up\n",
+      "P-PILE %s scaling: %s %s particles%s, kernel %s, contact model %s, %lld steps after %lld "
+      "warm-up\n",
       per_rank > 0 ? "weak" : "strong",
       per_rank > 0 ? cat(per_rank, " per rank").c_str() : cat(results.front().particles).c_str(),
       pile.shapes.c_str(),
       pile.floor_width > 0 ? cat(" on a floor ", pile.floor_width, "x as wide").c_str() : "",
-      pile.kernel.c_str(), static_cast<long long>(steps), static_cast<long long>(warmup));
+      pile.kernel.c_str(), model.c_str(), static_cast<long long>(steps),
+      static_cast<long long>(warmup));
   std::printf("%7s %9s %9s %14s %14s %10s %9s %22s %8s %8s %8s\n", "ranks", "wall [s]", "contacts",
               "p-steps/s", "p-steps/s/core", "efficiency", "of hw", "step ms min/mean/max",
               "broad%", "contact%", "comm%");

@@ -11,6 +11,7 @@ int benchCheckpoint(int argc, char** argv);
 int benchContactModel(int argc, char** argv);
 int benchKernels(int argc, char** argv);
 int benchScaling(int argc, char** argv);
+int benchYade(int argc, char** argv);
 #endif
 
 int benchCommand(int argc, char** argv) {
@@ -20,11 +21,13 @@ int benchCommand(int argc, char** argv) {
   if (which == "kernels") return benchKernels(argc - 1, argv + 1);
   if (which == "scaling") return benchScaling(argc - 1, argv + 1);
   if (which == "contact-model") return benchContactModel(argc - 1, argv + 1);
+  if (which == "yade") return benchYade(argc - 1, argv + 1);
   std::printf(
       "usage: polydem bench kernels [--help]   contact kernels vs libccd (P-KERNELS)\n"
       "       mpirun -n P polydem bench scaling [--help]   strong scaling of P-PILE\n"
       "       polydem bench contact-model [--help]   sub-contacts vs the point model\n"
-      "       mpirun -n P polydem bench checkpoint [--help]   checkpoint bandwidth vs raw HDF5\n");
+      "       mpirun -n P polydem bench checkpoint [--help]   checkpoint bandwidth vs raw HDF5\n"
+      "       polydem bench yade [--help]   polydem beside Yade on settled turned cubes\n");
   return which == "--help" ? 0 : 2;
 #else
   std::fprintf(stderr, "polydem was built without benchmarks (POLYDEM_BUILD_BENCHMARKS=OFF)\n");

@@ -20,6 +20,7 @@
 // the same slack.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -41,12 +42,46 @@ struct Meta {
   std::uint8_t active;
 };
 
-/// Appends the pair (a, b), lower uid first, if one of them is active. The order is picked
-/// without a branch: which uid is lower is a coin toss the branch predictor would lose.
-inline void emitPair(const Meta& a, const Meta& b, std::vector<CandidatePair>& out) {
-  if ((a.active | b.active) == 0) return;
+/// Appends candidate pairs to a vector without a branch per pair: a pair is written
+/// unconditionally at the end and kept by advancing the end by the test's outcome (0 or 1). The
+/// outcomes are hard to predict (a third hit among neighbours of one size), and a mispredicted
+/// branch costs more than the write. The vector's elements past the pairs are scratch: it is
+/// resized only to grow (so no element is zeroed twice) and cut to the pairs by finish().
+class PairWriter {
+ public:
+  /// Starts `out` afresh (its old pairs are dropped).
+  explicit PairWriter(std::vector<CandidatePair>& out) : out_(out) {}
+  /// Without finish() (an exception on the way), `out` is left empty.
+  ~PairWriter() {
+    if (!finished_) out_.clear();
+  }
+  PairWriter(const PairWriter&) = delete;
+  PairWriter& operator=(const PairWriter&) = delete;
+  /// Room for `k` more pairs after the ones kept; returns where the next one goes.
+  CandidatePair* room(std::size_t k) {
+    if (count_ + k > out_.size()) out_.resize(std::max(count_ + k, 2 * out_.size()));
+    return out_.data() + count_;
+  }
+  /// Keeps the pairs written from room()'s pointer up to `end`.
+  void keep(const CandidatePair* end) { count_ = static_cast<std::size_t>(end - out_.data()); }
+  /// Cuts `out` to the pairs kept.
+  void finish() {
+    out_.resize(count_);
+    finished_ = true;
+  }
+
+ private:
+  std::vector<CandidatePair>& out_;
+  std::size_t count_ = 0;
+  bool finished_ = false;
+};
+
+/// Writes the pair (a, b), lower uid first, at `w`, and returns the next place: `w` + 1 if
+/// `hit` and one of them is active, else `w` (the write is then scratch). No branch.
+inline CandidatePair* writePair(const Meta& a, const Meta& b, bool hit, CandidatePair* w) {
   const bool a_first = a.uid < b.uid;
-  out.push_back({a_first ? a.index : b.index, a_first ? b.index : a.index});
+  *w = {a_first ? a.index : b.index, a_first ? b.index : a.index};
+  return w + static_cast<std::size_t>(hit & ((a.active | b.active) != 0));
 }
 
 struct CellKey {

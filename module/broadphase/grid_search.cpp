@@ -13,24 +13,39 @@ inline bool near(const Item& a, const Item& b, double margin) {
   return withinReach(a.x, a.y, a.z, a.r, b.x, b.y, b.z, b.r, margin);
 }
 
-// Tests item a against the contiguous items [begin, end) of the same arrays or others. Each
-// block of 64 is tested first into a bit mask, with no branch on the outcome, and then the hits
-// are emitted: a test's outcome is hard to predict (a third hit among neighbours of one size),
-// and a mispredicted branch costs more than the test.
+// Tests item a against the contiguous items [begin, end) of the same arrays or others and writes
+// the pairs found. Two ways, the same pairs in the same order:
+//  - kWritePerTest: every test writes its pair and the end advances by the outcome, with no
+//    branch at all: best where a fair share of the tests hit (the multi-level grids, whose cells
+//    fit their members: about one test in four);
+//  - kMaskPerBlock: each block of 64 is tested into a bit mask, then only the hits are written:
+//    best where hits are rare (NBS cells sized for the largest member: one test in fifty).
+// A mispredicted branch on a test's outcome (hard to predict: a third hit among neighbours of one
+// size) costs more than either.
+enum class Emit { kWritePerTest, kMaskPerBlock };
+
+template <Emit kEmit>
 inline void testRange(const Item& a, const Meta& a_meta, const Item* items, const Meta* meta,
-                      std::int32_t begin, std::int32_t end, double margin,
-                      std::vector<CandidatePair>& out) {
-  for (std::int32_t block = begin; block < end; block += 64) {
-    const std::int32_t n = std::min<std::int32_t>(64, end - block);
-    std::uint64_t hits = 0;
-    for (std::int32_t k = 0; k < n; ++k) {
-      hits |= static_cast<std::uint64_t>(near(a, items[block + k], margin)) << k;
+                      std::int32_t begin, std::int32_t end, double margin, PairWriter& out) {
+  if (begin >= end) return;
+  CandidatePair* w = out.room(static_cast<std::size_t>(end - begin));
+  if constexpr (kEmit == Emit::kWritePerTest) {
+    for (std::int32_t k = begin; k < end; ++k) {
+      w = writePair(a_meta, meta[k], near(a, items[k], margin), w);
     }
-    while (hits != 0) {
-      emitPair(a_meta, meta[block + std::countr_zero(hits)], out);
-      hits &= hits - 1;
+  } else {
+    for (std::int32_t block = begin; block < end; block += 64) {
+      const std::int32_t n = std::min<std::int32_t>(64, end - block);
+      std::uint64_t hits = 0;
+      for (std::int32_t k = 0; k < n; ++k) {
+        hits |= static_cast<std::uint64_t>(near(a, items[block + k], margin)) << k;
+      }
+      for (; hits != 0; hits &= hits - 1) {
+        w = writePair(a_meta, meta[block + std::countr_zero(hits)], true, w);
+      }
     }
   }
+  out.keep(w);
 }
 
 // Whether a sphere (centre t, radius t.r) can be within reach of any sphere of radius <= r_max
@@ -65,9 +80,8 @@ inline std::size_t rowRun(std::span<const CellGrid::Cell> cells, const CellKey& 
 // order too, so one cursor per offset walks the cell array once: no search, no hashing.
 constexpr std::int64_t kForwardRows[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
 
-}  // namespace
-
-void searchWithin(const CellGrid& grid, double margin, std::vector<CandidatePair>& out) {
+template <Emit kEmit>
+void searchWithinCells(const CellGrid& grid, double margin, PairWriter& out) {
   const Item* items = grid.items().data();
   const Meta* meta = grid.meta().data();
   const auto cells = grid.cells();
@@ -81,7 +95,7 @@ void searchWithin(const CellGrid& grid, double margin, std::vector<CandidatePair
       block_end = cells[c + 1].end;
     }
     for (std::int32_t a = cell.begin; a < cell.end; ++a) {
-      testRange(items[a], meta[a], items, meta, a + 1, block_end, margin, out);
+      testRange<kEmit>(items[a], meta[a], items, meta, a + 1, block_end, margin, out);
     }
     for (std::size_t r = 0; r < 4; ++r) {
       const CellKey from{key.x - 1, key.y + kForwardRows[r][0], key.z + kForwardRows[r][1]};
@@ -89,14 +103,24 @@ void searchWithin(const CellGrid& grid, double margin, std::vector<CandidatePair
       if (end == cursor[r]) continue;
       const std::int32_t begin = cells[cursor[r]].begin, stop = cells[end - 1].end;
       for (std::int32_t a = cell.begin; a < cell.end; ++a) {
-        testRange(items[a], meta[a], items, meta, begin, stop, margin, out);
+        testRange<kEmit>(items[a], meta[a], items, meta, begin, stop, margin, out);
       }
     }
   }
 }
 
-void searchAcross(const CellGrid& target, const CellGrid& queries, double margin,
-                  std::vector<CandidatePair>& out, AcrossScratch& scratch) {
+}  // namespace
+
+void searchWithin(const CellGrid& grid, double margin, PairWriter& out) {
+  searchWithinCells<Emit::kWritePerTest>(grid, margin, out);
+}
+
+void searchWithinSparse(const CellGrid& grid, double margin, PairWriter& out) {
+  searchWithinCells<Emit::kMaskPerBlock>(grid, margin, out);
+}
+
+void searchAcross(const CellGrid& target, const CellGrid& queries, double margin, PairWriter& out,
+                  AcrossScratch& scratch) {
   std::vector<std::int32_t>& found = scratch.found;
   std::vector<std::int32_t>& survivors = scratch.survivors;
   const Item* titems = target.items().data();
@@ -144,25 +168,26 @@ void searchAcross(const CellGrid& target, const CellGrid& queries, double margin
     }
     for (std::size_t k = 0; k < kept; ++k) {
       const std::int32_t t = survivors[k];
-      testRange(titems[t], tmeta[t], qitems, qmeta, qcell.begin, qcell.end, margin, out);
+      testRange<Emit::kWritePerTest>(titems[t], tmeta[t], qitems, qmeta, qcell.begin, qcell.end,
+                                     margin, out);
     }
   }
 }
 
-void searchWithinDirect(const CellGrid& grid, double margin, std::vector<CandidatePair>& out) {
+void searchWithinDirect(const CellGrid& grid, double margin, PairWriter& out) {
   const auto n = static_cast<std::int32_t>(grid.items().size());
   for (std::int32_t a = 0; a < n; ++a) {
-    testRange(grid.items()[a], grid.meta()[a], grid.items().data(), grid.meta().data(), a + 1, n,
-              margin, out);
+    testRange<Emit::kWritePerTest>(grid.items()[a], grid.meta()[a], grid.items().data(),
+                                   grid.meta().data(), a + 1, n, margin, out);
   }
 }
 
 void searchAcrossDirect(const CellGrid& target, const CellGrid& queries, double margin,
-                        std::vector<CandidatePair>& out) {
+                        PairWriter& out) {
   const auto n = static_cast<std::int32_t>(queries.items().size());
   for (std::size_t t = 0; t < target.items().size(); ++t) {
-    testRange(target.items()[t], target.meta()[t], queries.items().data(), queries.meta().data(), 0,
-              n, margin, out);
+    testRange<Emit::kWritePerTest>(target.items()[t], target.meta()[t], queries.items().data(),
+                                   queries.meta().data(), 0, n, margin, out);
   }
 }
 

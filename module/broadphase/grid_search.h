@@ -12,7 +12,10 @@
 namespace polydem::broadphase::detail {
 
 /// Every pair of members of `grid` within reach. Needs grid.edge() >= 2 * maxRadius + margin.
-void searchWithin(const CellGrid& grid, double margin, std::vector<CandidatePair>& out);
+void searchWithin(const CellGrid& grid, double margin, PairWriter& out);
+/// The same pairs, written in a way that suits grids where few tests hit (cells much larger
+/// than most members: NBS with mixed sizes).
+void searchWithinSparse(const CellGrid& grid, double margin, PairWriter& out);
 
 /// Every pair (q, t) within reach, q a member of `queries` and t a member of `target` (built
 /// with lookup). Taken a cell of `queries` at a time: the target cells around the box of that
@@ -22,13 +25,13 @@ void searchWithin(const CellGrid& grid, double margin, std::vector<CandidatePair
 struct AcrossScratch {
   std::vector<std::int32_t> found, survivors;
 };
-void searchAcross(const CellGrid& target, const CellGrid& queries, double margin,
-                  std::vector<CandidatePair>& out, AcrossScratch& scratch);
+void searchAcross(const CellGrid& target, const CellGrid& queries, double margin, PairWriter& out,
+                  AcrossScratch& scratch);
 
 /// Same pairs as searchWithin / searchAcross, by testing every pair: cheaper than cells when the
 /// grid has only a few members (a lone boundary block).
-void searchWithinDirect(const CellGrid& grid, double margin, std::vector<CandidatePair>& out);
+void searchWithinDirect(const CellGrid& grid, double margin, PairWriter& out);
 void searchAcrossDirect(const CellGrid& target, const CellGrid& queries, double margin,
-                        std::vector<CandidatePair>& out);
+                        PairWriter& out);
 
 }  // namespace polydem::broadphase::detail

@@ -9,8 +9,8 @@ MultiLevelGrid::MultiLevelGrid(const BroadPhaseParams& params) : params_(params)
 }
 
 void MultiLevelGrid::findPairs(const SphereSet& spheres, double margin,
-                               std::vector<CandidatePair>& out) {
-  out.clear();
+                               std::vector<CandidatePair>& out_pairs) {
+  detail::PairWriter out(out_pairs);
   const detail::SceneBounds bounds = detail::checkAndBound(spheres, margin);
   const int levels = planner_.plan(spheres, margin, bounds, params_, level_of_);
 
@@ -55,6 +55,7 @@ void MultiLevelGrid::findPairs(const SphereSet& spheres, double margin,
       }
     }
   }
+  out.finish();
 }
 
 }  // namespace polydem::broadphase

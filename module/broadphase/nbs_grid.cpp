@@ -10,14 +10,16 @@ NbsGrid::NbsGrid(const BroadPhaseParams& params) : params_(params) {
   detail::checkParams(params_);
 }
 
-void NbsGrid::findPairs(const SphereSet& spheres, double margin, std::vector<CandidatePair>& out) {
-  out.clear();
+void NbsGrid::findPairs(const SphereSet& spheres, double margin,
+                        std::vector<CandidatePair>& out_pairs) {
+  detail::PairWriter out(out_pairs);
   const detail::SceneBounds bounds = detail::checkAndBound(spheres, margin);
   all_.resize(spheres.centers.size());
   std::iota(all_.begin(), all_.end(), 0);
   grid_.build(spheres, all_, params_.cell_factor * (2.0 * bounds.max_radius + margin), bounds,
               false);
-  detail::searchWithin(grid_, margin, out);
+  detail::searchWithinSparse(grid_, margin, out);
+  out.finish();
 }
 
 }  // namespace polydem::broadphase

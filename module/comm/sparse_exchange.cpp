@@ -14,7 +14,10 @@ std::vector<Message> sparseExchange(const std::map<int, SendBuffer>& outgoing, M
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const int ranks = mpi::size(comm);
-  std::vector<std::int64_t> send_counts(ranks, 0), recv_counts(ranks, 0);
+  // Kept between calls: an exchange every step allocates only for the messages it receives.
+  static thread_local std::vector<std::int64_t> send_counts, recv_counts;
+  send_counts.assign(ranks, 0);
+  recv_counts.assign(ranks, 0);
   std::int64_t sent = 0, messages = 0;
   for (const auto& [rank, buffer] : outgoing) {
     if (buffer.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {

@@ -25,7 +25,11 @@ struct CellBuffers {
   std::vector<int> loops;
   std::vector<potential::CellFace> faces;
 
-  potential::Cell cell() const { return {planes, corners, loops, faces}; }
+  std::span<const int> region_begin, region_neighbours;
+
+  potential::Cell cell() const {
+    return {planes, corners, loops, faces, region_begin, region_neighbours};
+  }
 };
 
 struct Scratch {
@@ -57,6 +61,10 @@ void buildCell(const Body& body, const Vec3& origin, CellBuffers& out) {
     out.loops.insert(out.loops.end(), faces[f].vertices.begin(), faces[f].vertices.end());
     out.faces[f].end = static_cast<int>(out.loops.size());
   }
+  // One plane per face, in face order: the shape's nearest-face partition applies as it is.
+  const geometry::FaceRegions& regions = body.shape->faceRegions();
+  out.region_begin = regions.begin;
+  out.region_neighbours = regions.neighbours;
   out.corners.resize(body.vertices.size());
   for (std::size_t i = 0; i < body.vertices.size(); ++i) out.corners[i] = body.vertices[i] - origin;
 }

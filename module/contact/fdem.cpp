@@ -28,8 +28,9 @@ struct Tet {
   Vec3 lo, hi;
 
   potential::Cell cell() const {
-    return {planes, p, kTetLoops,
-            std::span<const potential::CellFace>(faces.data(), surface_faces)};
+    // No nearest-face partition: a tetrahedron's four planes all meet one another.
+    return {planes, p, kTetLoops, std::span<const potential::CellFace>(faces.data(), surface_faces),
+            {},     {}};
   }
 };
 

@@ -1,6 +1,7 @@
 #include "contact/potential_overlap.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -27,103 +28,96 @@ bool outsideBox(std::span<const Vec3> corners, std::span<const int> loop, const 
 
 }  // namespace
 
-void integrateLinear(std::span<const Vec3> corners, std::span<const double> values,
-                     const Vec3& normal, double& integral, Vec3& first_moment, double& area) {
-  const std::size_t n = corners.size();
-  const Vec3& x0 = corners[0];
-  const double g0 = values[0];
-  for (std::size_t k = 1; k + 1 < n; ++k) {
-    const Vec3& x1 = corners[k];
-    const Vec3& x2 = corners[k + 1];
-    const double g1 = values[k], g2 = values[k + 1];
-    // Signed area about the known normal: exact orientation, no square root.
-    const double a = 0.5 * normal.dot((x1 - x0).cross(x2 - x0));
-    const double gs = g0 + g1 + g2;
-    area += a;
-    integral += a * gs / 3.0;  // Zhao eq. 23: area times the mean corner value
-    first_moment += (a / 12.0) * (g0 * x0 + g1 * x1 + g2 * x2 + gs * (x0 + x1 + x2));  // eqs. 24-25
-  }
-}
-
-bool OverlapIntegrator::activePlanes(const Cell& cell, const Vec3& lo, const Vec3& hi,
-                                     std::vector<int>& active) {
-  // A plane that holds the whole box cannot cut anything in it; one that excludes the whole box
-  // leaves nothing (no overlap).
+bool OverlapIntegrator::excludesBox(const Cell& cell, const Vec3& lo, const Vec3& hi) {
   const Vec3 centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-  active.clear();
-  for (std::size_t j = 0; j < cell.planes.size(); ++j) {
-    const CellPlane& p = cell.planes[j];
-    const double mid = p.normal.dot(centre) - p.offset;
-    const double reach = p.normal.cwiseAbs().dot(half);
-    if (mid - reach > 0.0) return false;
-    if (mid + reach > 0.0) active.push_back(static_cast<int>(j));
+  for (const CellPlane& p : cell.planes) {
+    if (p.normal.dot(centre) - p.offset - p.normal.cwiseAbs().dot(half) > 0.0) return true;
   }
-  return true;
+  return false;
 }
 
-void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other,
-                                  const std::vector<int>& other_active, bool on_a, const Vec3& lo,
+const std::uint64_t* OverlapIntegrator::outsideMask(const Cell& own, const Cell& other, int v) {
+  std::uint64_t* mask = outside_.data() + static_cast<std::size_t>(v) * words_;
+  if (known_[v]) return mask;
+  known_[v] = 1;
+  std::fill(mask, mask + words_, 0);
+  const Vec3& x = own.corners[v];
+  for (std::size_t k = 0; k < other.planes.size(); ++k) {
+    const CellPlane& p = other.planes[k];
+    if (p.normal.dot(x) - p.offset > 0.0) mask[k >> 6] |= std::uint64_t{1} << (k & 63);
+  }
+  return mask;
+}
+
+void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other, bool on_a, const Vec3& lo,
                                   const Vec3& hi) {
-  // Signed distances of own's corners to the other's active planes, each computed once: a face
-  // with all corners outside one plane is skipped, and only planes that separate its corners
-  // are clipped by (a plane holding all corners of a face holds the face).
-  const std::size_t n_active = other_active.size();
-  distance_.resize(own.corners.size() * n_active);
+  // For each corner of own, the set of the other's planes it lies outside of, computed once: a
+  // face with all corners outside one plane is skipped, and the others are clipped by the planes
+  // some corner is outside of, which is all it takes (a plane holding all corners of a face holds
+  // the face).
+  words_ = (other.planes.size() + 63) / 64;
+  outside_.resize(own.corners.size() * words_);
   known_.assign(own.corners.size(), 0);
+  all_out_.resize(words_);
+  any_out_.resize(words_);
   for (const CellFace& face : own.faces) {
+    // The box holds the overlap: a face beyond one of its sides has no part in it.
     const std::span<const int> loop = own.loops.subspan(face.begin, face.end - face.begin);
     if (outsideBox(own.corners, loop, lo, hi)) continue;
+    std::fill(all_out_.begin(), all_out_.end(), ~std::uint64_t{0});
+    std::fill(any_out_.begin(), any_out_.end(), 0);
     for (int v : loop) {
-      if (known_[v]) continue;
-      known_[v] = 1;
-      for (std::size_t k = 0; k < n_active; ++k) {
-        const CellPlane& p = other.planes[other_active[k]];
-        distance_[v * n_active + k] = p.normal.dot(own.corners[v]) - p.offset;
+      const std::uint64_t* mask = outsideMask(own, other, v);
+      for (std::size_t w = 0; w < words_; ++w) {
+        all_out_[w] &= mask[w];
+        any_out_[w] |= mask[w];
       }
     }
-    cut_.clear();
     bool outside = false;
-    for (std::size_t k = 0; k < n_active && !outside; ++k) {
-      bool all_out = true, any_out = false;
-      for (int v : loop) {
-        const bool out = distance_[v * n_active + k] > 0.0;
-        all_out = all_out && out;
-        any_out = any_out || out;
-      }
-      outside = all_out;
-      if (any_out) cut_.push_back(other_active[k]);
-    }
+    for (std::size_t w = 0; w < words_; ++w) outside = outside || all_out_[w] != 0;
     if (outside) continue;
-    // Zhao steps 1-2 (eqs. 6-7): the part of this face inside the other cell. The overlap lies in
-    // the box, so clipping by it first changes nothing but drops far parts early.
+    // Zhao steps 1-2 (eqs. 6-7): the part of this face inside the other cell. Clipped in space,
+    // so that the clip sees the very distances the masks were made of (a face touching a plane
+    // to round-off is kept or dropped consistently).
     clipper_.assign(own.corners, loop);
     bool inside = true;
-    for (int axis = 0; axis < 3 && inside; ++axis) {
-      inside =
-          clipper_.clip(Vec3::Unit(axis), -hi[axis]) && clipper_.clip(-Vec3::Unit(axis), lo[axis]);
+    for (std::size_t w = 0; w < words_ && inside; ++w) {
+      for (std::uint64_t bits = any_out_[w]; bits != 0 && inside; bits &= bits - 1) {
+        const CellPlane& p = other.planes[64 * w + std::countr_zero(bits)];
+        inside = clipper_.clip(p.normal, -p.offset);
+      }
     }
-    for (std::size_t k = 0; k < cut_.size() && inside; ++k) {
-      const CellPlane& p = other.planes[cut_[k]];
-      inside = clipper_.clip(p.normal, -p.offset);
-    }
-    const auto& poly = clipper_.polygon();
+    const auto poly = clipper_.polygon();
     if (!inside || poly.size() < 3) continue;
+    // The piece in 2D coordinates of the face's plane about the mean of its corners, for the
+    // region split and the integrals: coordinates and terms are then of the size of the piece
+    // and its potential, with no cancellation of large numbers.
+    const CellPlane& fp = own.planes[face.plane];
+    PieceFrame frame;
+    frame.origin = Vec3::Zero();
+    for (const Vec3& x : poly) frame.origin += x;
+    frame.origin /= static_cast<double>(poly.size());
+    frame.e1 = fp.normal.unitOrthogonal();
+    frame.e2 = fp.normal.cross(frame.e1);
     Piece piece;
     piece.begin = static_cast<int>(pool_.size());
-    pool_.insert(pool_.end(), poly.begin(), poly.end());
+    for (const Vec3& x : poly) {
+      pool_.push_back(x);
+      flat_pool_.push_back(frame.toPlane(x));
+    }
     piece.end = static_cast<int>(pool_.size());
     piece.plane = face.plane;
     piece.on_a = on_a;
+    piece.frame = frame;
     pieces_.push_back(piece);
   }
 }
 
-double OverlapIntegrator::selectCandidates(const Cell& cell, std::vector<int>& candidates) {
-  // phi = min_j term_j, each term linear, so over the overlap (whose corners are all in pool_)
-  // phi <= max over pool_ of term_k for any k =: bound; plane j can be the minimum somewhere only
-  // if its smallest term over pool_ is <= bound. k is the smallest term at the pool's mean; the
-  // pool's box gives a cheap lower bound of each plane's smallest term first. Shallow contacts
-  // keep one or two planes.
+double OverlapIntegrator::selectCandidates(const Cell& cell, std::vector<int>& candidates) const {
+  // phi = min_j term_j, each term linear, so over the overlap (the convex hull of pool_) phi <=
+  // max over pool_ of term_k for any k =: bound, k the smallest term at the pool's mean; plane j
+  // can be the minimum somewhere only if its smallest term over the overlap is <= bound, and the
+  // pool's box bounds that from below. Each piece narrows the list further (EnvelopeIntegrator).
   Vec3 mean = Vec3::Zero(), lo = pool_.front(), hi = pool_.front();
   for (const Vec3& x : pool_) {
     mean += x;
@@ -133,8 +127,13 @@ double OverlapIntegrator::selectCandidates(const Cell& cell, std::vector<int>& c
   mean /= static_cast<double>(pool_.size());
   const std::size_t m = cell.planes.size();
   std::size_t best = 0;
+  double best_term = cell.planes[0].term(mean);
   for (std::size_t j = 1; j < m; ++j) {
-    if (cell.planes[j].term(mean) < cell.planes[best].term(mean)) best = j;
+    const double t = cell.planes[j].term(mean);
+    if (t < best_term) {
+      best = j;
+      best_term = t;
+    }
   }
   double bound = -std::numeric_limits<double>::infinity();
   for (const Vec3& x : pool_) bound = std::max(bound, cell.planes[best].term(x));
@@ -144,72 +143,20 @@ double OverlapIntegrator::selectCandidates(const Cell& cell, std::vector<int>& c
     const CellPlane& p = cell.planes[j];
     const double box_low =
         (p.offset - p.normal.dot(centre) - p.normal.cwiseAbs().dot(half)) * p.inv_scale;
-    if (box_low > bound) continue;
-    double low = std::numeric_limits<double>::infinity();
-    for (const Vec3& x : pool_) low = std::min(low, p.term(x));
-    if (low <= bound) candidates.push_back(static_cast<int>(j));
+    if (box_low <= bound) candidates.push_back(static_cast<int>(j));
   }
   return bound;
-}
-
-void OverlapIntegrator::integratePiece(const Piece& piece, const Vec3& normal, const Cell& cell,
-                                       const std::vector<int>& candidates, double& integral,
-                                       Vec3& first_moment, double& area) {
-  const std::span<const Vec3> corners(pool_.data() + piece.begin, piece.end - piece.begin);
-  // Integrates plane j's term over the polygon `poly` (Zhao eqs. 9-12: phi is linear there).
-  auto integrateTerm = [&](std::span<const Vec3> poly, int j) {
-    const CellPlane& p = cell.planes[j];
-    values_.resize(poly.size());
-    for (std::size_t i = 0; i < poly.size(); ++i) values_[i] = p.term(poly[i]);
-    integrateLinear(poly, values_, normal, integral, first_moment, area);
-  };
-  // If one plane's term is the smallest at every corner, it is the smallest on the whole piece
-  // (term differences are linear): the piece lies in one region.
-  int single = candidates.front();
-  for (int j : candidates) {
-    if (cell.planes[j].term(corners[0]) < cell.planes[single].term(corners[0])) single = j;
-  }
-  for (std::size_t i = 1; i < corners.size() && single >= 0 && candidates.size() > 1; ++i) {
-    const double ts = cell.planes[single].term(corners[i]);
-    for (int j : candidates) {
-      if (cell.planes[j].term(corners[i]) < ts) {
-        single = -1;
-        break;
-      }
-    }
-  }
-  if (single >= 0) {
-    integrateTerm(corners, single);
-    return;
-  }
-  // Zhao step 2 (eqs. 7-8): the piece split by the cell's regions; region j is where term j is
-  // the smallest: clip by term_j - term_k <= 0 for every other candidate k.
-  for (int j : candidates) {
-    const CellPlane& pj = cell.planes[j];
-    clipper_.assign(corners);
-    bool left = true;
-    for (int k : candidates) {
-      if (k == j) continue;
-      const CellPlane& pk = cell.planes[k];
-      const Vec3 w = pk.normal * pk.inv_scale - pj.normal * pj.inv_scale;
-      const double c = pj.offset * pj.inv_scale - pk.offset * pk.inv_scale;
-      if (!clipper_.clip(w, c)) {
-        left = false;
-        break;
-      }
-    }
-    if (left && clipper_.polygon().size() >= 3) integrateTerm(clipper_.polygon(), j);
-  }
 }
 
 PairInfo OverlapIntegrator::add(const Cell& a, const Cell& b, const Vec3& lo, const Vec3& hi,
                                 OverlapSums& sums, std::vector<Vec3>& corners) {
   pool_.clear();
+  flat_pool_.clear();
   pieces_.clear();
   PairInfo info;
-  if (!activePlanes(a, lo, hi, active_a_) || !activePlanes(b, lo, hi, active_b_)) return info;
-  clipFaces(a, b, active_b_, true, lo, hi);
-  clipFaces(b, a, active_a_, false, lo, hi);
+  if (excludesBox(a, lo, hi) || excludesBox(b, lo, hi)) return info;
+  clipFaces(a, b, true, lo, hi);
+  clipFaces(b, a, false, lo, hi);
   if (pieces_.empty()) return info;
   info.found = true;
   info.bound_a = selectCandidates(a, candidates_a_);
@@ -220,17 +167,21 @@ PairInfo OverlapIntegrator::add(const Cell& a, const Cell& b, const Vec3& lo, co
     const Cell& own = piece.on_a ? a : b;
     const Cell& other = piece.on_a ? b : a;
     const Vec3& normal = own.planes[piece.plane].normal;
-    double integral = 0.0, area = 0.0;
-    Vec3 first_moment = Vec3::Zero();
-    integratePiece(piece, normal, other, piece.on_a ? candidates_b_ : candidates_a_, integral,
-                   first_moment, area);
+    PieceIntegrals part;
+    envelope_.integrate(
+        std::span<const Vec2>(flat_pool_.data() + piece.begin, piece.end - piece.begin),
+        piece.frame, other, piece.on_a ? candidates_b_ : candidates_a_, part);
+    // The first moment in space: integral of x phi = origin I + e1 I_u + e2 I_v.
+    const PieceFrame& f = piece.frame;
+    const Vec3 first_moment =
+        part.integral * f.origin + part.first.x() * f.e1 + part.first.y() * f.e2;
     const double sign = piece.on_a ? -1.0 : 1.0;
-    sums.force += (sign * integral) * normal;          // Zhao eq. 13
+    sums.force += (sign * part.integral) * normal;     // Zhao eq. 13
     sums.moment += sign * first_moment.cross(normal);  // Zhao eqs. 14-15
-    sums.phi_integral += integral;
-    sums.area += area;
-    if (area > sums.largest_piece) {
-      sums.largest_piece = area;
+    sums.phi_integral += part.integral;
+    sums.area += part.area;
+    if (part.area > sums.largest_piece) {
+      sums.largest_piece = part.area;
       sums.largest_normal = normal;
       sums.largest_offset = own.planes[piece.plane].offset;
     }

@@ -18,40 +18,17 @@
 // moment likewise); the same for B's faces inside A with phi_A.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
 #include "contact/contact.h"
+#include "contact/potential_cell.h"
+#include "contact/potential_envelope.h"
 #include "core/types.h"
 #include "geometry/polygon_clip.h"
 
 namespace polydem::contact::potential {
-
-/// A face plane of a cell: inside is normal.x <= offset; its term of the potential is
-/// (offset - normal.x) * inv_scale (dimensionless).
-struct CellPlane {
-  Vec3 normal = Vec3::UnitZ();
-  double offset = 0.0;
-  double inv_scale = 0.0;
-  double term(const Vec3& x) const { return (offset - normal.dot(x)) * inv_scale; }
-};
-
-/// A face to integrate over: plane `plane`, corners loops[begin .. end) counter-clockwise seen
-/// from outside.
-struct CellFace {
-  int plane = 0;
-  int begin = 0, end = 0;
-};
-
-/// A convex cell. `planes` are all its planes (they bound it and define its potential); `faces`
-/// are the faces on the body's surface: faces shared by two cells of one body (FDEM's internal
-/// tetrahedron faces) are left out, since their two contributions cancel exactly.
-struct Cell {
-  std::span<const CellPlane> planes;
-  std::span<const Vec3> corners;
-  std::span<const int> loops;
-  std::span<const CellFace> faces;
-};
 
 /// Sums of the boundary integral over one or more cell pairs, in the frame the cells are given in.
 struct OverlapSums {
@@ -77,42 +54,37 @@ class OverlapIntegrator {
  public:
   /// Adds the overlap of `a` and `b` (the force is on A) to `sums`, appends the corners of its
   /// boundary pieces to `corners`. Faces of either cell lying wholly outside the box [lo, hi]
-  /// (which must contain the overlap) are skipped, the others clipped by it first.
+  /// (which must contain the overlap) are skipped; the others are clipped by the planes of the
+  /// other cell that separate their corners.
   PairInfo add(const Cell& a, const Cell& b, const Vec3& lo, const Vec3& hi, OverlapSums& sums,
                std::vector<Vec3>& corners);
 
  private:
   struct Piece {
-    int begin = 0, end = 0;  // corners in pool_
+    int begin = 0, end = 0;  // corners in pool_ (space) and flat_pool_ (its plane)
     int plane = 0;           // the plane of its own cell it lies on
     bool on_a = true;
+    PieceFrame frame;
   };
-  // The planes of `cell` that cut the box [lo, hi]; false if one excludes the whole box.
-  static bool activePlanes(const Cell& cell, const Vec3& lo, const Vec3& hi,
-                           std::vector<int>& active);
-  void clipFaces(const Cell& own, const Cell& other, const std::vector<int>& other_active,
-                 bool on_a, const Vec3& lo, const Vec3& hi);
-  // Candidates of `cell`: planes whose term can be the minimum somewhere in the overlap.
-  double selectCandidates(const Cell& cell, std::vector<int>& candidates);
-  // Integral of phi_cell over the piece and its first moment.
-  void integratePiece(const Piece& piece, const Vec3& normal, const Cell& cell,
-                      const std::vector<int>& candidates, double& integral, Vec3& first_moment,
-                      double& area);
+  // Whether one plane of `cell` leaves the whole box [lo, hi] outside (then there is no overlap).
+  static bool excludesBox(const Cell& cell, const Vec3& lo, const Vec3& hi);
+  // Bit k set: corner v of own lies outside the other's plane k (computed once per pair).
+  const std::uint64_t* outsideMask(const Cell& own, const Cell& other, int v);
+  void clipFaces(const Cell& own, const Cell& other, bool on_a, const Vec3& lo, const Vec3& hi);
+  // Candidates of `cell`: planes whose term can be the minimum somewhere in the overlap (a cheap
+  // superset). Returns an upper bound of phi_cell over the overlap.
+  double selectCandidates(const Cell& cell, std::vector<int>& candidates) const;
 
   geometry::ConvexPolygonClipper clipper_;
+  EnvelopeIntegrator envelope_;
   std::vector<Vec3> pool_;
+  std::vector<Vec2> flat_pool_;
   std::vector<Piece> pieces_;
-  std::vector<int> candidates_a_, candidates_b_, active_a_, active_b_, cut_;
-  std::vector<double> values_, distance_;
+  std::vector<int> candidates_a_, candidates_b_;
+  std::vector<std::uint64_t> outside_, all_out_, any_out_;
+  std::size_t words_ = 0;
   std::vector<char> known_;
 };
-
-/// The integral of a linear function over a convex polygon (corners in order, counter-clockwise
-/// about `normal`) given by its corner values, and its first moment (Zhao eqs. 23-25 in vector
-/// form): a fan of triangles, each adding area * mean value and area/12 * (sum g_i x_i +
-/// (sum g_i)(sum x_i)).
-void integrateLinear(std::span<const Vec3> corners, std::span<const double> values,
-                     const Vec3& normal, double& integral, Vec3& first_moment, double& area);
 
 /// The full result of a potential kernel for one pair, in world coordinates.
 struct PotentialResult {

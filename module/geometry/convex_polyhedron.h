@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "geometry/face_regions.h"
 
 namespace polydem::geometry {
 
@@ -79,6 +80,11 @@ class ConvexPolyhedron {
   /// Length scale for relative tolerances: the diameter of the circumscribed sphere.
   double lengthScale() const { return 2.0 * circumradius_; }
 
+  /// The nearest-face partition (face_regions.h): for each face, the faces whose bisector planes
+  /// bound its region. Computed on first use, kept, shared by copies (transformed() and scaled()
+  /// keep it: the partition does not change).
+  const FaceRegions& faceRegions() const { return face_regions_.get(*this); }
+
   /// Index of a vertex maximising direction . v (ties broken towards the lowest index).
   /// `hint` is a vertex to start a hill climb from on large polyhedra (more than 32 vertices; the
   /// previous answer for a nearby direction makes it a few steps). No allocation.
@@ -119,6 +125,7 @@ class ConvexPolyhedron {
   double circumradius_ = 0.0;
   double inradius_ = 0.0;
   Vec3 incenter_ = Vec3::Zero();
+  LazyFaceRegions face_regions_;
 };
 
 }  // namespace polydem::geometry

@@ -1,11 +1,12 @@
 // Clipping a convex polygon in space by half-spaces, without allocation once warm.
 //
 // A convex polygon (its corners in order, all in one plane) keeps its part where an affine
-// function w.x + c is <= 0 (Sutherland-Hodgman, one half-space at a time). The affine function
-// need not be a unit-normal plane: the potential kernels clip by {phi_j <= phi_k}, the difference
-// of two scaled plane distances. Used by the distance-potential and FDEM kernels (contact/).
+// function w.x + c is <= 0 (Sutherland-Hodgman, one half-space at a time), in space or in the 2D
+// coordinates of its plane. The affine function need not be a unit-normal plane. Used by the
+// potential kernels and the overlap centroid (contact/).
 #pragma once
 
+#include <algorithm>
 #include <span>
 #include <vector>
 
@@ -15,54 +16,74 @@ namespace polydem::geometry {
 
 /// Holds one polygon and clips it in place; the buffers keep their capacity between polygons, so
 /// a clipper reused for every pair allocates only while it grows to the largest polygon seen.
-class ConvexPolygonClipper {
+/// `Point` is Vec3 (a polygon in space) or Vec2 (a polygon in the coordinates of its plane).
+template <class Point>
+class BasicConvexPolygonClipper {
  public:
   /// Starts from the polygon with corners `points[loop[i]]` (convex, planar, in order).
-  void assign(std::span<const Vec3> points, std::span<const int> loop) {
-    poly_.clear();
-    for (int i : loop) poly_.push_back(points[i]);
+  void assign(std::span<const Point> points, std::span<const int> loop) {
+    reserve(loop.size());
+    n_ = 0;
+    for (int i : loop) poly_[n_++] = points[i];
   }
-  void assign(std::span<const Vec3> corners) { poly_.assign(corners.begin(), corners.end()); }
+  void assign(std::span<const Point> corners) {
+    reserve(corners.size());
+    n_ = corners.size();
+    std::copy(corners.begin(), corners.end(), poly_.begin());
+  }
 
   /// Keeps the part where w.x + c <= 0. Corners with w.x + c == 0 are kept and no new corner is
   /// made next to them, so a polygon lying on the boundary survives whole. Returns false when no
   /// corner is left (the polygon was entirely outside).
-  bool clip(const Vec3& w, double c) {
-    const std::size_t n = poly_.size();
+  bool clip(const Point& w, double c) {
+    const std::size_t n = n_;
     if (n == 0) return false;
-    h_.resize(n);
+    reserve(n + 1);  // a convex polygon cut by a line gains at most one corner
+    double* h = h_.data();
+    const Point* poly = poly_.data();
     bool any_out = false, any_in = false;
     for (std::size_t i = 0; i < n; ++i) {
-      h_[i] = w.dot(poly_[i]) + c;
-      if (h_[i] > 0.0) {
-        any_out = true;
-      } else {
-        any_in = true;
-      }
+      h[i] = w.dot(poly[i]) + c;
+      any_out = any_out || h[i] > 0.0;
+      any_in = any_in || !(h[i] > 0.0);
     }
     if (!any_out) return true;
     if (!any_in) {
-      poly_.clear();
+      n_ = 0;
       return false;
     }
-    next_.clear();
+    Point* out = next_.data();
+    std::size_t m = 0;
     for (std::size_t i = 0; i < n; ++i) {
       const std::size_t j = i + 1 == n ? 0 : i + 1;
-      const double hi = h_[i], hj = h_[j];
-      if (hi <= 0.0) next_.push_back(poly_[i]);
+      const double hi = h[i], hj = h[j];
+      if (hi <= 0.0) out[m++] = poly[i];
       if ((hi < 0.0 && hj > 0.0) || (hi > 0.0 && hj < 0.0)) {
-        next_.push_back(poly_[i] + (hi / (hi - hj)) * (poly_[j] - poly_[i]));
+        out[m++] = poly[i] + (hi / (hi - hj)) * (poly[j] - poly[i]);
       }
     }
     poly_.swap(next_);
+    n_ = m;
     return true;
   }
 
-  const std::vector<Vec3>& polygon() const { return poly_; }
+  std::span<const Point> polygon() const { return {poly_.data(), n_}; }
 
  private:
-  std::vector<Vec3> poly_, next_;
+  // The buffers only grow (their size is their capacity; n_ is the polygon's size).
+  void reserve(std::size_t n) {
+    if (poly_.size() >= n) return;
+    const std::size_t size = 2 * n + 8;
+    poly_.resize(size);
+    next_.resize(size);
+    h_.resize(size);
+  }
+
+  std::vector<Point> poly_, next_;
   std::vector<double> h_;
+  std::size_t n_ = 0;
 };
+
+using ConvexPolygonClipper = BasicConvexPolygonClipper<Vec3>;
 
 }  // namespace polydem::geometry

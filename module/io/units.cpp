@@ -129,6 +129,8 @@ std::string storedUnit(Quantity q) {
       return "1";
     case Quantity::kLength:
       return "m";
+    case Quantity::kVolume:
+      return "m^3";
     case Quantity::kTime:
       return "s";
     case Quantity::kVelocity:
@@ -141,6 +143,8 @@ std::string storedUnit(Quantity q) {
       return "N/m";
     case Quantity::kPressure:
       return "Pa";
+    case Quantity::kJointStiffness:
+      return "Pa/m";
     case Quantity::kForce:
       return "N";
     case Quantity::kAngle:

@@ -26,11 +26,31 @@ void bounds(std::span<const Vec3> v, Vec3& lo, Vec3& hi) {
   }
 }
 
+bool boxesOverlap(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi,
+                  double slack) {
+  return (alo.array() <= bhi.array() + slack).all() && (blo.array() <= ahi.array() + slack).all();
+}
+
 bool boxesOverlap(std::span<const Vec3> a, std::span<const Vec3> b, double slack) {
   Vec3 alo, ahi, blo, bhi;
   bounds(a, alo, ahi);
   bounds(b, blo, bhi);
-  return (alo.array() <= bhi.array() + slack).all() && (blo.array() <= ahi.array() + slack).all();
+  return boxesOverlap(alo, ahi, blo, bhi, slack);
+}
+
+// Candidates of one lower uid ordered by (higher uid, a, b): insertion sort, as the few pairs of
+// one particle come nearly ordered from the broad phase.
+template <typename Candidate>
+void sortBucket(Candidate* first, Candidate* last) {
+  auto less = [](const Candidate& x, const Candidate& y) {
+    return x.key.hi != y.key.hi ? x.key.hi < y.key.hi : (x.a != y.a ? x.a < y.a : x.b < y.b);
+  };
+  for (Candidate* i = first + 1; i < last; ++i) {
+    const Candidate c = *i;
+    Candidate* j = i;
+    for (; j > first && less(c, *(j - 1)); --j) *j = *(j - 1);
+    *j = c;
+  }
 }
 
 // World vertices of entry i placed at `position` (used when an image shift moves the frame).
@@ -45,17 +65,37 @@ std::span<const Vec3> verticesAt(const ParticleStorage& s, const particles::Shap
 
 }  // namespace
 
+// Key order (lo uid, hi uid, a, b) without comparing pairs: the particles are ranked by uid (one
+// sort of the storage, a few times smaller than the pairs), the pairs are bucketed by the rank of
+// their lower uid (a counting sort) and each bucket is sorted on its own.
 void ContactPhase::sortCandidates(const ParticleStorage& storage,
                                   std::span<const broadphase::CandidatePair> candidates) {
-  candidates_.clear();
-  candidates_.reserve(candidates.size());
+  const std::size_t n = storage.size();
+  by_uid_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) by_uid_[i] = {storage[i].uid, static_cast<std::int32_t>(i)};
+  std::sort(by_uid_.begin(), by_uid_.end());
+  uid_rank_.resize(n);
+  std::int32_t rank = -1;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (k == 0 || by_uid_[k].first != by_uid_[k - 1].first) ++rank;  // images share a rank
+    uid_rank_[by_uid_[k].second] = rank;
+  }
+  bucket_start_.assign(static_cast<std::size_t>(rank) + 2, 0);
+  for (const auto& c : candidates) {
+    const std::int32_t lo = storage[c.i].uid < storage[c.j].uid ? c.i : c.j;
+    ++bucket_start_[uid_rank_[lo] + 1];
+  }
+  for (std::size_t b = 1; b < bucket_start_.size(); ++b) bucket_start_[b] += bucket_start_[b - 1];
+  candidates_.resize(candidates.size());
+  fill_ = bucket_start_;
   for (const auto& c : candidates) {
     const Uid ui = storage[c.i].uid, uj = storage[c.j].uid;
-    candidates_.push_back(ui < uj ? Candidate{{ui, uj}, c.i, c.j} : Candidate{{uj, ui}, c.j, c.i});
+    const Candidate x = ui < uj ? Candidate{{ui, uj}, c.i, c.j} : Candidate{{uj, ui}, c.j, c.i};
+    candidates_[fill_[uid_rank_[x.a]]++] = x;
   }
-  std::sort(candidates_.begin(), candidates_.end(), [](const Candidate& x, const Candidate& y) {
-    return x.key != y.key ? x.key < y.key : (x.a != y.a ? x.a < y.a : x.b < y.b);
-  });
+  for (std::size_t b = 0; b + 1 < bucket_start_.size(); ++b) {
+    sortBucket(candidates_.data() + bucket_start_[b], candidates_.data() + bucket_start_[b + 1]);
+  }
 }
 
 ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleStorage& storage,
@@ -71,6 +111,12 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
   const auto& shapes = *setup.shapes;
   particles::ContactHistory::Cursor old(history);
   const double t_half = setup.time - 0.5 * setup.dt;
+  // Each particle's box once per step, for the box test of its (unshifted) pairs.
+  box_lo_.resize(storage.size());
+  box_hi_.resize(storage.size());
+  for (std::size_t i = 0; i < storage.size(); ++i) {
+    bounds(storage.worldVertices(i), box_lo_[i], box_hi_[i]);
+  }
 
   auto placed = [&](std::size_t i, const Vec3& position) {
     const auto& p = storage[i];
@@ -110,7 +156,10 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup, const ParticleSto
         unshifted ? storage.worldVertices(c.a) : verticesAt(storage, shapes, c.a, xa, scratch_a_);
     const auto vb =
         unshifted ? storage.worldVertices(c.b) : verticesAt(storage, shapes, c.b, xb, scratch_b_);
-    if (!boxesOverlap(va, vb, setup.margin)) continue;
+    const bool boxes = unshifted ? boxesOverlap(box_lo_[c.a], box_hi_[c.a], box_lo_[c.b],
+                                                box_hi_[c.b], setup.margin)
+                                 : boxesOverlap(va, vb, setup.margin);
+    if (!boxes) continue;
 
     ++stats.evaluated;
     particles::PairHistory h;

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "broadphase/broad_phase.h"
@@ -95,6 +96,10 @@ class ContactPhase {
                       std::span<const broadphase::CandidatePair> candidates);
 
   std::vector<Candidate> candidates_;
+  std::vector<std::pair<Uid, std::int32_t>> by_uid_;  // (uid, storage index), sorted
+  std::vector<std::int32_t> uid_rank_;                // per storage index: rank of its uid
+  std::vector<std::size_t> bucket_start_, fill_;      // candidates per lower-uid rank
+  std::vector<Vec3> box_lo_, box_hi_;                 // per storage index, this step
   std::vector<ContactRecord> records_;
   particles::ContactHistory next_;
   std::vector<Vec3> scratch_a_, scratch_b_;

@@ -1,0 +1,42 @@
+// The cells of the potential kernels (distance-potential: one per body; fdem: one per
+// tetrahedron): convex, bounded by planes, each plane carrying a linear term of the cell's
+// potential phi = min over the planes of the terms (docs/kernels/distance-potential.md).
+#pragma once
+
+#include <span>
+
+#include "core/types.h"
+
+namespace polydem::contact::potential {
+
+/// A face plane of a cell: inside is normal.x <= offset; its term of the potential is
+/// (offset - normal.x) * inv_scale (dimensionless).
+struct CellPlane {
+  Vec3 normal = Vec3::UnitZ();
+  double offset = 0.0;
+  double inv_scale = 0.0;
+  double term(const Vec3& x) const { return (offset - normal.dot(x)) * inv_scale; }
+};
+
+/// A face to integrate over: plane `plane`, corners loops[begin .. end) counter-clockwise seen
+/// from outside.
+struct CellFace {
+  int plane = 0;
+  int begin = 0, end = 0;
+};
+
+/// A convex cell. `planes` are all its planes (they bound it and define its potential); `faces`
+/// are the faces on the body's surface: faces shared by two cells of one body (FDEM's internal
+/// tetrahedron faces) are left out, since their two contributions cancel exactly.
+/// `region_begin` / `region_neighbours` (optional, geometry::FaceRegions): for each plane k, the
+/// planes whose bisectors bound k's region {phi = term_k}; empty: every other plane may.
+struct Cell {
+  std::span<const CellPlane> planes;
+  std::span<const Vec3> corners;
+  std::span<const int> loops;
+  std::span<const CellFace> faces;
+  std::span<const int> region_begin;
+  std::span<const int> region_neighbours;
+};
+
+}  // namespace polydem::contact::potential

@@ -1,0 +1,43 @@
+// Once warm, a step of a dense pack on one rank allocates nothing (DEVELOPING.md, "Hot paths";
+// issue 15 item 2): the broad phase, the contact phase, the kernels' scratch, the sub-contact
+// builder and law, the histories and the exchange reuse their buffers. Warm: 20 steps, after which
+// the buffers that grow to the largest polygon seen have grown. Counted with the replaced global
+// operator new. (On several ranks the exchange allocates the messages it receives.)
+#include <gtest/gtest.h>
+
+#include "common/allocation_counter.h"
+#include "core/logging.h"
+#include "sim/pile_scene.h"
+#include "sim/simulation.h"
+
+namespace polydem::sim {
+namespace {
+
+// Allocations of `steps` steps after `warmup` steps of a dense pack of `particles` cubes.
+long allocationsPerSteps(std::int64_t particles, const std::string& model, int warmup, int steps) {
+  PileOptions o;
+  o.particles = particles;
+  o.shapes = "cubes";
+  o.gap = -0.001;  // every face in contact from the first step
+  o.layers = 4;
+  io::Scene scene = makePileScene(o);
+  scene.contact_model = model;
+  Simulation sim(scene, MPI_COMM_WORLD);
+  for (int i = 0; i < warmup; ++i) sim.step();
+  const long before = polydem::testing::allocationCount();
+  for (int i = 0; i < steps; ++i) sim.step();
+  return polydem::testing::allocationCount() - before;
+}
+
+TEST(StepAllocations, NoneOnceWarm) {
+  log::setLevel(log::Level::kWarning);
+  for (const std::string model : {"sub-contacts", "point"}) {
+    const long small = allocationsPerSteps(64, model, 20, 5);
+    const long large = allocationsPerSteps(400, model, 20, 5);
+    EXPECT_EQ(small, 0) << model << ": allocations in 5 warm steps of 64 cubes";
+    EXPECT_EQ(large, 0) << model << ": allocations in 5 warm steps of 400 cubes";
+  }
+}
+
+}  // namespace
+}  // namespace polydem::sim
