@@ -73,6 +73,20 @@ Vec3 unpackGhost(RecvBuffer& in, const domain::BlockForest& forest, Particle& p)
   return forest.imageShift(image);
 }
 
+// Packs local particle i for `owner`, the rank that owns it now, and removes it here (particle i
+// is then the next one); its pairs' histories follow through `leaving` (packHistories).
+void sendToOwner(particles::ParticleStorage& storage, std::size_t i, int owner,
+                 std::map<int, SendBuffer>& outgoing, std::unordered_map<Uid, int>& leaving,
+                 ExchangeStats& stats) {
+  const Particle& p = storage[i];
+  leaving.emplace(p.uid, owner);
+  SendBuffer& out = outgoing[owner];
+  out << kParticleRecord;
+  pack(out, p);
+  ++stats.particles_sent;
+  storage.removeLocal(i);
+}
+
 // The histories of every pair a leaving particle belongs to, to its destination (once per
 // destination when both members leave to the same rank).
 void packHistories(const ContactHistory& history, const std::unordered_map<Uid, int>& leaving,
@@ -177,12 +191,7 @@ ExchangeStats ParticleExchange::migrate(const domain::BlockForest& forest,
       ++i;
       continue;
     }
-    leaving.emplace(p.uid, owner);
-    SendBuffer& out = outgoing[owner];
-    out << kParticleRecord;
-    pack(out, p);
-    ++stats.particles_sent;
-    storage.removeLocal(i);
+    sendToOwner(storage, i, owner, outgoing, leaving, stats);
   }
   packHistories(history, leaving, outgoing, stats);
   ExchangeCost cost;
@@ -269,12 +278,7 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
       ++i;
       continue;
     }
-    leaving.emplace(p.uid, owner);
-    SendBuffer& out = outgoing[owner];
-    out << kParticleRecord;
-    pack(out, p);
-    ++stats.particles_sent;
-    storage.removeLocal(i);
+    sendToOwner(storage, i, owner, outgoing, leaving, stats);
   }
   packHistories(history, leaving, outgoing, stats);
   ExchangeCost cost;
