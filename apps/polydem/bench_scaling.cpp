@@ -15,6 +15,7 @@
 #include "core/logging.h"
 #include "core/mpi_env.h"
 #include "core/strings.h"
+#include "io/scene.h"
 #include "sim/balance_figures.h"
 #include "sim/pile_scene.h"
 #include "sim/simulation.h"
@@ -180,9 +181,8 @@ int benchScaling(int argc, char** argv) {
   pile.shapes = args.value("shapes", "mixed");
   pile.kernel = args.value("kernel", "gjk-epa-ipm");
   const std::string model = args.value("contact-model", "sub-contacts");
-  if (model != "sub-contacts" && model != "point") {
-    throw UsageError(
-        cat("--contact-model: unknown model '", model, "' (known: sub-contacts, point)"));
+  if (const auto e = io::unknownContactModel(model); !e.empty()) {
+    throw UsageError("--contact-model: " + e);
   }
   pile.layers = args.integer("layers", 10);
   pile.gap = args.number("gap", pile.gap);

@@ -28,6 +28,7 @@
 #include "core/mpi_env.h"
 #include "core/strings.h"
 #include "geometry/shapes.h"
+#include "io/scene.h"
 #include "sim/simulation.h"
 
 namespace polydem::app {
@@ -41,8 +42,8 @@ struct Options {
   std::int64_t steps = 100;      // timed steps
   std::int64_t warmup = 10;
   std::vector<std::string> kernels = {"gjk-epa-ipm", "distance-potential"};
-  std::vector<std::string> models = {"sub-contacts", "point"};  // contact models (penalty kernels)
-  std::string yade;  // executable; empty: "yade" on the PATH
+  std::vector<std::string> models = io::kContactModels;  // contact models (penalty kernels)
+  std::string yade;                                      // executable; empty: "yade" on the PATH
   std::string keep;  // directory for the Yade script and its output
   std::uint64_t seed = 1;
 };
@@ -273,9 +274,8 @@ Options parseOptions(Args& args) {
   if (const auto k = args.value("kernels")) o.kernels = split(*k, ',');
   if (const auto m = args.value("contact-models")) o.models = split(*m, ',');
   for (const auto& m : o.models) {
-    if (m != "sub-contacts" && m != "point") {
-      throw UsageError(
-          cat("--contact-models: unknown model '", m, "' (known: sub-contacts, point)"));
+    if (const auto e = io::unknownContactModel(m); !e.empty()) {
+      throw UsageError("--contact-models: " + e);
     }
   }
   o.yade = args.value("yade", "");

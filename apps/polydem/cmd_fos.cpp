@@ -73,10 +73,7 @@ int fosCommand(int argc, char** argv) {
     scene.kernel = *kernel;
   }
   if (contact_model) {
-    if (*contact_model != "sub-contacts" && *contact_model != "point") {
-      throw UsageError(
-          cat("unknown contact model '", *contact_model, "' (known: sub-contacts, point)"));
-    }
+    if (const auto e = io::unknownContactModel(*contact_model); !e.empty()) throw UsageError(e);
     scene.contact_model = *contact_model;
   }
   if (quiet) log::setLevel(log::Level::kWarning);

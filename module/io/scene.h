@@ -17,6 +17,21 @@
 
 namespace polydem::io {
 
+/// The contact models of Scene::contact_model: the scene reader, the command line and Python
+/// accept these and no other.
+inline const std::vector<std::string> kContactModels = {"sub-contacts", "point"};
+
+/// "unknown contact model 'NAME' (known: sub-contacts, point)" for a name that is none of
+/// kContactModels, else "".
+inline std::string unknownContactModel(const std::string& name) {
+  std::string known;
+  for (const auto& m : kContactModels) {
+    if (m == name) return "";
+    known += (known.empty() ? "" : ", ") + m;
+  }
+  return "unknown contact model '" + name + "' (known: " + known + ")";
+}
+
 /// A shape, resolved by the reader to the vertex list of its convex hull (in the shape's own
 /// frame; the simulation moves it to its body frame).
 struct ShapeSpec {

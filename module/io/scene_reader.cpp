@@ -55,7 +55,7 @@ void readSimulation(const Context& ctx, const toml::table& root, Scene& scene) {
                 "gravity", "contact_margin"});
   scene.kernel = s->choice("kernel", contact::kernelNames(), scene.kernel);
   scene.broadphase = s->choice("broadphase", {"multilevel", "nbs", "all-pairs"}, scene.broadphase);
-  scene.contact_model = s->choice("contact_model", {"sub-contacts", "point"}, scene.contact_model);
+  scene.contact_model = s->choice("contact_model", kContactModels, scene.contact_model);
   scene.contact_point =
       s->choice("contact_point", {"kernel", "overlap-centroid"}, scene.contact_point);
   if (scene.contact_point != "kernel" && scene.contact_model != "point") {

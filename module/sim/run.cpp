@@ -87,10 +87,7 @@ void applyOverrides(io::Scene& scene, const RunOptions& options) {
     scene.kernel = *options.kernel;
   }
   if (options.contact_model) {
-    if (*options.contact_model != "sub-contacts" && *options.contact_model != "point") {
-      throw Error(
-          cat("unknown contact model '", *options.contact_model, "' (known: sub-contacts, point)"));
-    }
+    if (const auto e = io::unknownContactModel(*options.contact_model); !e.empty()) throw Error(e);
     scene.contact_model = *options.contact_model;
   }
   if (options.steps || options.end_time) {

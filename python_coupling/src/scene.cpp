@@ -230,9 +230,8 @@ replaces the scene's whole stop condition: the other one is cleared.)")
       .def_property(
           "contact_model", [](const Scene& s) { return s.contact_model; },
           [](Scene& s, const std::string& model) {
-            if (model != "sub-contacts" && model != "point") {
-              throw py::value_error("unknown contact model '" + model +
-                                    "' (known: sub-contacts, point)");
+            if (const auto e = io::unknownContactModel(model); !e.empty()) {
+              throw py::value_error(e);
             }
             if (model != "point" && s.contact_point != "kernel") {
               throw py::value_error("contact_point = \"" + s.contact_point +
