@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::bench {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "broadphase/broad_phase.h"
+#include "polydem/broadphase/broad_phase.h"
 
 namespace polydem::bench {
 

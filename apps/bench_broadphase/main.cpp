@@ -20,10 +20,10 @@
 #include <string>
 #include <vector>
 
-#include "broadphase/broad_phase.h"
-#include "broadphase/multilevel_grid.h"
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/broadphase/broad_phase.h"
+#include "polydem/broadphase/multilevel_grid.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 #include "cube_layer.h"
 
 namespace {

@@ -1,11 +1,11 @@
-#include "sim/pile_scene.h"
+#include "generators/pile_scene.h"
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 
-#include "core/error.h"
-#include "geometry/shapes.h"
+#include "polydem/core/error.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::sim {
 

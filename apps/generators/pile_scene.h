@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <string>
 
-#include "io/scene.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::sim {
 

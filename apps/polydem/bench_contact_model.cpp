@@ -10,13 +10,13 @@
 #include <vector>
 
 #include "commands.h"
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "io/scene_reader.h"
-#include "sim/pile_scene.h"
-#include "sim/simulation.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/scene/scene_reader.h"
+#include "generators/pile_scene.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::app {
 

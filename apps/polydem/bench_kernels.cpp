@@ -14,8 +14,8 @@
 #include <sstream>
 
 #include "commands.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::app {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "contact/contact.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/contact/contact.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::app {
 

@@ -4,8 +4,8 @@
 #include <random>
 
 #include "bench_kernels.h"
-#include "geometry/polygon.h"
-#include "geometry/shapes.h"
+#include "polydem/geometry/polygon.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::app {
 

@@ -23,13 +23,13 @@
 #include <sstream>
 
 #include "commands.h"
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "geometry/shapes.h"
-#include "io/scene.h"
-#include "sim/simulation.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/geometry/shapes.h"
+#include "polydem/setup/setup.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::app {
 

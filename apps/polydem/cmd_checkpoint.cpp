@@ -3,8 +3,8 @@
 #include <cstdio>
 
 #include "commands.h"
-#include "core/mpi_env.h"
-#include "io/checkpoint.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/checkpoint/checkpoint.h"
 
 namespace polydem::app {
 

@@ -12,11 +12,11 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "contact/contact.h"
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/strings.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/contact/contact.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/strings.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::app {
 

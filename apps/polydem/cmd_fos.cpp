@@ -3,14 +3,14 @@
 #include <cstdio>
 
 #include "commands.h"
-#include "contact/contact.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
+#include "polydem/contact/contact.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
 #include "fos_files.h"
-#include "io/scene_reader.h"
-#include "particles/material.h"
-#include "sim/fos.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/particles/material.h"
+#include "polydem/run/fos.h"
 
 namespace polydem::app {
 

@@ -6,11 +6,11 @@
 #include <sstream>
 
 #include "commands.h"
-#include "contact/contact.h"
+#include "polydem/contact/contact.h"
 #include "contact_type_report.h"
-#include "core/error.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::app {
 

@@ -4,11 +4,11 @@
 #include <filesystem>
 
 #include "commands.h"
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/test_pause.h"
-#include "io/scene_reader.h"
-#include "sim/run.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/test_pause.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/run/run.h"
 
 namespace polydem::app {
 

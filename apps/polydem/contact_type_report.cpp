@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <random>
 
-#include "contact/contact.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/contact/contact.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::app {
 

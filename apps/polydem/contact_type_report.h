@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "contact/contact_cases.h"
+#include "polydem/contact/contact_cases.h"
 
 namespace polydem::app {
 

@@ -6,12 +6,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/state_hash.h"
-#include "core/strings.h"
-#include "core/types.h"
-#include "io/output_file.h"
-#include "io/summary_json.h"
-#include "particles/material.h"
+#include "polydem/core/state_hash.h"
+#include "polydem/core/strings.h"
+#include "polydem/core/types.h"
+#include "polydem/output/output_file.h"
+#include "polydem/output/summary_json.h"
+#include "polydem/particles/material.h"
 
 namespace polydem::app {
 

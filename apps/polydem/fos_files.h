@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "io/scene.h"
-#include "sim/fos.h"
+#include "polydem/setup/setup.h"
+#include "polydem/run/fos.h"
 
 namespace polydem::app {
 

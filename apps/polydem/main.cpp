@@ -6,11 +6,11 @@
 #include <string>
 
 #include "commands.h"
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "io/checkpoint.h"
-#include "sim/run_checkpoint.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/checkpoint/checkpoint.h"
+#include "polydem/run/run_checkpoint.h"
 
 namespace {
 

@@ -1,7 +1,7 @@
-#include "broadphase/all_pairs.h"
+#include "polydem/broadphase/all_pairs.h"
 
-#include "broadphase/overlap.h"
-#include "broadphase/scene_bounds.h"
+#include "polydem/broadphase/overlap.h"
+#include "polydem/broadphase/scene_bounds.h"
 
 namespace polydem::broadphase {
 

@@ -1,7 +1,7 @@
 // The O(N^2) reference: every pair is tested. Used by the tests to check the grids.
 #pragma once
 
-#include "broadphase/broad_phase.h"
+#include "polydem/broadphase/broad_phase.h"
 
 namespace polydem::broadphase {
 

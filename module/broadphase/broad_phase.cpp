@@ -1,15 +1,15 @@
-#include "broadphase/broad_phase.h"
+#include "polydem/broadphase/broad_phase.h"
 
 #include <cmath>
 #include <limits>
 
-#include "broadphase/all_pairs.h"
-#include "broadphase/level_plan.h"
-#include "broadphase/multilevel_grid.h"
-#include "broadphase/nbs_grid.h"
-#include "broadphase/scene_bounds.h"
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/broadphase/all_pairs.h"
+#include "polydem/broadphase/level_plan.h"
+#include "polydem/broadphase/multilevel_grid.h"
+#include "polydem/broadphase/nbs_grid.h"
+#include "polydem/broadphase/scene_bounds.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::broadphase {
 

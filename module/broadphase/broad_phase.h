@@ -16,7 +16,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem::broadphase {
 

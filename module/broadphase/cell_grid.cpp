@@ -1,4 +1,4 @@
-#include "broadphase/cell_grid.h"
+#include "polydem/broadphase/cell_grid.h"
 
 #include <algorithm>
 #include <array>

@@ -25,8 +25,8 @@
 #include <span>
 #include <vector>
 
-#include "broadphase/broad_phase.h"
-#include "broadphase/scene_bounds.h"
+#include "polydem/broadphase/broad_phase.h"
+#include "polydem/broadphase/scene_bounds.h"
 
 namespace polydem::broadphase::detail {
 

@@ -1,9 +1,9 @@
-#include "broadphase/grid_search.h"
+#include "polydem/broadphase/grid_search.h"
 
 #include <algorithm>
 #include <bit>
 
-#include "broadphase/overlap.h"
+#include "polydem/broadphase/overlap.h"
 
 namespace polydem::broadphase::detail {
 

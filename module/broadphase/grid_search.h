@@ -7,7 +7,7 @@
 
 #include <vector>
 
-#include "broadphase/cell_grid.h"
+#include "polydem/broadphase/cell_grid.h"
 
 namespace polydem::broadphase::detail {
 

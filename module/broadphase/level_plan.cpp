@@ -1,4 +1,4 @@
-#include "broadphase/level_plan.h"
+#include "polydem/broadphase/level_plan.h"
 
 #include <algorithm>
 #include <bit>

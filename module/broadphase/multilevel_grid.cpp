@@ -1,4 +1,4 @@
-#include "broadphase/multilevel_grid.h"
+#include "polydem/broadphase/multilevel_grid.h"
 
 #include <algorithm>
 

@@ -17,10 +17,10 @@
 
 #include <vector>
 
-#include "broadphase/broad_phase.h"
-#include "broadphase/cell_grid.h"
-#include "broadphase/grid_search.h"
-#include "broadphase/level_plan.h"
+#include "polydem/broadphase/broad_phase.h"
+#include "polydem/broadphase/cell_grid.h"
+#include "polydem/broadphase/grid_search.h"
+#include "polydem/broadphase/level_plan.h"
 
 namespace polydem::broadphase {
 

@@ -1,8 +1,8 @@
-#include "broadphase/nbs_grid.h"
+#include "polydem/broadphase/nbs_grid.h"
 
 #include <numeric>
 
-#include "broadphase/grid_search.h"
+#include "polydem/broadphase/grid_search.h"
 
 namespace polydem::broadphase {
 

@@ -4,8 +4,8 @@
 // the cost grows with the square of that crowding, which is what "multilevel" removes.
 #pragma once
 
-#include "broadphase/broad_phase.h"
-#include "broadphase/cell_grid.h"
+#include "polydem/broadphase/broad_phase.h"
+#include "polydem/broadphase/cell_grid.h"
 
 namespace polydem::broadphase {
 

@@ -7,7 +7,7 @@
 #include <limits>
 #include <span>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem::broadphase {
 

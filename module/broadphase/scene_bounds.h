@@ -1,7 +1,7 @@
 // Input checks and bounds shared by the broad-phase methods (internal to the module).
 #pragma once
 
-#include "broadphase/broad_phase.h"
+#include "polydem/broadphase/broad_phase.h"
 
 namespace polydem::broadphase::detail {
 

@@ -24,13 +24,13 @@
 #include <string>
 #include <vector>
 
-#include "core/exact_sum.h"
-#include "core/types.h"
-#include "io/scene.h"
-#include "particles/contact_history.h"
-#include "particles/material.h"
-#include "particles/particle.h"
-#include "particles/particle_storage.h"
+#include "polydem/core/exact_sum.h"
+#include "polydem/core/types.h"
+#include "polydem/setup/setup.h"
+#include "polydem/particles/contact_history.h"
+#include "polydem/particles/material.h"
+#include "polydem/particles/particle.h"
+#include "polydem/particles/particle_storage.h"
 
 namespace polydem::io {
 

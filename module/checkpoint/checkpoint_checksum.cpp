@@ -1,10 +1,10 @@
-#include "io/checkpoint_checksum.h"
+#include "polydem/checkpoint/checkpoint_checksum.h"
 
 #include <bit>
 
-#include "core/error.h"
-#include "core/state_hash.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/state_hash.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::io {
 

@@ -1,11 +1,11 @@
-#include "io/checkpoint_digest.h"
+#include "polydem/checkpoint/checkpoint_digest.h"
 
 #include <algorithm>
 
-#include "core/error.h"
-#include "core/strings.h"
-#include "io/checkpoint_checksum.h"
-#include "io/hdf5_file.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
+#include "polydem/checkpoint/checkpoint_checksum.h"
+#include "polydem/checkpoint/hdf5_file.h"
 
 namespace polydem::io {
 

@@ -4,16 +4,16 @@
 #include <cmath>
 #include <cstring>
 
-#include "core/error.h"
-#include "core/mpi_env.h"
-#include "core/state_hash.h"
-#include "core/strings.h"
-#include "io/checkpoint.h"
-#include "io/checkpoint_checksum.h"
-#include "io/checkpoint_digest.h"
-#include "io/checkpoint_layout.h"
-#include "io/checkpoint_read_all.h"
-#include "io/hdf5_file.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/state_hash.h"
+#include "polydem/core/strings.h"
+#include "polydem/checkpoint/checkpoint.h"
+#include "polydem/checkpoint/checkpoint_checksum.h"
+#include "polydem/checkpoint/checkpoint_digest.h"
+#include "polydem/checkpoint/checkpoint_layout.h"
+#include "polydem/checkpoint/checkpoint_read_all.h"
+#include "polydem/checkpoint/hdf5_file.h"
 
 namespace polydem::io {
 

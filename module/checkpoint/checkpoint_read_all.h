@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "io/checkpoint.h"
+#include "polydem/checkpoint/checkpoint.h"
 
 namespace polydem::io {
 

@@ -1,15 +1,15 @@
 // The contents of a checkpoint file: attributes, replicated tables (one batch from rank 0), and
 // the particle and pair tables streamed in collective rounds (internal to io/, called by
 // writeCheckpoint in checkpoint_write.cpp).
-#include "io/checkpoint_writer.h"
+#include "polydem/checkpoint/checkpoint_writer.h"
 
 #include <algorithm>
 
-#include "core/byte_buffer.h"
-#include "core/mpi_env.h"
-#include "io/checkpoint_checksum.h"
-#include "io/checkpoint_digest.h"
-#include "io/checkpoint_layout.h"
+#include "polydem/core/byte_buffer.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/checkpoint/checkpoint_checksum.h"
+#include "polydem/checkpoint/checkpoint_digest.h"
+#include "polydem/checkpoint/checkpoint_layout.h"
 
 namespace polydem::io {
 

@@ -2,8 +2,8 @@
 // checkpoint_write.cpp handles validation, the temporary file and the rename). Collective.
 #pragma once
 
-#include "io/checkpoint.h"
-#include "io/hdf5_file.h"
+#include "polydem/checkpoint/checkpoint.h"
+#include "polydem/checkpoint/hdf5_file.h"
 
 namespace polydem::io {
 

@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "io/checkpoint.h"
-#include "io/checkpoint_digest.h"
+#include "polydem/checkpoint/checkpoint.h"
+#include "polydem/checkpoint/checkpoint_digest.h"
 
 namespace polydem::io::h5 {
 

@@ -1,14 +1,14 @@
-#include "comm/history_routing.h"
+#include "polydem/comm/history_routing.h"
 
 #include <algorithm>
 #include <map>
 #include <unordered_map>
 #include <vector>
 
-#include "comm/sparse_exchange.h"
-#include "core/error.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
+#include "polydem/comm/sparse_exchange.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::comm {
 

@@ -16,9 +16,9 @@
 #include <cstdint>
 #include <span>
 
-#include "core/types.h"
-#include "particles/contact_history.h"
-#include "particles/particle_storage.h"
+#include "polydem/core/types.h"
+#include "polydem/particles/contact_history.h"
+#include "polydem/particles/particle_storage.h"
 
 namespace polydem::comm {
 

@@ -1,14 +1,14 @@
-#include "comm/particle_exchange.h"
+#include "polydem/comm/particle_exchange.h"
 
 #include <algorithm>
 #include <chrono>
 #include <map>
 #include <unordered_map>
 
-#include "comm/sparse_exchange.h"
-#include "core/error.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
+#include "polydem/comm/sparse_exchange.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::comm {
 

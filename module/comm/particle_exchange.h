@@ -21,10 +21,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "comm/sparse_exchange.h"
-#include "domain/block_forest.h"
-#include "particles/contact_history.h"
-#include "particles/particle_storage.h"
+#include "polydem/comm/sparse_exchange.h"
+#include "polydem/domain/block_forest.h"
+#include "polydem/particles/contact_history.h"
+#include "polydem/particles/particle_storage.h"
 
 namespace polydem::comm {
 

@@ -1,11 +1,11 @@
-#include "comm/sparse_exchange.h"
+#include "polydem/comm/sparse_exchange.h"
 
 #include <chrono>
 #include <limits>
 
-#include "core/error.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::comm {
 

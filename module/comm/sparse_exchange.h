@@ -8,7 +8,7 @@
 #include <map>
 #include <vector>
 
-#include "core/byte_buffer.h"
+#include "polydem/core/byte_buffer.h"
 
 namespace polydem::comm {
 

@@ -1,9 +1,9 @@
-#include "comm/state_hash.h"
+#include "polydem/comm/state_hash.h"
 
 #include <algorithm>
 
-#include "core/mpi_env.h"
-#include "core/state_hash.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/state_hash.h"
 
 namespace polydem::comm {
 

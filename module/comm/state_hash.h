@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <string>
 
-#include "particles/contact_history.h"
-#include "particles/particle_storage.h"
+#include "polydem/particles/contact_history.h"
+#include "polydem/particles/particle_storage.h"
 
 namespace polydem::comm {
 

@@ -14,8 +14,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/types.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/core/types.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::contact {
 

@@ -1,4 +1,4 @@
-#include "contact/contact_cases.h"
+#include "polydem/contact/contact_cases.h"
 
 #include <cmath>
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "contact/contact.h"
+#include "polydem/contact/contact.h"
 
 namespace polydem::contact {
 

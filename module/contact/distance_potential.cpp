@@ -8,12 +8,12 @@
 //
 // Scratch buffers are thread_local: polydem runs one thread per MPI rank, and a kernel object may
 // be shared; once they have grown to the largest pair seen, collide() allocates nothing.
-#include "contact/distance_potential.h"
+#include "polydem/contact/distance_potential.h"
 
 #include <algorithm>
 
-#include "contact/kernel_factories.h"
-#include "geometry/small_lp.h"
+#include "polydem/contact/kernel_factories.h"
+#include "polydem/geometry/small_lp.h"
 
 namespace polydem::contact {
 

@@ -4,8 +4,8 @@
 // (Zhao eqs. 3, 13). See docs/kernels/distance-potential.md.
 #pragma once
 
-#include "contact/contact.h"
-#include "contact/potential_overlap.h"
+#include "polydem/contact/contact.h"
+#include "polydem/contact/potential_overlap.h"
 
 namespace polydem::contact {
 

@@ -1,4 +1,4 @@
-#include "contact/epa.h"
+#include "polydem/contact/epa.h"
 
 #include <cmath>
 #include <cstdint>

@@ -11,7 +11,7 @@
 // section 2.2). This is reproduced on purpose: gjk-epa-ipm replaces the point (ipm.h).
 #pragma once
 
-#include "contact/gjk.h"
+#include "polydem/contact/gjk.h"
 
 namespace polydem::contact {
 

@@ -1,12 +1,12 @@
-#include "contact/face_contact.h"
+#include "polydem/contact/face_contact.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "contact/support.h"
-#include "core/tolerance.h"
-#include "geometry/polygon.h"
+#include "polydem/contact/support.h"
+#include "polydem/core/tolerance.h"
+#include "polydem/geometry/polygon.h"
 
 namespace polydem::contact {
 

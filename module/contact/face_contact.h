@@ -26,8 +26,8 @@
 #include <span>
 #include <vector>
 
-#include "contact/contact.h"
-#include "contact/labelled_clip.h"
+#include "polydem/contact/contact.h"
+#include "polydem/contact/labelled_clip.h"
 
 namespace polydem::contact {
 

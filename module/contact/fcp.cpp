@@ -1,9 +1,9 @@
 // Kernels `fcp` and `fcp-ipm`: the common plane (fcp_search.cpp) and the contact point from the
 // contact features (fcp_point.cpp) or from the Intersection Polygon Method (ipm.h).
-#include "contact/fcp.h"
+#include "polydem/contact/fcp.h"
 
-#include "contact/ipm.h"
-#include "contact/kernel_factories.h"
+#include "polydem/contact/ipm.h"
+#include "polydem/contact/kernel_factories.h"
 
 namespace polydem::contact {
 

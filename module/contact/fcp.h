@@ -10,7 +10,7 @@
 // (or falls back to all candidates). docs/kernels/fcp.md describes the method and its tolerances.
 #pragma once
 
-#include "contact/contact.h"
+#include "polydem/contact/contact.h"
 
 namespace polydem::contact {
 

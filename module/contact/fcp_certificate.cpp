@@ -23,7 +23,7 @@
 #include <cmath>
 #include <limits>
 
-#include "contact/fcp_detail.h"
+#include "polydem/contact/fcp_detail.h"
 
 namespace polydem::contact::fcp_detail {
 

@@ -5,9 +5,9 @@
 #include <span>
 #include <vector>
 
-#include "contact/contact.h"
-#include "contact/fcp.h"
-#include "geometry/plane_section.h"
+#include "polydem/contact/contact.h"
+#include "polydem/contact/fcp.h"
+#include "polydem/geometry/plane_section.h"
 
 namespace polydem::contact::fcp_detail {
 

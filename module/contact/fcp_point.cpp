@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "contact/fcp.h"
-#include "contact/fcp_detail.h"
-#include "geometry/polygon.h"
+#include "polydem/contact/fcp.h"
+#include "polydem/contact/fcp_detail.h"
+#include "polydem/geometry/polygon.h"
 
 namespace polydem::contact {
 

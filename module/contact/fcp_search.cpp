@@ -20,8 +20,8 @@
 #include <cmath>
 #include <limits>
 
-#include "contact/fcp.h"
-#include "contact/fcp_detail.h"
+#include "polydem/contact/fcp.h"
+#include "polydem/contact/fcp_detail.h"
 
 namespace polydem::contact {
 

@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "contact/fcp_detail.h"
+#include "polydem/contact/fcp_detail.h"
 
 namespace polydem::contact::fcp_detail {
 

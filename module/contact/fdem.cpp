@@ -6,11 +6,11 @@
 // integrated; the internal faces still shape the potential (it is zero on them).
 //
 // Scratch buffers are thread_local (one thread per MPI rank); no allocation once warm.
-#include "contact/fdem.h"
+#include "polydem/contact/fdem.h"
 
 #include <array>
 
-#include "contact/kernel_factories.h"
+#include "polydem/contact/kernel_factories.h"
 
 namespace polydem::contact {
 

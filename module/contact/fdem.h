@@ -7,8 +7,8 @@
 // See docs/kernels/fdem.md.
 #pragma once
 
-#include "contact/contact.h"
-#include "contact/potential_overlap.h"
+#include "polydem/contact/contact.h"
+#include "polydem/contact/potential_overlap.h"
 
 namespace polydem::contact {
 

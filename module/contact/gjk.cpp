@@ -1,4 +1,4 @@
-#include "contact/gjk.h"
+#include "polydem/contact/gjk.h"
 
 #include <cmath>
 

@@ -8,7 +8,7 @@
 
 #include <array>
 
-#include "contact/support.h"
+#include "polydem/contact/support.h"
 
 namespace polydem::contact {
 

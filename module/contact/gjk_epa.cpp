@@ -1,11 +1,11 @@
-#include "contact/gjk_epa.h"
+#include "polydem/contact/gjk_epa.h"
 
-#include "contact/epa.h"
-#include "contact/gjk.h"
-#include "contact/ipm.h"
-#include "contact/kernel_factories.h"
-#include "contact/support.h"
-#include "core/tolerance.h"
+#include "polydem/contact/epa.h"
+#include "polydem/contact/gjk.h"
+#include "polydem/contact/ipm.h"
+#include "polydem/contact/kernel_factories.h"
+#include "polydem/contact/support.h"
+#include "polydem/core/tolerance.h"
 
 namespace polydem::contact {
 

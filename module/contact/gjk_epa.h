@@ -11,7 +11,7 @@
 // Warm start: PairState::warm_direction holds the last separating axis or contact normal.
 #pragma once
 
-#include "contact/contact.h"
+#include "polydem/contact/contact.h"
 
 namespace polydem::contact {
 

@@ -1,12 +1,12 @@
-#include "contact/ipm.h"
+#include "polydem/contact/ipm.h"
 
 #include <algorithm>
 #include <vector>
 
-#include "contact/support.h"
-#include "core/tolerance.h"
-#include "geometry/plane_section.h"
-#include "geometry/polygon.h"
+#include "polydem/contact/support.h"
+#include "polydem/core/tolerance.h"
+#include "polydem/geometry/plane_section.h"
+#include "polydem/geometry/polygon.h"
 
 namespace polydem::contact {
 

@@ -6,7 +6,7 @@
 
 #include <optional>
 
-#include "contact/contact.h"
+#include "polydem/contact/contact.h"
 
 namespace polydem::contact {
 

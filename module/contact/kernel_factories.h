@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "contact/contact.h"
+#include "polydem/contact/contact.h"
 
 namespace polydem::contact {
 std::unique_ptr<Kernel> makeGjkEpa(const KernelParams& params);     // gjk_epa.cpp

@@ -2,10 +2,10 @@
 // line here. Names are what scene files, benchmarks and the command line use.
 #include <algorithm>
 
-#include "contact/contact.h"
-#include "contact/kernel_factories.h"
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/contact/contact.h"
+#include "polydem/contact/kernel_factories.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::contact {
 
@@ -18,7 +18,7 @@ struct Entry {
 const std::vector<Entry>& registry() {
   static const std::vector<Entry> entries = {
 #define POLYDEM_KERNEL(name, factory) {name, &factory},
-#include "contact/kernel_list.inc"
+#include "polydem/contact/kernel_list.inc"
 #undef POLYDEM_KERNEL
   };
   return entries;

@@ -1,8 +1,8 @@
-#include "contact/labelled_clip.h"
+#include "polydem/contact/labelled_clip.h"
 
 #include <utility>
 
-#include "geometry/polygon.h"
+#include "polydem/geometry/polygon.h"
 
 namespace polydem::contact {
 

@@ -19,7 +19,7 @@
 // pairs with at most 256 faces in all). A pair found apart keeps a separating direction (the
 // line of centres, or the LP dual's) in warm_direction, in A's frame. warm_valid says which of
 // these hold (kWarmPoint, kWarmBasis, kWarmAxis).
-#include "contact/lp.h"
+#include "polydem/contact/lp.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,11 +27,11 @@
 #include <optional>
 #include <vector>
 
-#include "contact/kernel_factories.h"
-#include "core/error.h"
-#include "core/strings.h"
-#include "geometry/analytic_centre.h"
-#include "geometry/small_lp.h"
+#include "polydem/contact/kernel_factories.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
+#include "polydem/geometry/analytic_centre.h"
+#include "polydem/geometry/small_lp.h"
 
 namespace polydem::contact {
 namespace {

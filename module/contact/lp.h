@@ -20,8 +20,8 @@
 // r_k = KernelParams::lp_rounding * inradius of block k.
 #pragma once
 
-#include "contact/contact.h"
-#include "geometry/halfspaces.h"
+#include "polydem/contact/contact.h"
+#include "polydem/geometry/halfspaces.h"
 
 namespace polydem::contact {
 

@@ -1,8 +1,8 @@
-#include "contact/overlap_point.h"
+#include "polydem/contact/overlap_point.h"
 
 #include <cmath>
 
-#include "core/tolerance.h"
+#include "polydem/core/tolerance.h"
 
 namespace polydem::contact {
 

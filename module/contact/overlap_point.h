@@ -17,8 +17,8 @@
 #include <span>
 #include <vector>
 
-#include "contact/contact.h"
-#include "geometry/polygon_clip.h"
+#include "polydem/contact/contact.h"
+#include "polydem/geometry/polygon_clip.h"
 
 namespace polydem::contact {
 

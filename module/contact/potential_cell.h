@@ -5,7 +5,7 @@
 
 #include <span>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem::contact::potential {
 

@@ -1,4 +1,4 @@
-#include "contact/potential_envelope.h"
+#include "polydem/contact/potential_envelope.h"
 
 #include <algorithm>
 

@@ -17,7 +17,7 @@
 #include <span>
 #include <vector>
 
-#include "contact/potential_cell.h"
+#include "polydem/contact/potential_cell.h"
 
 namespace polydem::contact::potential {
 

@@ -1,11 +1,11 @@
-#include "contact/potential_overlap.h"
+#include "polydem/contact/potential_overlap.h"
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
 
-#include "core/tolerance.h"
+#include "polydem/core/tolerance.h"
 
 namespace polydem::contact::potential {
 

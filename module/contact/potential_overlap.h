@@ -22,11 +22,11 @@
 #include <span>
 #include <vector>
 
-#include "contact/contact.h"
-#include "contact/potential_cell.h"
-#include "contact/potential_envelope.h"
-#include "core/types.h"
-#include "geometry/polygon_clip.h"
+#include "polydem/contact/contact.h"
+#include "polydem/contact/potential_cell.h"
+#include "polydem/contact/potential_envelope.h"
+#include "polydem/core/types.h"
+#include "polydem/geometry/polygon_clip.h"
 
 namespace polydem::contact::potential {
 

@@ -2,7 +2,7 @@
 // EPA (gjk.h, epa.h) and by the IPM's plane placement (ipm.h).
 #pragma once
 
-#include "contact/contact.h"
+#include "polydem/contact/contact.h"
 
 namespace polydem::contact {
 

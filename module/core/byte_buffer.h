@@ -9,8 +9,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "core/error.h"
-#include "core/types.h"
+#include "polydem/core/error.h"
+#include "polydem/core/types.h"
 
 namespace polydem {
 

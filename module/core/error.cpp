@@ -1,4 +1,4 @@
-#include "core/error.h"
+#include "polydem/core/error.h"
 
 namespace polydem {
 

@@ -1,4 +1,4 @@
-#include "core/exact_sum.h"
+#include "polydem/core/exact_sum.h"
 
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-#include "core/file_kind.h"
+#include "polydem/core/file_kind.h"
 
 #include <filesystem>
 

@@ -1,4 +1,4 @@
-#include "core/logging.h"
+#include "polydem/core/logging.h"
 
 #include <cstdio>
 

@@ -1,4 +1,4 @@
-#include "core/memory.h"
+#include "polydem/core/memory.h"
 
 #include <sys/resource.h>
 #include <unistd.h>

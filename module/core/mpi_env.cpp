@@ -1,6 +1,6 @@
-#include "core/mpi_env.h"
+#include "polydem/core/mpi_env.h"
 
-#include "core/logging.h"
+#include "polydem/core/logging.h"
 
 namespace polydem::mpi {
 

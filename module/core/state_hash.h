@@ -6,7 +6,7 @@
 #include <cstring>
 #include <string>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem {
 

@@ -1,4 +1,4 @@
-#include "core/test_pause.h"
+#include "polydem/core/test_pause.h"
 
 #include <unistd.h>
 

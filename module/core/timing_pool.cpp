@@ -1,10 +1,10 @@
-#include "core/timing_pool.h"
+#include "polydem/core/timing_pool.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <numeric>
 
-#include "core/mpi_env.h"
+#include "polydem/core/mpi_env.h"
 
 namespace polydem {
 

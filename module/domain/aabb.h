@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem::domain {
 

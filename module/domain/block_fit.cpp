@@ -1,4 +1,4 @@
-#include "domain/block_fit.h"
+#include "polydem/domain/block_fit.h"
 
 #include <algorithm>
 #include <array>
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <unordered_set>
 
-#include "core/strings.h"
-#include "domain/domain_error.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/domain_error.h"
 
 namespace polydem::domain {
 

@@ -13,8 +13,8 @@
 #include <functional>
 #include <span>
 
-#include "domain/aabb.h"
-#include "domain/block_forest.h"
+#include "polydem/domain/aabb.h"
+#include "polydem/domain/block_forest.h"
 
 namespace polydem::domain {
 

@@ -1,12 +1,12 @@
-#include "domain/block_forest.h"
+#include "polydem/domain/block_forest.h"
 
 #include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdint>
 
-#include "core/strings.h"
-#include "domain/domain_error.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/domain_error.h"
 
 namespace polydem::domain {
 

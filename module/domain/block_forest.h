@@ -10,8 +10,8 @@
 #include <span>
 #include <vector>
 
-#include "core/types.h"
-#include "domain/aabb.h"
+#include "polydem/core/types.h"
+#include "polydem/domain/aabb.h"
 
 namespace polydem::domain {
 

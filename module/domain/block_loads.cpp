@@ -1,12 +1,12 @@
-#include "domain/block_loads.h"
+#include "polydem/domain/block_loads.h"
 
 #include <algorithm>
 #include <cmath>
 #include <tuple>
 
-#include "core/strings.h"
-#include "domain/domain_error.h"
-#include "domain/partition_checks.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/domain_error.h"
+#include "polydem/domain/partition_checks.h"
 
 namespace polydem::domain {
 

@@ -19,8 +19,8 @@
 #include <span>
 #include <vector>
 
-#include "domain/block_forest.h"
-#include "domain/partition.h"
+#include "polydem/domain/block_forest.h"
+#include "polydem/domain/partition.h"
 
 namespace polydem::domain {
 

@@ -2,7 +2,7 @@
 // satisfied (more ranks than blocks, a weight vector of the wrong length, a negative weight).
 #pragma once
 
-#include "core/error.h"
+#include "polydem/core/error.h"
 
 namespace polydem::domain {
 

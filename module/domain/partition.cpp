@@ -1,4 +1,4 @@
-#include "domain/partition.h"
+#include "polydem/domain/partition.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,10 +7,10 @@
 #include <functional>
 #include <tuple>
 
-#include "core/logging.h"
-#include "core/strings.h"
-#include "domain/domain_error.h"
-#include "domain/partition_checks.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/domain_error.h"
+#include "polydem/domain/partition_checks.h"
 
 namespace polydem::domain {
 

@@ -7,8 +7,8 @@
 #include <span>
 #include <vector>
 
-#include "domain/block_forest.h"
-#include "domain/space_filling_curve.h"
+#include "polydem/domain/block_forest.h"
+#include "polydem/domain/space_filling_curve.h"
 
 namespace polydem::domain {
 

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <span>
 
-#include "core/strings.h"
-#include "domain/block_forest.h"
-#include "domain/domain_error.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/block_forest.h"
+#include "polydem/domain/domain_error.h"
 
 namespace polydem::domain::detail {
 

@@ -6,10 +6,10 @@
 #include <optional>
 #include <tuple>
 
-#include "core/logging.h"
-#include "core/strings.h"
-#include "domain/partition.h"
-#include "domain/partition_checks.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/partition.h"
+#include "polydem/domain/partition_checks.h"
 
 namespace polydem::domain {
 

@@ -1,15 +1,15 @@
-#include "domain/rebalance.h"
+#include "polydem/domain/rebalance.h"
 
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
 
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "domain/domain_error.h"
-#include "domain/partition.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/domain_error.h"
+#include "polydem/domain/partition.h"
 
 namespace polydem::domain {
 

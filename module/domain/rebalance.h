@@ -9,9 +9,9 @@
 #include <span>
 #include <vector>
 
-#include "domain/block_forest.h"
-#include "domain/block_loads.h"
-#include "domain/partition.h"
+#include "polydem/domain/block_forest.h"
+#include "polydem/domain/block_loads.h"
+#include "polydem/domain/partition.h"
 
 namespace polydem::domain {
 

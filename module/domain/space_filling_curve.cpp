@@ -1,10 +1,10 @@
-#include "domain/space_filling_curve.h"
+#include "polydem/domain/space_filling_curve.h"
 
 #include <algorithm>
 #include <utility>
 
-#include "core/strings.h"
-#include "domain/domain_error.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/domain_error.h"
 
 namespace polydem::domain {
 

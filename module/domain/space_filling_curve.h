@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "domain/block_forest.h"
+#include "polydem/domain/block_forest.h"
 
 namespace polydem::domain {
 

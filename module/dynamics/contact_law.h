@@ -19,10 +19,10 @@
 
 #include <optional>
 
-#include "contact/contact.h"
-#include "core/types.h"
-#include "particles/contact_history.h"
-#include "particles/material.h"
+#include "polydem/contact/contact.h"
+#include "polydem/core/types.h"
+#include "polydem/particles/contact_history.h"
+#include "polydem/particles/material.h"
 
 namespace polydem::dynamics {
 

@@ -1,10 +1,10 @@
-#include "dynamics/integrator.h"
+#include "polydem/dynamics/integrator.h"
 
 #include <cmath>
 #include <utility>
 
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::dynamics {
 

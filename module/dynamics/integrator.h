@@ -17,8 +17,8 @@
 // Gravity is not added here: the caller passes the total force (contacts + m g).
 #pragma once
 
-#include "core/types.h"
-#include "particles/particle.h"
+#include "polydem/core/types.h"
+#include "polydem/particles/particle.h"
 
 namespace polydem::dynamics {
 

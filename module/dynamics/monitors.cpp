@@ -1,4 +1,4 @@
-#include "dynamics/monitors.h"
+#include "polydem/dynamics/monitors.h"
 
 namespace polydem::dynamics {
 

@@ -7,10 +7,10 @@
 
 #include <cmath>
 
-#include "core/exact_sum.h"
-#include "core/types.h"
-#include "dynamics/integrator.h"
-#include "particles/particle.h"
+#include "polydem/core/exact_sum.h"
+#include "polydem/core/types.h"
+#include "polydem/dynamics/integrator.h"
+#include "polydem/particles/particle.h"
 
 namespace polydem::dynamics {
 

@@ -1,4 +1,4 @@
-#include "dynamics/sub_contact_law.h"
+#include "polydem/dynamics/sub_contact_law.h"
 
 #include <algorithm>
 #include <cmath>

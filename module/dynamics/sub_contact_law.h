@@ -31,9 +31,9 @@
 #include <span>
 #include <vector>
 
-#include "contact/face_contact.h"
-#include "dynamics/contact_law.h"
-#include "particles/contact_history.h"
+#include "polydem/contact/face_contact.h"
+#include "polydem/dynamics/contact_law.h"
+#include "polydem/particles/contact_history.h"
 
 namespace polydem::dynamics {
 

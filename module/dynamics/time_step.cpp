@@ -1,10 +1,10 @@
-#include "dynamics/time_step.h"
+#include "polydem/dynamics/time_step.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::dynamics {
 

@@ -21,8 +21,8 @@
 #include <span>
 #include <string>
 
-#include "core/types.h"
-#include "particles/material.h"
+#include "polydem/core/types.h"
+#include "polydem/particles/material.h"
 
 namespace polydem::dynamics {
 

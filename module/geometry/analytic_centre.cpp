@@ -18,7 +18,7 @@
 // (H = J^T J, g = J^T 1: D solves min |J D + 1|), whose condition number is only the square root
 // of H's. Once lambda is small, a decrement that stops halving shows that round-off, not the
 // iteration, limits it: the point is then as good as the arithmetic allows.
-#include "geometry/analytic_centre.h"
+#include "polydem/geometry/analytic_centre.h"
 
 #include <algorithm>
 #include <cmath>

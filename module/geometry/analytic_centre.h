@@ -13,8 +13,8 @@
 // the damped phase only, a few more passes for the line search. No heap allocation once warm.
 #pragma once
 
-#include "core/types.h"
-#include "geometry/halfspaces.h"
+#include "polydem/core/types.h"
+#include "polydem/geometry/halfspaces.h"
 
 namespace polydem::geometry {
 

@@ -1,4 +1,4 @@
-#include "geometry/body_shape.h"
+#include "polydem/geometry/body_shape.h"
 
 #include <Eigen/Eigenvalues>
 #include <cmath>

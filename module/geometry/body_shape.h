@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "geometry/convex_polyhedron.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::geometry {
 

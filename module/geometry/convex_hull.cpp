@@ -22,12 +22,12 @@
 #include <tuple>
 #include <utility>
 
-#include "core/error.h"
-#include "core/strings.h"
-#include "core/tolerance.h"
-#include "geometry/convex_polyhedron.h"
-#include "geometry/point_cloud_checks.h"
-#include "geometry/qhull_facets.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
+#include "polydem/core/tolerance.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/point_cloud_checks.h"
+#include "polydem/geometry/qhull_facets.h"
 
 namespace polydem::geometry {
 

@@ -1,15 +1,15 @@
 // ConvexPolyhedron: topology (faces, edges, adjacency), support mapping and rigid motions.
 // Building from points is in convex_hull.cpp, mass properties in mass_properties.cpp, plane
 // splits in polyhedron_split.cpp.
-#include "geometry/convex_polyhedron.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <tuple>
 
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::geometry {
 

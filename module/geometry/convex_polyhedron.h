@@ -9,8 +9,8 @@
 #include <span>
 #include <vector>
 
-#include "core/types.h"
-#include "geometry/face_regions.h"
+#include "polydem/core/types.h"
+#include "polydem/geometry/face_regions.h"
 
 namespace polydem::geometry {
 

@@ -1,11 +1,11 @@
-#include "geometry/face_regions.h"
+#include "polydem/geometry/face_regions.h"
 
 #include <algorithm>
 #include <cmath>
 #include <mutex>
 
-#include "core/types.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/core/types.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::geometry {
 

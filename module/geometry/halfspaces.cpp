@@ -1,4 +1,4 @@
-#include "geometry/halfspaces.h"
+#include "polydem/geometry/halfspaces.h"
 
 #include <algorithm>
 #include <limits>

@@ -1,11 +1,11 @@
-#include "geometry/joint_planes.h"
+#include "polydem/geometry/joint_planes.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
-#include "core/random.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/random.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::geometry {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/types.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/core/types.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::geometry {
 

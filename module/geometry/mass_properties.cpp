@@ -17,11 +17,11 @@
 #include <limits>
 #include <vector>
 
-#include "core/error.h"
-#include "core/exact_sum.h"
-#include "core/strings.h"
-#include "geometry/convex_polyhedron.h"
-#include "geometry/small_lp.h"
+#include "polydem/core/error.h"
+#include "polydem/core/exact_sum.h"
+#include "polydem/core/strings.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/small_lp.h"
 
 namespace polydem::geometry {
 

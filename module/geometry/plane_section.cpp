@@ -1,4 +1,4 @@
-#include "geometry/plane_section.h"
+#include "polydem/geometry/plane_section.h"
 
 #include <algorithm>
 #include <cmath>

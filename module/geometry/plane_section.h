@@ -9,9 +9,9 @@
 #include <span>
 #include <vector>
 
-#include "core/types.h"
-#include "geometry/convex_polyhedron.h"
-#include "geometry/polygon.h"
+#include "polydem/core/types.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/polygon.h"
 
 namespace polydem::geometry {
 

@@ -1,4 +1,4 @@
-#include "geometry/point_cloud_checks.h"
+#include "polydem/geometry/point_cloud_checks.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
-#include "core/tolerance.h"
+#include "polydem/core/error.h"
+#include "polydem/core/tolerance.h"
 
 namespace polydem::geometry {
 

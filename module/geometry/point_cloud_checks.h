@@ -5,7 +5,7 @@
 #include <span>
 #include <string>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem::geometry {
 

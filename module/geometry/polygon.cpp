@@ -1,4 +1,4 @@
-#include "geometry/polygon.h"
+#include "polydem/geometry/polygon.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,12 +1,12 @@
-#include "geometry/polygon_partition.h"
+#include "polydem/geometry/polygon_partition.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
-#include "core/strings.h"
-#include "core/tolerance.h"
-#include "geometry/polygon.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
+#include "polydem/core/tolerance.h"
+#include "polydem/geometry/polygon.h"
 
 namespace polydem::geometry {
 

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem::geometry {
 

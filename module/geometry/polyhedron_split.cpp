@@ -2,8 +2,8 @@
 // vertex lists (each part is the convex hull of its list). Used to cut rock masses by joints.
 #include <algorithm>
 
-#include "core/tolerance.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/core/tolerance.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::geometry {
 

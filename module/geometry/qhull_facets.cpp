@@ -1,4 +1,4 @@
-#include "geometry/qhull_facets.h"
+#include "polydem/geometry/qhull_facets.h"
 
 #include <libqhull_r/libqhull_r.h>
 
@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "core/error.h"
+#include "polydem/core/error.h"
 
 namespace polydem::geometry {
 

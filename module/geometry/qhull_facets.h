@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem::geometry {
 

@@ -1,15 +1,15 @@
 // cutRockMass: the region's pieces split plane by plane (ConvexPolyhedron::split), with the sliver
 // rule at every cut, the fixed and removed sides applied after each single plane, and the pieces
 // of a non-convex region joined again wherever a block's two parts form a convex block.
-#include "geometry/rock_mass.h"
+#include "polydem/geometry/rock_mass.h"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <optional>
 
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::geometry {
 

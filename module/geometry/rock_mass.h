@@ -19,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "core/types.h"
-#include "geometry/convex_polyhedron.h"
-#include "geometry/joint_planes.h"
+#include "polydem/core/types.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/joint_planes.h"
 
 namespace polydem::geometry {
 

@@ -1,10 +1,10 @@
 // The regions a rock mass is cut from (rock_mass.h): a box, a convex polyhedron, a slope profile.
 #include <cmath>
 
-#include "core/error.h"
-#include "geometry/polygon_partition.h"
-#include "geometry/rock_mass.h"
-#include "geometry/shapes.h"
+#include "polydem/core/error.h"
+#include "polydem/geometry/polygon_partition.h"
+#include "polydem/geometry/rock_mass.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::geometry {
 

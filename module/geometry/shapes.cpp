@@ -1,11 +1,11 @@
-#include "geometry/shapes.h"
+#include "polydem/geometry/shapes.h"
 
 #include <cmath>
 #include <random>
 #include <string>
 
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::geometry::shapes {
 

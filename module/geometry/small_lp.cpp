@@ -24,7 +24,7 @@
 // over for the rest of the solve. Both are deterministic. Rows are scaled to unit length first;
 // tolerances are then fractions of the problem's size (|z| and the rows' distances from the
 // origin), so the same problem in millimetres and in metres takes the same pivots.
-#include "geometry/small_lp.h"
+#include "polydem/geometry/small_lp.h"
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -33,8 +33,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::geometry {
 namespace {

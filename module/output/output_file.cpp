@@ -1,4 +1,4 @@
-#include "io/output_file.h"
+#include "polydem/output/output_file.h"
 
 #include <cerrno>
 #include <climits>
@@ -7,8 +7,8 @@
 #include <system_error>
 #include <vector>
 
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::io {
 

@@ -1,4 +1,4 @@
-#include "io/series_writer.h"
+#include "polydem/output/series_writer.h"
 
 #include <cerrno>
 #include <cstdlib>
@@ -7,9 +7,9 @@
 #include <set>
 #include <sstream>
 
-#include "core/error.h"
-#include "core/strings.h"
-#include "io/output_file.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
+#include "polydem/output/output_file.h"
 
 namespace polydem::io {
 

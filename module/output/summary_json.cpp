@@ -1,10 +1,10 @@
-#include "io/summary_json.h"
+#include "polydem/output/summary_json.h"
 
 #include <cmath>
 
-#include "core/error.h"
-#include "core/strings.h"
-#include "io/output_file.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
+#include "polydem/output/output_file.h"
 
 namespace polydem::io {
 

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/timing_pool.h"
+#include "polydem/core/timing_pool.h"
 
 namespace polydem::io {
 

@@ -1,14 +1,14 @@
-#include "io/vtk_writer.h"
+#include "polydem/output/vtk_writer.h"
 
 #include <array>
 #include <cstdio>
 #include <fstream>
 #include <utility>
 
-#include "core/error.h"
-#include "core/strings.h"
-#include "io/output_file.h"
-#include "io/vtk_xml.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
+#include "polydem/output/output_file.h"
+#include "polydem/output/vtk_xml.h"
 
 namespace polydem::io {
 

@@ -30,7 +30,7 @@
 #include <string>
 #include <vector>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem::io {
 

@@ -1,10 +1,10 @@
-#include "io/vtk_xml.h"
+#include "polydem/output/vtk_xml.h"
 
 #include <bit>
 #include <cstdio>
 
-#include "core/strings.h"
-#include "io/output_file.h"
+#include "polydem/core/strings.h"
+#include "polydem/output/output_file.h"
 
 namespace polydem::io::vtk {
 

@@ -1,9 +1,9 @@
-#include "particles/contact_history.h"
+#include "polydem/particles/contact_history.h"
 
 #include <algorithm>
 #include <numeric>
 
-#include "core/error.h"
+#include "polydem/core/error.h"
 
 namespace polydem::particles {
 

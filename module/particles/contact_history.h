@@ -17,9 +17,9 @@
 #include <utility>
 #include <vector>
 
-#include "contact/contact.h"
-#include "core/byte_buffer.h"
-#include "core/types.h"
+#include "polydem/contact/contact.h"
+#include "polydem/core/byte_buffer.h"
+#include "polydem/core/types.h"
 
 namespace polydem::particles {
 

@@ -1,8 +1,8 @@
-#include "particles/material.h"
+#include "polydem/particles/material.h"
 
 #include <algorithm>
 
-#include "core/error.h"
+#include "polydem/core/error.h"
 
 namespace polydem::particles {
 

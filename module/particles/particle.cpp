@@ -1,4 +1,4 @@
-#include "particles/particle.h"
+#include "polydem/particles/particle.h"
 
 namespace polydem::particles {
 

@@ -5,8 +5,8 @@
 
 #include <cstdint>
 
-#include "core/byte_buffer.h"
-#include "core/types.h"
+#include "polydem/core/byte_buffer.h"
+#include "polydem/core/types.h"
 
 namespace polydem::particles {
 

@@ -1,7 +1,7 @@
-#include "particles/particle_storage.h"
+#include "polydem/particles/particle_storage.h"
 
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::particles {
 

@@ -12,8 +12,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "geometry/body_shape.h"
-#include "particles/particle.h"
+#include "polydem/geometry/body_shape.h"
+#include "polydem/particles/particle.h"
 
 namespace polydem::particles {
 

@@ -1,4 +1,4 @@
-#include "sim/checks.h"
+#include "polydem/run/checks.h"
 
 #include <cmath>
 #include <functional>
@@ -6,12 +6,12 @@
 #include <map>
 #include <sstream>
 
-#include "core/error.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "io/check_kinds.h"
-#include "sim/motion_checks.h"
-#include "sim/simulation.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/scene/check_kinds.h"
+#include "polydem/run/motion_checks.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "io/scene.h"
-#include "io/summary_json.h"
-#include "sim/tracker.h"
+#include "polydem/setup/setup.h"
+#include "polydem/output/summary_json.h"
+#include "polydem/run/tracker.h"
 
 namespace polydem::sim {
 

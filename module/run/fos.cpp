@@ -1,18 +1,18 @@
-#include "sim/fos.h"
+#include "polydem/run/fos.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "geometry/convex_polyhedron.h"
-#include "particles/material.h"
-#include "sim/free_motion.h"
-#include "sim/simulation.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/particles/material.h"
+#include "polydem/run/free_motion.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "io/scene.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::sim {
 

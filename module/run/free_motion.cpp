@@ -1,12 +1,12 @@
-#include "sim/free_motion.h"
+#include "polydem/run/free_motion.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/exact_sum.h"
-#include "core/mpi_env.h"
-#include "particles/particle_storage.h"
-#include "sim/simulation.h"
+#include "polydem/core/exact_sum.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/particles/particle_storage.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "core/types.h"
-#include "io/scene.h"
+#include "polydem/core/types.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::sim {
 

@@ -1,4 +1,4 @@
-#include "sim/motion_checks.h"
+#include "polydem/run/motion_checks.h"
 
 #include <cmath>
 #include <limits>
@@ -6,11 +6,11 @@
 #include <optional>
 #include <set>
 
-#include "core/error.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "sim/free_motion.h"
-#include "sim/simulation.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/run/free_motion.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

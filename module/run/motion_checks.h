@@ -13,9 +13,9 @@
 
 #include <memory>
 
-#include "io/scene.h"
-#include "sim/checks.h"
-#include "sim/tracker.h"
+#include "polydem/setup/setup.h"
+#include "polydem/run/checks.h"
+#include "polydem/run/tracker.h"
 
 namespace polydem::sim {
 

@@ -1,23 +1,23 @@
-#include "sim/run.h"
+#include "polydem/run/run.h"
 
 #include <chrono>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "contact/contact.h"
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/state_hash.h"
-#include "core/strings.h"
-#include "core/test_pause.h"
-#include "io/checkpoint.h"
-#include "io/scene_reader.h"
-#include "sim/balance_figures.h"
-#include "sim/checks.h"
-#include "sim/run_checkpoint.h"
-#include "sim/run_output.h"
-#include "sim/simulation.h"
+#include "polydem/contact/contact.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/state_hash.h"
+#include "polydem/core/strings.h"
+#include "polydem/core/test_pause.h"
+#include "polydem/checkpoint/checkpoint.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/sim/balance_figures.h"
+#include "polydem/run/checks.h"
+#include "polydem/run/run_checkpoint.h"
+#include "polydem/run/run_output.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

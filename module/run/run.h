@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "comm/state_hash.h"
-#include "io/scene.h"
-#include "io/summary_json.h"
+#include "polydem/comm/state_hash.h"
+#include "polydem/setup/setup.h"
+#include "polydem/output/summary_json.h"
 
 namespace polydem::sim {
 

@@ -1,15 +1,15 @@
-#include "sim/run_checkpoint.h"
+#include "polydem/run/run_checkpoint.h"
 
 #include <csignal>
 #include <cstring>
 #include <nlohmann/json.hpp>
 
-#include "contact/contact.h"
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "io/checkpoint.h"
+#include "polydem/contact/contact.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/checkpoint/checkpoint.h"
 
 namespace polydem::sim {
 

@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "io/scene.h"
-#include "sim/checks.h"
-#include "sim/simulation.h"
-#include "sim/tracker.h"
+#include "polydem/setup/setup.h"
+#include "polydem/run/checks.h"
+#include "polydem/sim/simulation.h"
+#include "polydem/run/tracker.h"
 
 namespace polydem::sim {
 

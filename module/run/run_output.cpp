@@ -1,10 +1,10 @@
-#include "sim/run_output.h"
+#include "polydem/run/run_output.h"
 
 #include <filesystem>
 
-#include "core/error.h"
-#include "core/mpi_env.h"
-#include "dynamics/integrator.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/dynamics/integrator.h"
 
 namespace polydem::sim {
 

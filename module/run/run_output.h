@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "io/series_writer.h"
-#include "io/vtk_writer.h"
-#include "sim/checks.h"
-#include "sim/simulation.h"
+#include "polydem/output/series_writer.h"
+#include "polydem/output/vtk_writer.h"
+#include "polydem/run/checks.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

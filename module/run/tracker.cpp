@@ -1,13 +1,13 @@
-#include "sim/tracker.h"
+#include "polydem/run/tracker.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "dynamics/monitors.h"
-#include "sim/simulation.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/dynamics/monitors.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

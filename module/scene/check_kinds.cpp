@@ -1,8 +1,8 @@
-#include "io/check_kinds.h"
+#include "polydem/scene/check_kinds.h"
 
 #include <string>
 
-#include "io/scene.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::io {
 

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "io/units.h"
+#include "polydem/scene/units.h"
 
 namespace polydem::io {
 

@@ -4,13 +4,13 @@
 #include <limits>
 #include <map>
 
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/random.h"
-#include "core/strings.h"
-#include "geometry/convex_polyhedron.h"
-#include "geometry/shapes.h"
-#include "io/scene_sections.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/random.h"
+#include "polydem/core/strings.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/shapes.h"
+#include "polydem/scene/scene_sections.h"
 
 namespace polydem::io::detail {
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/strings.h"
-#include "io/check_kinds.h"
-#include "io/scene_sections.h"
+#include "polydem/core/strings.h"
+#include "polydem/scene/check_kinds.h"
+#include "polydem/scene/scene_sections.h"
 
 namespace polydem::io::detail {
 

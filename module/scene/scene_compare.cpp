@@ -3,8 +3,8 @@
 #include <toml++/toml.h>
 #include <set>
 
-#include "core/error.h"
-#include "io/scene_reader.h"
+#include "polydem/core/error.h"
+#include "polydem/scene/scene_reader.h"
 
 namespace polydem::io {
 

@@ -1,8 +1,8 @@
 // [fos]: the settings of `polydem fos` (strength reduction, sim/fos.h) in a scene file.
 #include <limits>
 
-#include "core/strings.h"
-#include "io/scene_sections.h"
+#include "polydem/core/strings.h"
+#include "polydem/scene/scene_sections.h"
 
 namespace polydem::io::detail {
 

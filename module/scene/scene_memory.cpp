@@ -1,8 +1,8 @@
 // A scene whose particles cannot fit in memory is refused where it asks for them (a
 // [[particle_grid]] count), before anything is built.
-#include "core/memory.h"
-#include "core/strings.h"
-#include "io/scene_sections.h"
+#include "polydem/core/memory.h"
+#include "polydem/core/strings.h"
+#include "polydem/scene/scene_sections.h"
 
 namespace polydem::io::detail {
 

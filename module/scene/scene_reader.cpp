@@ -1,7 +1,7 @@
 // The run settings of a scene file: [scene], [simulation], [kernel_params], [[material]],
 // [[interaction]], [[driver]], [domain], [equilibrium], [output], [checkpoint]. Shapes and
 // particles are in scene_bodies.cpp, [[check]] in scene_checks.cpp.
-#include "io/scene_reader.h"
+#include "polydem/scene/scene_reader.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,13 +9,13 @@
 #include <limits>
 #include <sstream>
 
-#include "contact/contact.h"
-#include "core/error.h"
-#include "core/file_kind.h"
-#include "core/memory.h"
-#include "core/strings.h"
-#include "io/scene_sections.h"
-#include "particles/material.h"
+#include "polydem/contact/contact.h"
+#include "polydem/core/error.h"
+#include "polydem/core/file_kind.h"
+#include "polydem/core/memory.h"
+#include "polydem/core/strings.h"
+#include "polydem/scene/scene_sections.h"
+#include "polydem/particles/material.h"
 
 namespace polydem::io {
 

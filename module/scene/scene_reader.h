@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "io/scene.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::io {
 

@@ -4,11 +4,11 @@
 #include <cmath>
 #include <limits>
 
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/strings.h"
-#include "geometry/rock_mass.h"
-#include "io/scene_sections.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/strings.h"
+#include "polydem/geometry/rock_mass.h"
+#include "polydem/scene/scene_sections.h"
 
 namespace polydem::io::detail {
 

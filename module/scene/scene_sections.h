@@ -5,8 +5,8 @@
 
 #include <toml++/toml.h>
 
-#include "io/scene.h"
-#include "io/toml_values.h"
+#include "polydem/setup/setup.h"
+#include "polydem/scene/toml_values.h"
 
 namespace polydem::io::detail {
 

@@ -1,4 +1,4 @@
-#include "io/toml_values.h"
+#include "polydem/scene/toml_values.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,8 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/error.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::io::detail {
 

@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/types.h"
-#include "io/units.h"
+#include "polydem/core/types.h"
+#include "polydem/scene/units.h"
 
 namespace polydem::io::detail {
 

@@ -1,10 +1,10 @@
-#include "io/units.h"
+#include "polydem/scene/units.h"
 
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem::io {
 

@@ -1,11 +1,11 @@
-#include "sim/balance_figures.h"
+#include "polydem/sim/balance_figures.h"
 
 #include <mpi.h>
 
 #include <algorithm>
 #include <array>
 
-#include "core/mpi_env.h"
+#include "polydem/core/mpi_env.h"
 
 namespace polydem::sim {
 

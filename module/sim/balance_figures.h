@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 
-#include "sim/simulation.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

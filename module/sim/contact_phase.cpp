@@ -1,8 +1,8 @@
-#include "sim/contact_phase.h"
+#include "polydem/sim/contact_phase.h"
 
 #include <algorithm>
 
-#include "dynamics/driver.h"
+#include "polydem/dynamics/driver.h"
 
 namespace polydem::sim {
 

@@ -17,16 +17,16 @@
 #include <utility>
 #include <vector>
 
-#include "broadphase/broad_phase.h"
-#include "contact/contact.h"
-#include "contact/face_contact.h"
-#include "contact/overlap_point.h"
-#include "dynamics/contact_law.h"
-#include "dynamics/monitors.h"
-#include "dynamics/sub_contact_law.h"
-#include "io/scene.h"
-#include "particles/contact_history.h"
-#include "particles/particle_storage.h"
+#include "polydem/broadphase/broad_phase.h"
+#include "polydem/contact/contact.h"
+#include "polydem/contact/face_contact.h"
+#include "polydem/contact/overlap_point.h"
+#include "polydem/dynamics/contact_law.h"
+#include "polydem/dynamics/monitors.h"
+#include "polydem/dynamics/sub_contact_law.h"
+#include "polydem/setup/setup.h"
+#include "polydem/particles/contact_history.h"
+#include "polydem/particles/particle_storage.h"
 
 namespace polydem::sim {
 

@@ -1,4 +1,4 @@
-#include "sim/load_balance.h"
+#include "polydem/sim/load_balance.h"
 
 #include <cmath>
 #include <string>

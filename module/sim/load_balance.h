@@ -16,10 +16,10 @@
 #include <string_view>
 #include <vector>
 
-#include "domain/block_forest.h"
-#include "domain/block_loads.h"
-#include "particles/particle_storage.h"
-#include "sim/contact_phase.h"
+#include "polydem/domain/block_forest.h"
+#include "polydem/domain/block_loads.h"
+#include "polydem/particles/particle_storage.h"
+#include "polydem/sim/contact_phase.h"
 
 namespace polydem::sim {
 

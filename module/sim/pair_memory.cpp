@@ -1,13 +1,13 @@
-#include "sim/pair_memory.h"
+#include "polydem/sim/pair_memory.h"
 
 #include <algorithm>
 #include <limits>
 #include <vector>
 
-#include "core/memory.h"
-#include "core/strings.h"
-#include "particles/contact_history.h"
-#include "sim/contact_phase.h"
+#include "polydem/core/memory.h"
+#include "polydem/core/strings.h"
+#include "polydem/particles/contact_history.h"
+#include "polydem/sim/contact_phase.h"
 
 namespace polydem::sim {
 

@@ -9,9 +9,9 @@
 #include <span>
 #include <string>
 
-#include "broadphase/broad_phase.h"
-#include "io/scene.h"
-#include "particles/particle_storage.h"
+#include "polydem/broadphase/broad_phase.h"
+#include "polydem/setup/setup.h"
+#include "polydem/particles/particle_storage.h"
 
 namespace polydem::sim {
 

@@ -1,19 +1,19 @@
 // The steps of a Simulation and its two stages.
-#include "sim/simulation.h"
+#include "polydem/sim/simulation.h"
 
 #include <cmath>
 
-#include "core/error.h"
-#include "core/exact_sum.h"
-#include "core/logging.h"
-#include "core/memory.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "domain/partition.h"
-#include "domain/rebalance.h"
-#include "dynamics/driver.h"
-#include "dynamics/integrator.h"
-#include "sim/pair_memory.h"
+#include "polydem/core/error.h"
+#include "polydem/core/exact_sum.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/memory.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/partition.h"
+#include "polydem/domain/rebalance.h"
+#include "polydem/dynamics/driver.h"
+#include "polydem/dynamics/integrator.h"
+#include "polydem/sim/pair_memory.h"
 
 namespace polydem::sim {
 

@@ -16,21 +16,21 @@
 #include <string>
 #include <vector>
 
-#include "broadphase/broad_phase.h"
-#include "comm/particle_exchange.h"
-#include "comm/state_hash.h"
-#include "contact/contact.h"
-#include "domain/block_forest.h"
-#include "dynamics/contact_law.h"
-#include "dynamics/monitors.h"
-#include "io/checkpoint.h"
-#include "io/scene.h"
-#include "particles/contact_history.h"
-#include "particles/material.h"
-#include "particles/particle_storage.h"
-#include "sim/contact_phase.h"
-#include "sim/load_balance.h"
-#include "timeloop/time_loop.h"
+#include "polydem/broadphase/broad_phase.h"
+#include "polydem/comm/particle_exchange.h"
+#include "polydem/comm/state_hash.h"
+#include "polydem/contact/contact.h"
+#include "polydem/domain/block_forest.h"
+#include "polydem/dynamics/contact_law.h"
+#include "polydem/dynamics/monitors.h"
+#include "polydem/checkpoint/checkpoint.h"
+#include "polydem/setup/setup.h"
+#include "polydem/particles/contact_history.h"
+#include "polydem/particles/material.h"
+#include "polydem/particles/particle_storage.h"
+#include "polydem/sim/contact_phase.h"
+#include "polydem/sim/load_balance.h"
+#include "polydem/timeloop/time_loop.h"
 
 namespace polydem::sim {
 

@@ -7,12 +7,12 @@
 #include <bit>
 #include <cmath>
 
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "domain/block_fit.h"
-#include "domain/rebalance.h"
-#include "sim/simulation.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/block_fit.h"
+#include "polydem/domain/rebalance.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

@@ -8,13 +8,13 @@
 // these at the start of the next step, and is the same on any rank count (contact_phase.h).
 #include <algorithm>
 
-#include "comm/history_routing.h"
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "domain/rebalance.h"
-#include "sim/simulation.h"
+#include "polydem/comm/history_routing.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/rebalance.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

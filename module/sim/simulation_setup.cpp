@@ -3,16 +3,16 @@
 #include <cmath>
 #include <set>
 
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "domain/domain_error.h"
-#include "domain/rebalance.h"
-#include "dynamics/integrator.h"
-#include "dynamics/time_step.h"
-#include "geometry/body_shape.h"
-#include "sim/simulation.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/domain_error.h"
+#include "polydem/domain/rebalance.h"
+#include "polydem/dynamics/integrator.h"
+#include "polydem/dynamics/time_step.h"
+#include "polydem/geometry/body_shape.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

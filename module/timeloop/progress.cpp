@@ -1,4 +1,4 @@
-#include "timeloop/progress.h"
+#include "polydem/timeloop/progress.h"
 
 #include <cmath>
 #include <cstdio>

@@ -1,14 +1,14 @@
-#include "timeloop/time_loop.h"
+#include "polydem/timeloop/time_loop.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <utility>
 
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::timeloop {
 

@@ -21,9 +21,9 @@
 #include <string>
 #include <vector>
 
-#include "core/exact_sum.h"
-#include "core/timing_pool.h"
-#include "timeloop/progress.h"
+#include "polydem/core/exact_sum.h"
+#include "polydem/core/timing_pool.h"
+#include "polydem/timeloop/progress.h"
 
 namespace polydem::timeloop {
 

@@ -14,8 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/types.h"
-#include "geometry/rock_mass.h"
+#include "polydem/core/types.h"
+#include "polydem/geometry/rock_mass.h"
 
 namespace polydem::python {
 

@@ -4,10 +4,10 @@
 #include <string>
 
 #include "bindings.h"
-#include "contact/contact.h"
-#include "contact/contact_cases.h"
-#include "core/error.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/contact/contact.h"
+#include "polydem/contact/contact_cases.h"
+#include "polydem/core/error.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::python {
 

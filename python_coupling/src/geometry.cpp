@@ -4,9 +4,9 @@
 #include <string>
 
 #include "bindings.h"
-#include "core/strings.h"
-#include "geometry/convex_polyhedron.h"
-#include "geometry/shapes.h"
+#include "polydem/core/strings.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::python {
 

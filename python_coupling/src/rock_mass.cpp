@@ -4,8 +4,8 @@
 #include <string>
 
 #include "bindings.h"
-#include "core/strings.h"
-#include "geometry/rock_mass.h"
+#include "polydem/core/strings.h"
+#include "polydem/geometry/rock_mass.h"
 
 namespace polydem::python {
 

@@ -4,12 +4,12 @@
 #include <string>
 
 #include "bindings.h"
-#include "contact/contact.h"
-#include "core/error.h"
-#include "core/strings.h"
-#include "io/scene.h"
-#include "io/scene_reader.h"
-#include "sim/run.h"
+#include "polydem/contact/contact.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
+#include "polydem/setup/setup.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/run/run.h"
 
 namespace polydem::python {
 

@@ -5,13 +5,13 @@
 #include <vector>
 
 #include "bindings.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "dynamics/driver.h"
-#include "dynamics/integrator.h"
-#include "io/scene.h"
-#include "io/scene_reader.h"
-#include "sim/simulation.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/dynamics/driver.h"
+#include "polydem/dynamics/integrator.h"
+#include "polydem/setup/setup.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::python {
 

@@ -1,5 +1,5 @@
 // The grids against the all-pairs reference and against pair counts known in closed form.
-#include "broadphase/broad_phase.h"
+#include "polydem/broadphase/broad_phase.h"
 
 #include <gtest/gtest.h>
 
@@ -7,9 +7,9 @@
 #include <cmath>
 #include <string>
 
-#include "broadphase/overlap.h"
+#include "polydem/broadphase/overlap.h"
 #include "broadphase/scenes.h"
-#include "core/error.h"
+#include "polydem/core/error.h"
 
 namespace polydem::broadphase {
 namespace {

@@ -1,13 +1,13 @@
 // The hashed cell list on its own: its rounding guarantees, probed a few ulps around the cell
 // borders where they matter.
-#include "broadphase/cell_grid.h"
+#include "polydem/broadphase/cell_grid.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "broadphase/overlap.h"
+#include "polydem/broadphase/overlap.h"
 #include "broadphase/scenes.h"
 
 namespace polydem::broadphase {

@@ -1,11 +1,11 @@
 // How the multi-level grid groups particles: Zhao's fixed-ratio rule and the automatic plan.
-#include "broadphase/level_plan.h"
+#include "polydem/broadphase/level_plan.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "broadphase/multilevel_grid.h"
+#include "polydem/broadphase/multilevel_grid.h"
 #include "broadphase/scenes.h"
 
 namespace polydem::broadphase {

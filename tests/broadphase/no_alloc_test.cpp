@@ -1,7 +1,7 @@
 // Once warm, a search allocates nothing: the broad phase runs every step on every rank.
 #include <gtest/gtest.h>
 
-#include "broadphase/broad_phase.h"
+#include "polydem/broadphase/broad_phase.h"
 #include "broadphase/scenes.h"
 #include "common/allocation_counter.h"
 

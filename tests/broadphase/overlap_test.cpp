@@ -1,5 +1,5 @@
 // The small candidate filters of overlap.h.
-#include "broadphase/overlap.h"
+#include "polydem/broadphase/overlap.h"
 
 #include <gtest/gtest.h>
 

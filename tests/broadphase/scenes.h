@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "broadphase/broad_phase.h"
+#include "polydem/broadphase/broad_phase.h"
 
 namespace polydem::broadphase::testing {
 

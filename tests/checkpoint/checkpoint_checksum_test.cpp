@@ -1,13 +1,13 @@
 // The dataset checksum: slices combine into the checksum of the whole whatever the split, and a
 // change of any single element always changes it.
-#include "io/checkpoint_checksum.h"
+#include "polydem/checkpoint/checkpoint_checksum.h"
 
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <vector>
 
-#include "core/state_hash.h"
+#include "polydem/core/state_hash.h"
 
 namespace polydem::io {
 namespace {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "io/checkpoint_digest.h"
+#include "polydem/checkpoint/checkpoint_digest.h"
 
 namespace polydem::io::testing {
 

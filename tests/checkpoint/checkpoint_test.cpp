@@ -1,7 +1,7 @@
 // Checkpoint round trips: every field comes back bit for bit, read on the rank count that wrote
 // it and on another one (a split of the launched ranks), and the checksum of a dataset does not
 // depend on how many ranks wrote it.
-#include "io/checkpoint.h"
+#include "polydem/checkpoint/checkpoint.h"
 
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -13,9 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "checkpoint_test_data.h"
-#include "core/mpi_env.h"
-#include "core/state_hash.h"
-#include "io/checkpoint_checksum.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/state_hash.h"
+#include "polydem/checkpoint/checkpoint_checksum.h"
 
 namespace polydem::io {
 namespace {

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "core/byte_buffer.h"
-#include "core/mpi_env.h"
-#include "geometry/body_shape.h"
-#include "io/checkpoint.h"
+#include "polydem/core/byte_buffer.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/geometry/body_shape.h"
+#include "polydem/checkpoint/checkpoint.h"
 
 namespace polydem::io::testing {
 

@@ -1,14 +1,14 @@
 // routeHistories: pair histories read as arbitrary slices reach exactly the ranks owning one of
 // their particles, bit for bit, once each; replicated particles are everywhere.
-#include "comm/history_routing.h"
+#include "polydem/comm/history_routing.h"
 
 #include <gtest/gtest.h>
 
 #include <map>
 #include <set>
 
-#include "core/error.h"
-#include "core/mpi_env.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
 
 namespace polydem::comm {
 namespace {

@@ -1,6 +1,6 @@
 // Migration keeps every particle exactly once, with its pair histories; ghosts are exactly the
 // particles whose ghost sphere reaches a rank's blocks (checked against a brute-force answer).
-#include "comm/particle_exchange.h"
+#include "polydem/comm/particle_exchange.h"
 
 #include <gtest/gtest.h>
 
@@ -8,10 +8,10 @@
 #include <random>
 #include <set>
 
-#include "comm/state_hash.h"
-#include "core/mpi_env.h"
-#include "geometry/body_shape.h"
-#include "geometry/shapes.h"
+#include "polydem/comm/state_hash.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/geometry/body_shape.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::comm {
 namespace {

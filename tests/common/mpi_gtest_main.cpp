@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
-#include "core/mpi_env.h"
+#include "polydem/core/mpi_env.h"
 
 int main(int argc, char** argv) {
   polydem::mpi::Environment env(argc, argv);

@@ -10,9 +10,9 @@
 #include <random>
 #include <vector>
 
-#include "contact/contact.h"
-#include "contact/contact_cases.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/contact/contact.h"
+#include "polydem/contact/contact_cases.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::contact::testing {
 

@@ -4,14 +4,14 @@
 // changes of unit; shape independence (Zhao figs. 3-4, 10); the work along closed paths (the
 // force is conservative); random pairs against the brute-force boundary integral; degenerate
 // inputs and the inner domain.
-#include "contact/distance_potential.h"
+#include "polydem/contact/distance_potential.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
-#include "contact/contact_cases.h"
-#include "geometry/shapes.h"
+#include "polydem/contact/contact_cases.h"
+#include "polydem/geometry/shapes.h"
 #include "potential_test_util.h"
 
 namespace polydem::contact {

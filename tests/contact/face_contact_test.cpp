@@ -2,7 +2,7 @@
 // labels, gaps, points and weights, against answers worked out by hand for boxes; then the same
 // answers under rigid motions and changes of unit, and the exactness of the corner forces as the
 // gradient of the spring energy.
-#include "contact/face_contact.h"
+#include "polydem/contact/face_contact.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <random>
 
 #include "contact_test_util.h"
-#include "geometry/shapes.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {
 namespace {

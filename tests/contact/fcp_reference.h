@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <limits>
 
-#include "contact/contact.h"
-#include "contact/fcp.h"
+#include "polydem/contact/contact.h"
+#include "polydem/contact/fcp.h"
 #include "contact_test_util.h"
 
 namespace polydem::contact::testing {

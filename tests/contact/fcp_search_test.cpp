@@ -6,10 +6,10 @@
 #include <cstdio>
 #include <random>
 
-#include "contact/fcp.h"
+#include "polydem/contact/fcp.h"
 #include "contact_test_util.h"
 #include "fcp_reference.h"
-#include "geometry/shapes.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {
 namespace {

@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <random>
 
-#include "contact/contact_cases.h"
-#include "contact/fcp.h"
+#include "polydem/contact/contact_cases.h"
+#include "polydem/contact/fcp.h"
 #include "contact_test_util.h"
-#include "geometry/shapes.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {
 namespace {

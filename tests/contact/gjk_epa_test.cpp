@@ -6,10 +6,10 @@
 #include <cstdio>
 #include <random>
 
-#include "contact/contact_cases.h"
-#include "contact/gjk_epa.h"
+#include "polydem/contact/contact_cases.h"
+#include "polydem/contact/gjk_epa.h"
 #include "contact_test_util.h"
-#include "geometry/shapes.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {
 namespace {

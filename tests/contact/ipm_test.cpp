@@ -8,11 +8,11 @@
 #include <cmath>
 #include <random>
 
-#include "contact/gjk_epa.h"
-#include "contact/ipm.h"
+#include "polydem/contact/gjk_epa.h"
+#include "polydem/contact/ipm.h"
 #include "contact_test_util.h"
-#include "geometry/plane_section.h"
-#include "geometry/shapes.h"
+#include "polydem/geometry/plane_section.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {
 namespace {

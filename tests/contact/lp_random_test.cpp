@@ -14,10 +14,10 @@
 #include <random>
 
 #include "common/allocation_counter.h"
-#include "contact/contact_cases.h"
-#include "contact/lp.h"
+#include "polydem/contact/contact_cases.h"
+#include "polydem/contact/lp.h"
 #include "contact/lp_test_util.h"
-#include "geometry/shapes.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {
 namespace {

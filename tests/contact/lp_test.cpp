@@ -14,7 +14,7 @@
 // By the benchmark's criteria (normal 1e-6 rad, point 1e-6, depth 1e-3) LP is then right on VV
 // and EEx and wrong in the point on VE, VF (z), EEp, EF and FF (sideways): those are printed
 // beside the thesis's LP values, not asserted against the analytical answer.
-#include "contact/lp.h"
+#include "polydem/contact/lp.h"
 
 #include <gtest/gtest.h>
 
@@ -25,10 +25,10 @@
 #include <random>
 #include <string>
 
-#include "contact/contact_cases.h"
+#include "polydem/contact/contact_cases.h"
 #include "contact/lp_test_util.h"
-#include "core/error.h"
-#include "geometry/shapes.h"
+#include "polydem/core/error.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {
 namespace {

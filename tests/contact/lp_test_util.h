@@ -4,8 +4,8 @@
 #include <random>
 #include <vector>
 
-#include "contact/contact.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/contact/contact.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::contact::testing {
 

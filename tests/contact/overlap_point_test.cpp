@@ -1,7 +1,7 @@
 // The overlap-centroid contact point (contact/overlap_point.h): volume and centroid of A ∩ B
 // against boxes whose intersection is known, and the centre of pressure of a tilted block on a
 // plane against the linear-bed answer, at scales 1e-3, 1 and 1e3.
-#include "contact/overlap_point.h"
+#include "polydem/contact/overlap_point.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "contact_test_util.h"
-#include "geometry/shapes.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {
 namespace {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "geometry/polygon.h"
+#include "polydem/geometry/polygon.h"
 
 namespace polydem::geometry {
 namespace {

@@ -7,10 +7,10 @@
 #include <random>
 
 #include "common/allocation_counter.h"
-#include "contact/distance_potential.h"
-#include "contact/fdem.h"
-#include "contact/potential_overlap.h"
-#include "geometry/shapes.h"
+#include "polydem/contact/distance_potential.h"
+#include "polydem/contact/fdem.h"
+#include "polydem/contact/potential_overlap.h"
+#include "polydem/geometry/shapes.h"
 #include "potential_test_util.h"
 
 namespace polydem::contact {

@@ -17,11 +17,11 @@
 #include <random>
 #include <vector>
 
-#include "contact/contact.h"
-#include "contact/contact_cases.h"
-#include "core/error.h"
-#include "geometry/convex_polyhedron.h"
-#include "geometry/shapes.h"
+#include "polydem/contact/contact.h"
+#include "polydem/contact/contact_cases.h"
+#include "polydem/core/error.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::contact::testing {
 

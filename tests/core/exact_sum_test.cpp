@@ -1,4 +1,4 @@
-#include "core/exact_sum.h"
+#include "polydem/core/exact_sum.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "core/mpi_env.h"
+#include "polydem/core/mpi_env.h"
 
 namespace polydem {
 namespace {

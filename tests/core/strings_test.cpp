@@ -1,4 +1,4 @@
-#include "core/strings.h"
+#include "polydem/core/strings.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
-#include "core/timing_pool.h"
+#include "polydem/core/timing_pool.h"
 
 #include <gtest/gtest.h>
 
-#include "core/mpi_env.h"
+#include "polydem/core/mpi_env.h"
 
 namespace polydem {
 namespace {

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <vector>
 
-#include "domain/block_forest.h"
-#include "domain/domain_error.h"
+#include "polydem/domain/block_forest.h"
+#include "polydem/domain/domain_error.h"
 
 namespace polydem::domain {
 namespace {

@@ -1,12 +1,12 @@
 // fitBlockCounts: enough occupied blocks per rank wherever the particles are in the domain,
 // scale-free, limited by the minimum edge and the block budget.
-#include "domain/block_fit.h"
+#include "polydem/domain/block_fit.h"
 
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "domain/domain_error.h"
+#include "polydem/domain/domain_error.h"
 
 namespace polydem::domain {
 namespace {

@@ -1,4 +1,4 @@
-#include "domain/block_forest.h"
+#include "polydem/domain/block_forest.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "domain/domain_error.h"
+#include "polydem/domain/domain_error.h"
 
 namespace polydem::domain {
 namespace {

@@ -1,6 +1,6 @@
 // Block loads with duplicated border pairs: the rank-load formula, the refinement that lowers the
 // maximum load, and partitions of forests that are mostly empty.
-#include "domain/block_loads.h"
+#include "polydem/domain/block_loads.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <tuple>
 #include <vector>
 
-#include "domain/domain_error.h"
+#include "polydem/domain/domain_error.h"
 
 namespace polydem::domain {
 namespace {

@@ -1,4 +1,4 @@
-#include "domain/partition.h"
+#include "polydem/domain/partition.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "domain/domain_error.h"
+#include "polydem/domain/domain_error.h"
 
 namespace polydem::domain {
 namespace {

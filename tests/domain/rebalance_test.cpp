@@ -1,15 +1,15 @@
 // Collective rank-map computation on 1, 2 and 4 ranks: the same map everywhere, equal to the
 // pure partition of the summed weights, and errors raised on every rank instead of a hang.
-#include "domain/rebalance.h"
+#include "polydem/domain/rebalance.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "core/mpi_env.h"
-#include "domain/domain_error.h"
-#include "domain/partition.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/domain/domain_error.h"
+#include "polydem/domain/partition.h"
 
 namespace polydem::domain {
 namespace {

@@ -9,8 +9,8 @@
 #include <tuple>
 #include <vector>
 
-#include "domain/block_forest.h"
-#include "domain/domain_error.h"
+#include "polydem/domain/block_forest.h"
+#include "polydem/domain/domain_error.h"
 
 namespace polydem::domain {
 namespace {

@@ -1,14 +1,14 @@
 // The contact law on situations with an analytical answer: normal spring and potential force,
 // viscous normal damping, shear built by increments up to the Coulomb cap, shear carried with a
 // rotating contact plane, first contact, reset, and independence of the length unit.
-#include "dynamics/contact_law.h"
+#include "polydem/dynamics/contact_law.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "core/error.h"
+#include "polydem/core/error.h"
 
 namespace polydem::dynamics {
 namespace {

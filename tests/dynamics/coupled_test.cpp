@@ -10,8 +10,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "dynamics/contact_law.h"
-#include "dynamics/integrator.h"
+#include "polydem/dynamics/contact_law.h"
+#include "polydem/dynamics/integrator.h"
 
 namespace polydem::dynamics {
 namespace {

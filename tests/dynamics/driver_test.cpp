@@ -1,6 +1,6 @@
 // Kinematic drivers: a platform tilting about a hinge (Zhao section 5.3: 0.03 rad/s), a shaken
 // base following a sinusoid, and the material-point velocity the contact law uses.
-#include "dynamics/driver.h"
+#include "polydem/dynamics/driver.h"
 
 #include <gtest/gtest.h>
 

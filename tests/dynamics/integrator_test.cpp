@@ -1,6 +1,6 @@
 // The leapfrog on problems with exact discrete and continuous answers: constant force, constant
 // torque, the mass-spring oscillator (period, energy), local damping, fixed particles.
-#include "dynamics/integrator.h"
+#include "polydem/dynamics/integrator.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "core/error.h"
+#include "polydem/core/error.h"
 
 namespace polydem::dynamics {
 namespace {

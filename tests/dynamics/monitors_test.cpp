@@ -1,6 +1,6 @@
 // Kinetic energy, force accumulation, and the force ratio of Keissar eq. 3.2: its value on simple
 // situations and its independence of the number of ranks (run on 1, 2 and 3 ranks).
-#include "dynamics/monitors.h"
+#include "polydem/dynamics/monitors.h"
 
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/mpi_env.h"
+#include "polydem/core/mpi_env.h"
 
 namespace polydem::dynamics {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "dynamics/integrator.h"
+#include "polydem/dynamics/integrator.h"
 
 namespace polydem::dynamics {
 namespace {

@@ -2,7 +2,7 @@
 // restoring moment, damping, Coulomb limit per corner, twist, the spin of the shear springs, and
 // the hand-over of shear when the corners change, against hand-computed answers for a square
 // face contact.
-#include "dynamics/sub_contact_law.h"
+#include "polydem/dynamics/sub_contact_law.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The time-step rule: its formula, and that it is exactly the leapfrog's stability limit for two
 // equal masses joined by a (damped) spring, the case the rule's factor sqrt(2) is built on.
-#include "dynamics/time_step.h"
+#include "polydem/dynamics/time_step.h"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "core/error.h"
-#include "dynamics/integrator.h"
+#include "polydem/core/error.h"
+#include "polydem/dynamics/integrator.h"
 
 namespace polydem::dynamics {
 namespace {

@@ -2,7 +2,7 @@
 // a box (its centre), a tetrahedron (its vertex centroid: the centre is affine invariant and the
 // regular simplex's is its centroid), thin and rotated versions of both (the QR fallback), and
 // the chord of a line through a set against the vertices it must pass.
-#include "geometry/analytic_centre.h"
+#include "polydem/geometry/analytic_centre.h"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 #include <limits>
 #include <random>
 
-#include "geometry/convex_polyhedron.h"
-#include "geometry/halfspaces.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/halfspaces.h"
 
 namespace polydem::geometry {
 namespace {

@@ -1,11 +1,11 @@
 // toBodyFrame: centroid to the origin, principal axes, exact coordinates for axis-aligned input.
-#include "geometry/body_shape.h"
+#include "polydem/geometry/body_shape.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "geometry/shapes.h"
+#include "polydem/geometry/shapes.h"
 #include "polyhedron_checks.h"
 
 namespace polydem::geometry {

@@ -1,15 +1,15 @@
 // The nearest-face partition (face_regions.h): the neighbours listed for a face's region are
 // enough to tell whether a point lies in it, on regular, irregular and random polyhedra, at any
 // scale and pose; copies share the partition.
-#include "geometry/face_regions.h"
+#include "polydem/geometry/face_regions.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 
-#include "geometry/convex_polyhedron.h"
-#include "geometry/shapes.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::geometry {
 namespace {

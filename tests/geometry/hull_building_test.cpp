@@ -7,9 +7,9 @@
 #include <random>
 #include <string>
 
-#include "core/error.h"
-#include "geometry/convex_polyhedron.h"
-#include "geometry/shapes.h"
+#include "polydem/core/error.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/shapes.h"
 #include "polyhedron_checks.h"
 
 namespace polydem::geometry {

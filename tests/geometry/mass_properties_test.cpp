@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "geometry/convex_polyhedron.h"
-#include "geometry/shapes.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/shapes.h"
 #include "polyhedron_checks.h"
 
 namespace polydem::geometry {

@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "geometry/convex_polyhedron.h"
+#include "polydem/geometry/convex_polyhedron.h"
 
 namespace polydem::geometry::testing {
 

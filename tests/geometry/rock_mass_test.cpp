@@ -6,10 +6,10 @@
 #include <cmath>
 #include <random>
 
-#include "core/error.h"
-#include "core/random.h"
-#include "geometry/polygon_partition.h"
-#include "geometry/rock_mass.h"
+#include "polydem/core/error.h"
+#include "polydem/core/random.h"
+#include "polydem/geometry/polygon_partition.h"
+#include "polydem/geometry/rock_mass.h"
 
 namespace polydem::geometry {
 namespace {

@@ -1,12 +1,12 @@
 // The shape builders: what BENCHMARKS.md section C asks for, Platonic sizes, random polyhedra.
-#include "geometry/shapes.h"
+#include "polydem/geometry/shapes.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/error.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/core/error.h"
+#include "polydem/geometry/convex_polyhedron.h"
 #include "polyhedron_checks.h"
 
 namespace polydem::geometry {

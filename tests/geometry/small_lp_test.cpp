@@ -3,7 +3,7 @@
 // potential-block overlap test of Boon et al. (2012) (instances built from the faces of random
 // polyhedron pairs, overlapping and apart); the optimal basis and multipliers it reports, and
 // warm starts from a nearby problem's basis.
-#include "geometry/small_lp.h"
+#include "polydem/geometry/small_lp.h"
 
 #include <glpk.h>
 #include <gtest/gtest.h>
@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "common/allocation_counter.h"
-#include "core/error.h"
-#include "geometry/convex_polyhedron.h"
-#include "geometry/shapes.h"
+#include "polydem/core/error.h"
+#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/shapes.h"
 
 namespace polydem::geometry {
 namespace {

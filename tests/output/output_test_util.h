@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem::io::test {
 

@@ -1,4 +1,4 @@
-#include "io/series_writer.h"
+#include "polydem/output/series_writer.h"
 
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -11,10 +11,10 @@
 #include <limits>
 #include <sstream>
 
-#include "core/error.h"
-#include "core/mpi_env.h"
-#include "io/output_test_util.h"
-#include "io/vtk_test_reader.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "output/output_test_util.h"
+#include "output/vtk_test_reader.h"
 
 namespace polydem::io {
 namespace {

@@ -1,4 +1,4 @@
-#include "io/summary_json.h"
+#include "polydem/output/summary_json.h"
 
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -6,9 +6,9 @@
 #include <cmath>
 #include <filesystem>
 
-#include "core/error.h"
-#include "io/output_test_util.h"
-#include "io/vtk_test_reader.h"
+#include "polydem/core/error.h"
+#include "output/output_test_util.h"
+#include "output/vtk_test_reader.h"
 
 namespace polydem::io {
 namespace {

@@ -1,4 +1,4 @@
-#include "io/vtk_writer.h"
+#include "polydem/output/vtk_writer.h"
 
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -6,10 +6,10 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/error.h"
-#include "core/mpi_env.h"
-#include "io/output_test_util.h"
-#include "io/vtk_test_reader.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "output/output_test_util.h"
+#include "output/vtk_test_reader.h"
 
 namespace polydem::io {
 namespace {

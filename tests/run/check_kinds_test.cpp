@@ -3,10 +3,10 @@
 // parameters given, builds its checks.
 #include <gtest/gtest.h>
 
-#include "core/strings.h"
-#include "io/check_kinds.h"
-#include "io/scene_reader.h"
-#include "sim/checks.h"
+#include "polydem/core/strings.h"
+#include "polydem/scene/check_kinds.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/run/checks.h"
 
 namespace polydem::sim {
 namespace {

@@ -5,10 +5,10 @@
 #include <cstring>
 #include <set>
 
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "io/scene_reader.h"
-#include "sim/fos.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/run/fos.h"
 
 namespace polydem::sim {
 namespace {

@@ -12,10 +12,10 @@
 
 #include <cmath>
 
-#include "core/error.h"
-#include "core/logging.h"
-#include "io/scene_reader.h"
-#include "sim/fos.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/run/fos.h"
 
 namespace polydem::sim {
 namespace {

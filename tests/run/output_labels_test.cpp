@@ -10,12 +10,12 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/exact_sum.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "io/scene_reader.h"
-#include "sim/run.h"
+#include "polydem/core/exact_sum.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/run/run.h"
 
 namespace polydem::sim {
 namespace {

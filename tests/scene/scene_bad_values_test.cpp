@@ -4,7 +4,7 @@
 // the rotations, read correctly).
 #include <gtest/gtest.h>
 
-#include "core/strings.h"
+#include "polydem/core/strings.h"
 #include "scene_test_support.h"
 
 namespace polydem::io {

@@ -7,8 +7,8 @@
 #include <fstream>
 #include <iterator>
 
-#include "core/strings.h"
-#include "io/check_kinds.h"
+#include "polydem/core/strings.h"
+#include "polydem/scene/check_kinds.h"
 #include "scene_test_support.h"
 
 namespace polydem::io {

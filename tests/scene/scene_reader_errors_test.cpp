@@ -2,8 +2,8 @@
 // "# <-" in the text, with a message naming the table and key.
 #include <gtest/gtest.h>
 
-#include "contact/contact.h"
-#include "core/strings.h"
+#include "polydem/contact/contact.h"
+#include "polydem/core/strings.h"
 #include "scene_test_support.h"
 
 namespace polydem::io {

@@ -1,6 +1,6 @@
 // The scene reader on valid input: a full scene lands field by field with units converted, shape
 // types follow their documented layout, grids are seeded, and the example scene parses.
-#include "io/scene_reader.h"
+#include "polydem/scene/scene_reader.h"
 
 #include <gtest/gtest.h>
 
@@ -8,10 +8,10 @@
 #include <cmath>
 #include <set>
 
-#include "contact/contact.h"
-#include "core/error.h"
-#include "core/strings.h"
-#include "geometry/convex_polyhedron.h"
+#include "polydem/contact/contact.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
+#include "polydem/geometry/convex_polyhedron.h"
 #include "scene_test_support.h"
 
 namespace polydem::io {

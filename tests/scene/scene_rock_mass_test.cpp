@@ -2,7 +2,7 @@
 // plane says so, and every mistake is an InputError at the line marked "# <-".
 #include <gtest/gtest.h>
 
-#include "geometry/convex_polyhedron.h"
+#include "polydem/geometry/convex_polyhedron.h"
 #include "scene_test_support.h"
 
 namespace polydem::io {

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "io/scene_reader.h"
+#include "polydem/core/error.h"
+#include "polydem/scene/scene_reader.h"
 
 namespace polydem::io::scene_test {
 

@@ -1,11 +1,11 @@
 // The unit parser: SI prefixes, products, quotients, powers, angles, and its errors.
-#include "io/units.h"
+#include "polydem/scene/units.h"
 
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 
-#include "core/types.h"
+#include "polydem/core/types.h"
 
 namespace polydem::io {
 namespace {

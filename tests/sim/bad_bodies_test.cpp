@@ -4,11 +4,11 @@
 // file and the particle's line instead of a time-step error, NaN positions or std::bad_alloc.
 #include <gtest/gtest.h>
 
-#include "core/error.h"
-#include "core/strings.h"
-#include "io/scene_reader.h"
-#include "sim/pair_memory.h"
-#include "sim/simulation.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/sim/pair_memory.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 namespace {

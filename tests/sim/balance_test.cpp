@@ -9,14 +9,14 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/strings.h"
-#include "domain/block_forest.h"
-#include "sim/balance_figures.h"
-#include "sim/pile_scene.h"
-#include "sim/run.h"
-#include "sim/simulation.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
+#include "polydem/domain/block_forest.h"
+#include "polydem/sim/balance_figures.h"
+#include "generators/pile_scene.h"
+#include "polydem/run/run.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 namespace {

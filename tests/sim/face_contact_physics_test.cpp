@@ -10,11 +10,11 @@
 #include <numbers>
 #include <string>
 
-#include "core/logging.h"
-#include "core/strings.h"
-#include "dynamics/monitors.h"
-#include "io/scene_reader.h"
-#include "sim/simulation.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/strings.h"
+#include "polydem/dynamics/monitors.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 namespace {

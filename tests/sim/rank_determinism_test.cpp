@@ -4,10 +4,10 @@
 // in the same test, on rank 0 alone.
 #include <gtest/gtest.h>
 
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "sim/pile_scene.h"
-#include "sim/simulation.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "generators/pile_scene.h"
+#include "polydem/sim/simulation.h"
 #include "sliding_heap.h"
 
 namespace polydem::sim {

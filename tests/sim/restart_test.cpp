@@ -8,14 +8,14 @@
 
 #include <filesystem>
 
-#include "core/error.h"
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "io/checkpoint.h"
-#include "io/scene_reader.h"
-#include "sim/pile_scene.h"
-#include "sim/run.h"
-#include "sim/simulation.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/checkpoint/checkpoint.h"
+#include "polydem/scene/scene_reader.h"
+#include "generators/pile_scene.h"
+#include "polydem/run/run.h"
+#include "polydem/sim/simulation.h"
 #include "sliding_heap.h"
 
 namespace polydem::sim {

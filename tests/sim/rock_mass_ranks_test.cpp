@@ -2,11 +2,11 @@
 // same blocks on every rank, and its run ends in the same state on one rank and on all of them.
 #include <gtest/gtest.h>
 
-#include "core/logging.h"
-#include "core/mpi_env.h"
-#include "core/state_hash.h"
-#include "io/scene_reader.h"
-#include "sim/simulation.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/state_hash.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 namespace {

@@ -7,8 +7,8 @@
 #include <array>
 #include <string>
 
-#include "io/scene.h"
-#include "sim/pile_scene.h"
+#include "polydem/setup/setup.h"
+#include "generators/pile_scene.h"
 
 namespace polydem::sim::testing {
 

@@ -6,9 +6,9 @@
 #include <gtest/gtest.h>
 
 #include "common/allocation_counter.h"
-#include "core/logging.h"
-#include "sim/pile_scene.h"
-#include "sim/simulation.h"
+#include "polydem/core/logging.h"
+#include "generators/pile_scene.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 namespace {

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "core/logging.h"
-#include "core/strings.h"
-#include "io/scene_reader.h"
-#include "sim/run.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/strings.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/run/run.h"
 
 namespace polydem::sim {
 namespace {

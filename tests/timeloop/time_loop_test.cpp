@@ -1,4 +1,4 @@
-#include "timeloop/time_loop.h"
+#include "polydem/timeloop/time_loop.h"
 
 #include <gtest/gtest.h>
 
@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/exact_sum.h"
-#include "core/mpi_env.h"
+#include "polydem/core/error.h"
+#include "polydem/core/exact_sum.h"
+#include "polydem/core/mpi_env.h"
 
 namespace polydem::timeloop {
 namespace {
