@@ -1,21 +1,44 @@
 # Helpers shared by all modules, apps and tests.
 #
 #   polydem_add_module(NAME core SOURCES a.cpp b.cpp DEPENDS Eigen3::Eigen ...)
-#     -> static library polydem_core, alias polydem::core, headers included as "core/a.h".
+#     -> static library polydem_core, alias polydem::core, headers included as
+#        "polydem/core/a.h" (the build's include/polydem is a link to module/, the install puts
+#        them under include/polydem/core). Without SOURCES the module is header-only (an
+#        INTERFACE library). DEPENDS names every module whose headers it includes
+#        (tests/layout checks it against the includes).
 #
 #   polydem_add_test(NAME geometry_convex_polyhedron SOURCES t.cpp DEPENDS polydem::geometry
 #                    [PROCESSES 1 2 4] [LABELS unit] [TIMEOUT 120])
 #     -> one GoogleTest executable, registered with ctest once per process count. Counts above 1
 #        run through mpiexec with --oversubscribe, and as root where the machine needs it.
 
+# The include root of the build tree: include/polydem -> module/, so that sources and an installed
+# tree both include "polydem/<module>/<file>.h".
+set(POLYDEM_BUILD_INCLUDE_DIR ${PROJECT_BINARY_DIR}/include CACHE INTERNAL "")
+file(MAKE_DIRECTORY ${POLYDEM_BUILD_INCLUDE_DIR})
+if(NOT EXISTS ${POLYDEM_BUILD_INCLUDE_DIR}/polydem)
+  file(CREATE_LINK ${PROJECT_SOURCE_DIR}/module ${POLYDEM_BUILD_INCLUDE_DIR}/polydem SYMBOLIC)
+endif()
+set_property(GLOBAL PROPERTY POLYDEM_MODULES "")
+
 function(polydem_add_module)
   cmake_parse_arguments(M "" "NAME" "SOURCES;DEPENDS" ${ARGN})
   set(target polydem_${M_NAME})
-  add_library(${target} STATIC ${M_SOURCES})
+  if(M_SOURCES)
+    add_library(${target} STATIC ${M_SOURCES})
+    target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${POLYDEM_BUILD_INCLUDE_DIR}>
+                                                $<INSTALL_INTERFACE:include>)
+    target_link_libraries(${target} PUBLIC ${M_DEPENDS})
+    set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  else()
+    add_library(${target} INTERFACE)
+    target_include_directories(${target} INTERFACE $<BUILD_INTERFACE:${POLYDEM_BUILD_INCLUDE_DIR}>
+                                                   $<INSTALL_INTERFACE:include>)
+    target_link_libraries(${target} INTERFACE ${M_DEPENDS})
+  endif()
   add_library(polydem::${M_NAME} ALIAS ${target})
-  target_include_directories(${target} PUBLIC ${PROJECT_SOURCE_DIR}/module)
-  target_link_libraries(${target} PUBLIC ${M_DEPENDS})
-  set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${M_NAME})
+  set_property(GLOBAL APPEND PROPERTY POLYDEM_MODULES ${M_NAME})
 endfunction()
 
 # Environment for every MPI launch made by ctest: lets Open MPI run as root (CI containers do),

@@ -17,7 +17,7 @@ TILT = ("the slopes are reconstructed from the paper's captions (its drawings di
         "s1 fails at 25.5 deg (22.1-24.2), s4 at 25.2 (23.0-24.9), s5 at 25.9 (19.5-21.8), and the "
         "staircase of 0.1 m cubes (s3) slides at 16.0 deg instead of toppling at 9.8-11.6; only "
         "the brick pyramid (s2) slides at the friction angle as measured (26.6, 25.0-26.3 +- 0.65). "
-        "A lone column of six 0.1 m cubes topples at 9.9 deg (rigid 9.5: sim_motion_checks), so "
+        "A lone column of six 0.1 m cubes topples at 9.9 deg (rigid 9.5: run_motion_checks), so "
         "the model topples; the reconstructed staircase's columns, leaning on each other, do not")
 
 KNOWN_FAILURES = [

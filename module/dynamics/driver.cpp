@@ -1,4 +1,4 @@
-#include "dynamics/driver.h"
+#include "polydem/dynamics/driver.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@ namespace polydem::dynamics {
 
 namespace {
 
-bool active(const io::DriverSpec& d, double t) {
+bool active(const DriverSpec& d, double t) {
   return t >= d.start_time && t <= d.end_time;
 }
 
@@ -20,11 +20,11 @@ Quat rotationBy(const Vec3& angle) {
 
 }  // namespace
 
-double activeTime(const io::DriverSpec& d, double t0, double t1) {
+double activeTime(const DriverSpec& d, double t0, double t1) {
   return std::max(0.0, std::min(t1, d.end_time) - std::max(t0, d.start_time));
 }
 
-Vec3 pivotDisplacement(const io::DriverSpec& d, double t0, double t1) {
+Vec3 pivotDisplacement(const DriverSpec& d, double t0, double t1) {
   const double a = std::max(t0, d.start_time), b = std::min(t1, d.end_time);
   if (!(b > a)) return Vec3::Zero();
   Vec3 out = d.velocity * (b - a);
@@ -41,7 +41,7 @@ Vec3 pivotDisplacement(const io::DriverSpec& d, double t0, double t1) {
   return out;
 }
 
-DriverState driverState(const io::DriverSpec& d, double t) {
+DriverState driverState(const DriverSpec& d, double t) {
   DriverState s;
   s.pivot = d.pivot + pivotDisplacement(d, d.start_time, t);
   if (active(d, t)) {
@@ -52,7 +52,7 @@ DriverState driverState(const io::DriverSpec& d, double t) {
   return s;
 }
 
-Pose drivenPose(const io::DriverSpec& d, const Pose& pose0, double t0, double t) {
+Pose drivenPose(const DriverSpec& d, const Pose& pose0, double t0, double t) {
   const Quat turn = rotationBy(d.angular_velocity * activeTime(d, t0, t));
   const Vec3 pivot0 = d.pivot + pivotDisplacement(d, d.start_time, t0);
   const Vec3 pivot = pivot0 + pivotDisplacement(d, t0, t);
@@ -62,7 +62,7 @@ Pose drivenPose(const io::DriverSpec& d, const Pose& pose0, double t0, double t)
   return out;
 }
 
-void advanceDriven(particles::Particle& p, const io::DriverSpec& d, double t, double dt) {
+void advanceDriven(particles::Particle& p, const DriverSpec& d, double t, double dt) {
   const Pose now{p.position, p.orientation};
   const Pose mid = drivenPose(d, now, t, t + 0.5 * dt);
   p.velocity = materialPointVelocity(driverState(d, t + 0.5 * dt), mid.position);

@@ -10,10 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "contact/contact.h"
-#include "core/types.h"
-#include "geometry/rock_mass.h"
-#include "particles/material.h"
+#include "polydem/contact/contact.h"
+#include "polydem/core/types.h"
+#include "polydem/dynamics/driver_spec.h"
+#include "polydem/geometry/rock_mass.h"
+#include "polydem/particles/material.h"
 
 namespace polydem::io {
 
@@ -40,20 +41,8 @@ struct ShapeSpec {
   int line = 0;  // where it was defined, for error messages
 };
 
-/// Prescribed motion of a driven particle (a tilting platform, a shaken base). The velocity of a
-/// material point x of the body is v(t) + w(t) x (x - pivot(t)), where the pivot moves with v(t).
-struct DriverSpec {
-  std::string name;                      // as referenced by [[particle]] driver = "..."
-  Vec3 velocity = Vec3::Zero();          // constant part of v
-  Vec3 angular_velocity = Vec3::Zero();  // w, rad/s (scene files give deg/s or rad/s: see reader)
-  Vec3 pivot = Vec3::Zero();             // at t = start_time
-  Vec3 oscillation = Vec3::Zero();  // v += oscillation * sin(2 pi frequency (t - start) + phase)
-  double frequency = 0.0;           // Hz
-  double phase = 0.0;               // rad
-  double start_time = 0.0;          // no motion before
-  double end_time = 1e300;          // no motion after
-  int line = 0;
-};
+/// Defined with the driver code (dynamics/driver_spec.h), which must not depend on the setup.
+using DriverSpec = dynamics::DriverSpec;
 
 struct ParticleSpec {
   Uid uid = 0;        // assigned by the reader in file order, starting at 1

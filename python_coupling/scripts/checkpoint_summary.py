@@ -22,7 +22,7 @@ including their NUL padding) is
 
 where mix64 is the SplitMix64 finaliser. The whole-file digest (version 3) is the same sum over
 the bytes of a walk of every group, dataset, link and attribute (docs/checkpoint.md, "Digest";
-module/io/checkpoint_digest.h). Both are computed here independently of the C++ code.
+module/checkpoint/checkpoint_digest.h). Both are computed here independently of the C++ code.
 """
 
 import argparse

@@ -133,7 +133,7 @@ with h5py.File("missing.h5", "r+") as f:
 PY
   refuse flipped flipped.h5; refuse version version.h5; refuse missing missing.h5
 else
-  echo "h5py missing: flipped byte, version and missing dataset cases left to io_checkpoint_errors"
+  echo "h5py missing: flipped byte, version and missing dataset cases left to checkpoint_errors"
 fi
 
 [ $failures = 0 ] && echo "all checkpoint CLI checks passed"
