@@ -97,7 +97,7 @@ struct CheckpointData {
 
   std::vector<CheckpointShape> shapes;  // shapeRecords(simulation shapes)
   std::vector<particles::Material> materials;
-  std::vector<Scene::Interaction> interactions;  // explicit material pairs
+  std::vector<setup::Setup::Interaction> interactions;  // explicit material pairs
   CheckpointDomain domain;
   std::string run_state;  // opaque JSON (checks, tracker...), stored as given
 

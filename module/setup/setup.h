@@ -1,6 +1,9 @@
-// Scene: everything a run needs, as read from a scene file (benchmark_scenes/*.toml). The reader
-// (scene_reader.h) fills it and reports every problem with file and line; the simulation (sim/)
-// builds itself from it. Units are SI throughout; angles in scene files are in degrees.
+// Setup: everything the engine (sim::Simulation) is built from: materials, shapes, particles,
+// drivers, stages, contact model and kernel, domain, output and check settings. Plain data, filled
+// alike by the scene file reader (scene/scene_reader.h), Python, or a C++ program
+// (examples/force_operator); nothing here knows the file format. Units are SI throughout.
+// The `file` and `line` members are diagnostics only: where a scene file defined the item, for
+// error messages (empty / 0 when it was not read from a file).
 #pragma once
 
 #include <array>
@@ -12,15 +15,16 @@
 
 #include "polydem/contact/contact.h"
 #include "polydem/core/types.h"
+#include "polydem/dynamics/contact_models.h"
 #include "polydem/dynamics/driver_spec.h"
 #include "polydem/geometry/rock_mass.h"
 #include "polydem/particles/material.h"
 
-namespace polydem::io {
+namespace polydem::setup {
 
-/// The contact models of Scene::contact_model: the scene reader, the command line and Python
-/// accept these and no other.
-inline const std::vector<std::string> kContactModels = {"sub-contacts", "point"};
+/// The contact models of Setup::contact_model: the scene reader, the command line and Python
+/// accept these and no other (the registry dynamics/contact_model_list.inc).
+inline const std::vector<std::string> kContactModels = dynamics::contactModelNames();
 
 /// "unknown contact model 'NAME' (known: sub-contacts, point)" for a name that is none of
 /// kContactModels, else "".
@@ -47,8 +51,8 @@ using DriverSpec = dynamics::DriverSpec;
 struct ParticleSpec {
   Uid uid = 0;        // assigned by the reader in file order, starting at 1
   std::string label;  // optional name, used by checks and monitors
-  int shape = -1;     // index into Scene::shapes
-  int material = -1;  // index into Scene::materials
+  int shape = -1;     // index into Setup::shapes
+  int material = -1;  // index into Setup::materials
   // The particle occupies { position + orientation * v : v in the shape's vertices }. Built-in
   // shapes (box, prisms, regular polyhedra...) are centred on their centroid, so `position` is the
   // centroid; a vertex-list shape stays where its vertices are when position = 0.
@@ -57,7 +61,7 @@ struct ParticleSpec {
   Vec3 velocity = Vec3::Zero();
   Vec3 angular_velocity = Vec3::Zero();
   bool fixed = false;
-  int driver = -1;  // index into Scene::drivers
+  int driver = -1;  // index into Setup::drivers
   int line = 0;
 };
 
@@ -140,8 +144,8 @@ struct CheckSpec {
   int line = 0;
 };
 
-struct Scene {
-  std::string file;  // path of the scene file, for messages
+struct Setup {
+  std::string file;  // path of the scene file, for messages (diagnostics only)
   std::string id, title, description, source;
 
   std::string kernel = "gjk-epa-ipm";
@@ -181,4 +185,22 @@ struct Scene {
   FosSpec fos;  // [fos]; defaults when the scene has no such table
 };
 
+}  // namespace polydem::setup
+
+// The names these types had while they lived in module/io (io::Scene, io::ShapeSpec, ...): the
+// scene reader, the apps and Python still use them.
+namespace polydem::io {
+using Scene = setup::Setup;
+using setup::CheckpointSpec;
+using setup::CheckSpec;
+using setup::DomainSpec;
+using setup::DriverSpec;
+using setup::EquilibriumSpec;
+using setup::FosSpec;
+using setup::kContactModels;
+using setup::OutputSpec;
+using setup::ParticleSpec;
+using setup::RockMassInfo;
+using setup::ShapeSpec;
+using setup::unknownContactModel;
 }  // namespace polydem::io

@@ -1,5 +1,11 @@
-// The contact phase of a step: candidate pairs from the broad phase -> kernel -> contact law ->
-// forces and torques summed per particle.
+// The contact phase of a step, composed of small named operators, each in its own file:
+//
+//   pair_order     candidate pairs -> canonical (lower uid first), in key order
+//   pair_filter    bounding spheres, then boxes, in the pair's canonical frame
+//   contact_model  the kernel call and the contact model (sub-contacts / point / overlap centroid)
+//   pair_law       the contact law: forces and the pair's next history
+//   force_sum      the forces onto the local free particles, in partner-uid order
+//   contact_record one record per evaluated pair, and the counts
 //
 // Determinism across rank counts rests on three rules applied here:
 //  1. every pair is evaluated in one canonical frame, that of its lower-uid particle A: A at its
@@ -12,21 +18,22 @@
 //     that order, which is the order of its partners' uids.
 #pragma once
 
-#include <cstdint>
 #include <span>
-#include <utility>
 #include <vector>
 
 #include "polydem/broadphase/broad_phase.h"
 #include "polydem/contact/contact.h"
-#include "polydem/contact/face_contact.h"
-#include "polydem/contact/overlap_point.h"
 #include "polydem/dynamics/contact_law.h"
+#include "polydem/dynamics/contact_models.h"
 #include "polydem/dynamics/monitors.h"
-#include "polydem/dynamics/sub_contact_law.h"
-#include "polydem/setup/setup.h"
 #include "polydem/particles/contact_history.h"
 #include "polydem/particles/particle_storage.h"
+#include "polydem/setup/setup.h"
+#include "polydem/sim/contact_model.h"
+#include "polydem/sim/contact_record.h"
+#include "polydem/sim/pair_filter.h"
+#include "polydem/sim/pair_law.h"
+#include "polydem/sim/pair_order.h"
 
 namespace polydem::sim {
 
@@ -37,42 +44,15 @@ struct ContactSetup {
   // Law coefficients per material pair (index a * materials + b) for the current stage.
   const std::vector<dynamics::LawCoefficients>* law = nullptr;
   int materials = 0;
-  const std::vector<io::DriverSpec>* drivers = nullptr;
-  // Split penalty contacts into sub-contacts at the corners of the face overlap
-  // (contact/face_contact.h, dynamics/sub_contact_law.h); false: the single-point model.
-  bool sub_contacts = true;
+  const std::vector<setup::DriverSpec>* drivers = nullptr;
+  // How contacts become forces (dynamics/contact_models.h).
+  dynamics::ContactModel model = dynamics::ContactModel::kSubContacts;
   // Move each touching contact's point to the centroid of the overlap volume (overlap_point.h;
   // single-point model only).
   bool overlap_centroid = false;
   double margin = 0.0;  // absolute: pairs with centroid distance <= rA + rB + margin are evaluated
   double dt = 0.0;
   double time = 0.0;  // t_n: forces are computed at t_n with velocities at t_n - dt/2
-};
-
-/// One evaluated pair, kept for output and monitors.
-struct ContactRecord {
-  particles::PairKey key;
-  std::int32_t a = -1, b = -1;  // local indices of A and B when local and free, else -1
-  std::int32_t stored_a = -1, stored_b = -1;  // storage indices of A and B (ghosts included)
-  bool touching = false;
-  Vec3 point = Vec3::Zero();  // in A's frame (the world frame unless A is a periodic image); with
-                              // sub-contacts the centre of pressure
-  Vec3 normal = Vec3::Zero();
-  Vec3 force = Vec3::Zero();  // on A
-  double normal_force = 0.0, shear_force = 0.0;
-  double energy = 0.0;  // elastic energy of the normal springs (penalty contacts), J
-  contact::Status status = contact::Status::kOk;
-  std::int32_t subcontacts = 0;  // sub-contacts in compression (0 for the single-point model)
-  bool a_is_local = false;       // A is stored on this rank as a local particle
-  bool both_free = false;        // neither A nor B is fixed or driven
-};
-
-struct ContactPhaseStats {
-  std::int64_t candidates = 0;  // pairs from the broad phase
-  std::int64_t evaluated = 0;   // pairs passing the sphere and box tests (kernel calls)
-  std::int64_t touching = 0;
-  std::int64_t subcontacts = 0;  // sub-contacts in compression (sub-contact model)
-  std::int64_t not_converged = 0, degenerate = 0, inner_domain = 0;
 };
 
 class ContactPhase {
@@ -88,24 +68,12 @@ class ContactPhase {
   const std::vector<ContactRecord>& records() const { return records_; }
 
  private:
-  struct Candidate {
-    particles::PairKey key;
-    std::int32_t a, b;  // storage indices of the lower- and higher-uid particle
-  };
-  void sortCandidates(const particles::ParticleStorage& storage,
-                      std::span<const broadphase::CandidatePair> candidates);
-
-  std::vector<Candidate> candidates_;
-  std::vector<std::pair<Uid, std::int32_t>> by_uid_;  // (uid, storage index), sorted
-  std::vector<std::int32_t> uid_rank_;                // per storage index: rank of its uid
-  std::vector<std::size_t> bucket_start_, fill_;      // candidates per lower-uid rank
-  std::vector<Vec3> box_lo_, box_hi_;                 // per storage index, this step
+  PairOrder order_;
+  PairFilter filter_;
+  ContactModelStep model_;
+  PairLaw law_;
   std::vector<ContactRecord> records_;
   particles::ContactHistory next_;
-  std::vector<Vec3> scratch_a_, scratch_b_;
-  contact::OverlapCentroid overlap_;
-  contact::FaceContactBuilder face_;
-  std::vector<dynamics::SubState> kept_;
 };
 
 }  // namespace polydem::sim

@@ -15,7 +15,7 @@ namespace {
 
 /// "file:line" of the scene entry of particle `uid`, or "" (particles are numbered in file
 /// order from 1: scene.particles[uid - 1]).
-std::string whereIs(const io::Scene& scene, Uid uid) {
+std::string whereIs(const setup::Setup& scene, Uid uid) {
   if (uid < 1 || uid > scene.particles.size()) return "";
   return cat(scene.file, ":", scene.particles[uid - 1].line);
 }
@@ -27,7 +27,7 @@ std::size_t bytesPerCandidatePair() {
          sizeof(ContactRecord) + 2 * (sizeof(particles::PairKey) + sizeof(particles::PairHistory));
 }
 
-std::optional<std::string> pairMemoryProblem(const io::Scene& scene,
+std::optional<std::string> pairMemoryProblem(const setup::Setup& scene,
                                              const particles::ParticleStorage& storage,
                                              std::span<const broadphase::CandidatePair> candidates,
                                              std::int64_t step, std::uint64_t available) {

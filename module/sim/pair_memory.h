@@ -22,7 +22,7 @@ std::size_t bytesPerCandidatePair();
 /// Empty if `candidates` fit in `available` bytes; otherwise the message: how many pairs, how
 /// much memory, and the particle with the most candidate partners with its nearest partner and
 /// their lines in the scene file. `step` labels the message.
-std::optional<std::string> pairMemoryProblem(const io::Scene& scene,
+std::optional<std::string> pairMemoryProblem(const setup::Setup& scene,
                                              const particles::ParticleStorage& storage,
                                              std::span<const broadphase::CandidatePair> candidates,
                                              std::int64_t step, std::uint64_t available);

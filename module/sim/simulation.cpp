@@ -96,8 +96,8 @@ void Simulation::computeContacts() {
   setup.law = stage_ == Stage::kEquilibrium ? &law_equilibrium_ : &law_main_;
   setup.materials = static_cast<int>(materials_.size());
   setup.drivers = &scene_.drivers;
-  setup.sub_contacts = scene_.contact_model == "sub-contacts";
-  setup.overlap_centroid = scene_.contact_point == "overlap-centroid";
+  setup.model = contact_model_;
+  setup.overlap_centroid = overlap_centroid_;
   setup.margin = margin_;
   setup.dt = dt();
   setup.time = stage_ == Stage::kEquilibrium ? 0.0 : time();
@@ -112,12 +112,42 @@ void Simulation::computeContacts() {
   } else {
     last_work_ = stepWork(storage_, contact_phase_.records(), load_model_);
   }
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    if (storage_[i].isFree()) forces_[i].addBodyForce(storage_.mass(i) * scene_.gravity);
+  }
+  applyForceOperators();
   ratio_local_.clear();
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    if (!storage_[i].isFree()) continue;
-    forces_[i].addBodyForce(storage_.mass(i) * scene_.gravity);
-    ratio_local_.add(forces_[i]);
+    if (storage_[i].isFree()) ratio_local_.add(forces_[i]);
   }
+}
+
+void Simulation::applyForceOperators() {
+  if (force_operators_.empty()) return;
+  ForceStep step;
+  step.time = stage_ == Stage::kEquilibrium ? 0.0 : time();
+  step.dt = dt();
+  step.equilibrium = stage_ == Stage::kEquilibrium;
+  step.particles = &storage_;
+  step.forces = std::span<dynamics::ForceAccumulator>(forces_.data(), storage_.localCount());
+  for (const auto& op : force_operators_) op.apply(step);
+}
+
+void Simulation::addForceOperator(std::string name, ForceOperator op) {
+  if (name.empty()) throw Error("addForceOperator: a force operator needs a name");
+  if (!op) throw Error(cat("addForceOperator: force operator '", name, "' is empty"));
+  for (const auto& existing : force_operators_) {
+    if (existing.name == name) {
+      throw Error(cat("addForceOperator: a force operator named '", name, "' is already added"));
+    }
+  }
+  force_operators_.push_back({std::move(name), std::move(op)});
+}
+
+std::vector<std::string> Simulation::forceOperatorNames() const {
+  std::vector<std::string> names;
+  for (const auto& op : force_operators_) names.push_back(op.name);
+  return names;
 }
 
 void Simulation::integrate() {
@@ -243,7 +273,7 @@ std::int64_t Simulation::runEquilibrium() {
   return equilibrium_steps_;
 }
 
-void requireStopCondition(const io::Scene& scene) {
+void requireStopCondition(const setup::Setup& scene) {
   // The scene reader requires one; a scene changed from Python may have neither, and the loop's
   // own stop condition (the step hook) would then never hold.
   if (!scene.end_time && !scene.steps) {

@@ -3,9 +3,11 @@
 // particles whose centroids lie in its blocks, sees ghost copies of its neighbours' particles and
 // replicated fixed/driven bodies, and runs the same timeloop:
 //
-//   derived -> broadphase -> contacts -> integrate -> communicate -> monitors
+//   derived -> broadphase -> contacts -> gravity -> force operators -> integrate -> communicate
+//   -> monitors
 //
-// (see contact_phase.h for why the result is the same bits on any number of ranks).
+// (see contact_phase.h for why the result is the same bits on any number of ranks, and
+// force_operator.h for the forces a user adds).
 #pragma once
 
 #include <mpi.h>
@@ -29,6 +31,7 @@
 #include "polydem/particles/material.h"
 #include "polydem/particles/particle_storage.h"
 #include "polydem/sim/contact_phase.h"
+#include "polydem/sim/force_operator.h"
 #include "polydem/sim/load_balance.h"
 #include "polydem/timeloop/time_loop.h"
 
@@ -36,7 +39,7 @@ namespace polydem::sim {
 
 /// Throws polydem::Error if `scene` has neither end_time nor steps (a scene changed from Python
 /// may have neither): Simulation::run() and runScene() would never stop.
-void requireStopCondition(const io::Scene& scene);
+void requireStopCondition(const setup::Setup& scene);
 
 /// The two stages of a run (Keissar section 3.3, after 3DEC): an optional initial-equilibrium
 /// stage with heavy damping and high friction, then the scene's own values.
@@ -54,7 +57,7 @@ struct GlobalMonitors {
 
 class Simulation {
  public:
-  Simulation(const io::Scene& scene, MPI_Comm comm);
+  Simulation(const setup::Setup& scene, MPI_Comm comm);
   /// Continues the run a checkpoint holds (collective, on any number of ranks): `checkpoint` is
   /// what io::readCheckpoint returned on this rank, `scene` the scene it was written from (its
   /// stop settings may differ). The particles move to their owners by position, the pair
@@ -62,7 +65,7 @@ class Simulation {
   /// velocities are taken as stored, so that stepping on gives the same bits as a run that never
   /// stopped (sim/simulation_checkpoint.cpp). Throws CheckpointError naming `file` if the shapes
   /// built from `scene` differ from the stored ones, or the time step does.
-  Simulation(const io::Scene& scene, const io::CheckpointData& checkpoint, const std::string& file,
+  Simulation(const setup::Setup& scene, const io::CheckpointData& checkpoint, const std::string& file,
              MPI_Comm comm);
   ~Simulation();
   Simulation(const Simulation&) = delete;
@@ -78,7 +81,7 @@ class Simulation {
   void step();
 
   // --- state, for monitors, checks, output and tests --------------------------------------
-  const io::Scene& scene() const { return scene_; }
+  const setup::Setup& scene() const { return scene_; }
   MPI_Comm comm() const { return comm_; }
   Stage stage() const { return stage_; }
   std::int64_t stepCount() const { return loop_.step(); }
@@ -106,11 +109,11 @@ class Simulation {
 
   /// The centroid (world frame) particle `spec` of the scene starts at, as placeParticles() puts
   /// it.
-  Vec3 initialCentroid(const io::ParticleSpec& spec) const {
+  Vec3 initialCentroid(const setup::ParticleSpec& spec) const {
     return spec.position + spec.orientation * shape_frames_[spec.shape].centroid;
   }
   /// The orientation (body -> world) particle `spec` starts with.
-  Quat initialOrientation(const io::ParticleSpec& spec) const {
+  Quat initialOrientation(const setup::ParticleSpec& spec) const {
     return (spec.orientation * shape_frames_[spec.shape].rotation).normalized();
   }
   /// Mass and principal inertia of local or ghost entry i.
@@ -129,6 +132,13 @@ class Simulation {
   /// checkpoint. Returning true (the same on every rank) stops the current stage's loop with
   /// StopReason::kUserCondition; the stage can be continued or checkpointed.
   void setStepHook(std::function<bool()> hook) { step_hook_ = std::move(hook); }
+  /// Adds a force to every step from now on (force_operator.h): `op` runs on every rank after
+  /// the contact forces and gravity, before integration, after the operators added before it.
+  /// Throws polydem::Error if `name` is empty or already taken. With no operator the step is the
+  /// same bits as before operators existed.
+  void addForceOperator(std::string name, ForceOperator op);
+  /// The names of the force operators, in the order they run.
+  std::vector<std::string> forceOperatorNames() const;
 
   /// This rank's part of a checkpoint of the current state (not collective): replicated tables,
   /// this rank's free particles (and the fixed/driven ones on rank 0), each pair history once
@@ -163,7 +173,7 @@ class Simulation {
   /// Members that depend only on the scene and the communicator; both public constructors
   /// delegate here, then build the rest (from the scene, or from a checkpoint).
   struct Unbuilt {};
-  Simulation(const io::Scene& scene, MPI_Comm comm, Unbuilt);
+  Simulation(const setup::Setup& scene, MPI_Comm comm, Unbuilt);
   std::vector<int> rankMap(std::span<const double> weights) const;
   domain::PartitionMethod partitionMethod() const;
   /// Block counts for `box` from the free particles' centroids; `collective`: each rank holds
@@ -187,12 +197,13 @@ class Simulation {
   void updateDerived();
   void findCandidates();
   void computeContacts();
+  void applyForceOperators();
   void integrate();
   void checkParticlesInside(std::int64_t step) const;
   void communicate();
   void observe();
 
-  io::Scene scene_;
+  setup::Setup scene_;
   MPI_Comm comm_;
   int rank_ = 0, ranks_ = 1;
   Stage stage_ = Stage::kMain;
@@ -224,6 +235,8 @@ class Simulation {
   comm::ExchangeStats step_exchange_totals_;
   std::int64_t exchanges_ = 0;
   double margin_ = 0.0;  // absolute contact margin
+  dynamics::ContactModel contact_model_ = dynamics::ContactModel::kSubContacts;
+  bool overlap_centroid_ = false;  // contact_point = "overlap-centroid"
   double suggested_dt_ = 0.0;
 
   particles::ParticleStorage storage_;
@@ -245,6 +258,11 @@ class Simulation {
   timeloop::TimeLoop parked_loop_;  // the main stage's loop while the equilibrium stage runs
   std::vector<std::function<void()>> observers_;
   std::function<bool()> step_hook_;
+  struct NamedForceOperator {
+    std::string name;
+    ForceOperator apply;
+  };
+  std::vector<NamedForceOperator> force_operators_;
 };
 
 }  // namespace polydem::sim

@@ -82,7 +82,7 @@ io::CheckpointData Simulation::checkpoint(const std::string& scene_toml,
   return d;
 }
 
-Simulation::Simulation(const io::Scene& scene, const io::CheckpointData& checkpoint,
+Simulation::Simulation(const setup::Setup& scene, const io::CheckpointData& checkpoint,
                        const std::string& file, MPI_Comm comm)
     : Simulation(scene, comm, Unbuilt{}) {
   buildTables();

@@ -16,7 +16,7 @@
 
 namespace polydem::sim {
 
-Simulation::Simulation(const io::Scene& scene, MPI_Comm comm, Unbuilt)
+Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm, Unbuilt)
     : scene_(scene),
       comm_(comm),
       rank_(mpi::rank(comm)),
@@ -25,7 +25,7 @@ Simulation::Simulation(const io::Scene& scene, MPI_Comm comm, Unbuilt)
       loop_(comm),
       parked_loop_(comm) {}
 
-Simulation::Simulation(const io::Scene& scene, MPI_Comm comm) : Simulation(scene, comm, Unbuilt{}) {
+Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm) : Simulation(scene, comm, Unbuilt{}) {
   buildTables();
   buildLaws();
   buildDomain();
@@ -62,6 +62,11 @@ void Simulation::buildTables() {
 }
 
 void Simulation::buildLaws() {
+  // The setup's names are resolved once here, never per step.
+  const auto model = dynamics::findContactModel(scene_.contact_model);
+  if (!model) throw Error(setup::unknownContactModel(scene_.contact_model));
+  contact_model_ = *model;
+  overlap_centroid_ = scene_.contact_point == "overlap-centroid";
   const int n = static_cast<int>(materials_.size());
   const bool potential = scene_.kernel == "distance-potential" || scene_.kernel == "fdem";
   law_main_.resize(n * n);

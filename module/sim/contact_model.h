@@ -1,0 +1,31 @@
+// Operators 3 and 4 of the contact phase (contact_phase.h): the kernel call and the contact model.
+// The model (dynamics/contact_models.h) decides which kernel entry is called (sub-contacts need
+// the face features) and how its contact becomes forces: split into sub-contacts (penalty
+// contacts only) or kept as one point, optionally moved to the overlap's centroid.
+#pragma once
+
+#include "polydem/contact/contact.h"
+#include "polydem/contact/overlap_point.h"
+#include "polydem/dynamics/contact_models.h"
+
+namespace polydem::sim {
+
+/// A pair's contact, as the law gets it.
+struct ModelledContact {
+  contact::Contact contact;
+  bool split = false;  // forces from sub-contacts at the face overlap's corners
+};
+
+class ContactModelStep {
+ public:
+  /// Calls `kernel` on the pair (warm-started from and updating `warm`) and applies `model`;
+  /// `overlap_centroid`: a single-point contact acts at the centroid of the overlap volume.
+  ModelledContact evaluate(const contact::Kernel& kernel, dynamics::ContactModel model,
+                           bool overlap_centroid, const contact::Body& a, const contact::Body& b,
+                           contact::PairState* warm);
+
+ private:
+  contact::OverlapCentroid overlap_;
+};
+
+}  // namespace polydem::sim

@@ -1,0 +1,46 @@
+// Operator 6 of the contact phase (contact_phase.h): recording. One record per evaluated pair, in
+// key order, for output, monitors and the load model, and the phase's counts.
+#pragma once
+
+#include <cstdint>
+
+#include "polydem/contact/contact.h"
+#include "polydem/core/types.h"
+#include "polydem/particles/contact_history.h"
+
+namespace polydem::sim {
+
+/// One evaluated pair, kept for output and monitors.
+struct ContactRecord {
+  particles::PairKey key;
+  std::int32_t a = -1, b = -1;  // local indices of A and B when local and free, else -1
+  std::int32_t stored_a = -1, stored_b = -1;  // storage indices of A and B (ghosts included)
+  bool touching = false;
+  Vec3 point = Vec3::Zero();  // in A's frame (the world frame unless A is a periodic image); with
+                              // sub-contacts the centre of pressure
+  Vec3 normal = Vec3::Zero();
+  Vec3 force = Vec3::Zero();  // on A
+  double normal_force = 0.0, shear_force = 0.0;
+  double energy = 0.0;  // elastic energy of the normal springs (penalty contacts), J
+  contact::Status status = contact::Status::kOk;
+  std::int32_t subcontacts = 0;  // sub-contacts in compression (0 for the single-point model)
+  bool a_is_local = false;       // A is stored on this rank as a local particle
+  bool both_free = false;        // neither A nor B is fixed or driven
+};
+
+struct ContactPhaseStats {
+  std::int64_t candidates = 0;  // pairs from the broad phase
+  std::int64_t evaluated = 0;   // pairs passing the sphere and box tests (kernel calls)
+  std::int64_t touching = 0;
+  std::int64_t subcontacts = 0;  // sub-contacts in compression (sub-contact model)
+  std::int64_t not_converged = 0, degenerate = 0, inner_domain = 0;
+};
+
+/// Counts one evaluated pair's kernel status.
+inline void countStatus(ContactPhaseStats& stats, contact::Status status) {
+  stats.not_converged += status == contact::Status::kNotConverged;
+  stats.degenerate += status == contact::Status::kDegenerate;
+  stats.inner_domain += status == contact::Status::kInnerDomainReached;
+}
+
+}  // namespace polydem::sim

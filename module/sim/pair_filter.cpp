@@ -1,0 +1,72 @@
+#include "polydem/sim/pair_filter.h"
+
+namespace polydem::sim {
+
+namespace {
+
+using particles::ParticleStorage;
+
+// Min/max corner of a vertex set.
+void bounds(std::span<const Vec3> v, Vec3& lo, Vec3& hi) {
+  lo = hi = v[0];
+  for (const Vec3& x : v) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+}
+
+bool boxesOverlap(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi,
+                  double slack) {
+  return (alo.array() <= bhi.array() + slack).all() && (blo.array() <= ahi.array() + slack).all();
+}
+
+bool boxesOverlap(std::span<const Vec3> a, std::span<const Vec3> b, double slack) {
+  Vec3 alo, ahi, blo, bhi;
+  bounds(a, alo, ahi);
+  bounds(b, blo, bhi);
+  return boxesOverlap(alo, ahi, blo, bhi, slack);
+}
+
+// World vertices of entry i placed at `position` (used when an image shift moves the frame).
+std::span<const Vec3> verticesAt(const ParticleStorage& s, const particles::ShapeTable& shapes,
+                                 std::size_t i, const Vec3& position, std::vector<Vec3>& out) {
+  const auto& body = shapes[s[i].shape].polyhedron.vertices();
+  out.resize(body.size());
+  const Mat3& r = s.rotation(i);
+  for (std::size_t v = 0; v < body.size(); ++v) out[v] = position + r * body[v];
+  return out;
+}
+
+}  // namespace
+
+void PairFilter::prepare(const ParticleStorage& storage) {
+  box_lo_.resize(storage.size());
+  box_hi_.resize(storage.size());
+  for (std::size_t i = 0; i < storage.size(); ++i) {
+    bounds(storage.worldVertices(i), box_lo_[i], box_hi_[i]);
+  }
+}
+
+bool PairFilter::accept(const ParticleStorage& storage, const particles::ShapeTable& shapes,
+                        const OrderedPair& c, double margin, PairFrame& frame) {
+  const auto& sa = shapes[storage[c.a].shape];
+  const auto& sb = shapes[storage[c.b].shape];
+  // Canonical frame: A where its owner stores it, B shifted by the difference of the images.
+  const Vec3& xa = storage[c.a].position;
+  const Vec3 xb = storage[c.b].position + (storage.shift(c.b) - storage.shift(c.a));
+  const double reach = sa.circumradius + sb.circumradius + margin;
+  if ((xb - xa).squaredNorm() > reach * reach) return false;
+  const bool unshifted = storage.shift(c.a).isZero(0.0) && storage.shift(c.b).isZero(0.0);
+  const auto va =
+      unshifted ? storage.worldVertices(c.a) : verticesAt(storage, shapes, c.a, xa, scratch_a_);
+  const auto vb =
+      unshifted ? storage.worldVertices(c.b) : verticesAt(storage, shapes, c.b, xb, scratch_b_);
+  const bool boxes = unshifted ? boxesOverlap(box_lo_[c.a], box_hi_[c.a], box_lo_[c.b],
+                                              box_hi_[c.b], margin)
+                               : boxesOverlap(va, vb, margin);
+  if (!boxes) return false;
+  frame = {xa, xb, va, vb};
+  return true;
+}
+
+}  // namespace polydem::sim

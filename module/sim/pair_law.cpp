@@ -1,0 +1,59 @@
+#include "polydem/sim/pair_law.h"
+
+namespace polydem::sim {
+
+PairLawResult PairLaw::apply(const particles::PairKey& key, const ModelledContact& modelled,
+                             const contact::Body& a, const contact::Body& b, const PairMotion& ma,
+                             const PairMotion& mb, double m_eff, double dt,
+                             const dynamics::LawCoefficients& law, particles::PairHistory h,
+                             std::span<const particles::SubKey> old_keys,
+                             std::span<const particles::SubHistory> old,
+                             particles::ContactHistory& next) {
+  const contact::Contact& contact = modelled.contact;
+  PairLawResult r;
+  if (modelled.split && contact.touching) {
+    // Sub-contacts: a spring at every corner of the face overlap, each with its own history.
+    const auto fc = face_.build(a, b, contact);
+    const dynamics::PairKinematics kin{ma.position, ma.velocity_half, ma.angular_velocity,
+                                       mb.position, mb.velocity_half, mb.angular_velocity};
+    const auto f = dynamics::subContactForces(fc, old_keys, old, kin, m_eff, dt, law, kept_);
+    h.shear_force.setZero();
+    h.normal = contact.normal;
+    h.touching = 1;
+    next.appendSorted(key, h);
+    for (const auto& s : kept_) next.appendSub({key, s.feature}, s.history);
+    r.touching = true;
+    r.split = true;
+    r.point = f.centre;
+    r.normal = contact.normal;
+    r.force = f.force;
+    r.torque_a = f.torque_a;
+    r.torque_b = f.torque_b;
+    r.normal_force = f.normal;
+    r.shear_force = f.shear;
+    r.subcontacts = f.loaded;
+    r.energy = f.energy;
+    return r;
+  }
+  const Vec3 v_rel =
+      contact.touching
+          ? dynamics::relativeVelocity(contact.point, ma.position, ma.velocity_half,
+                                       ma.angular_velocity, mb.position, mb.velocity_half,
+                                       mb.angular_velocity)
+          : Vec3::Zero();
+  const auto f = dynamics::contactForce(contact, v_rel, m_eff, dt, law, h);
+  next.appendSorted(key, h);
+  if (!contact.touching) return r;
+  r.touching = true;
+  r.point = contact.point;
+  r.normal = contact.normal;
+  r.force = f.force;
+  r.normal_force = f.normal;
+  r.shear_force = f.shear;
+  if (contact.model == contact::ForceModel::kPenalty) {
+    r.energy = 0.5 * f.normal_elastic * contact.depth;
+  }
+  return r;
+}
+
+}  // namespace polydem::sim
