@@ -1,0 +1,100 @@
+// Simulation::addForceOperator (sim/force_operator.h): a user force reaches the integrator, on any
+// rank count, and an operator that adds nothing changes no bit.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <cmath>
+
+#include "polydem/core/error.h"
+#include "polydem/geometry/shapes.h"
+#include "polydem/setup/setup.h"
+#include "polydem/sim/simulation.h"
+
+namespace polydem::sim {
+namespace {
+
+constexpr double kG = 9.81;
+constexpr double kHeight = 5.0;
+
+// Cubes falling freely in a row (no contacts), spread so that several ranks own some.
+setup::Setup fallingCubes(int count) {
+  setup::Setup s;
+  s.file = "<force operator test>";
+  s.dt = 1e-4;
+  s.steps = 400;
+  s.gravity = Vec3(0, 0, -kG);
+  particles::Material rock;
+  rock.name = "rock";
+  rock.density = 2650;
+  rock.kn = 1e8;
+  rock.ks = 5e7;
+  rock.penalty = 1e9;
+  s.materials.push_back(rock);
+  s.shapes.push_back({"cube", geometry::shapes::box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5)), 0});
+  for (int i = 0; i < count; ++i) {
+    setup::ParticleSpec p;
+    p.uid = static_cast<Uid>(i + 1);
+    p.shape = 0;
+    p.material = 0;
+    p.position = Vec3(-9.0 + 3.0 * i, 0.0, kHeight);
+    s.particles.push_back(p);
+  }
+  s.domain.min = Vec3(-10, -10, -10);
+  s.domain.max = Vec3(10, 10, 10);
+  return s;
+}
+
+// Particle uid u is lifted by u / 10 of its weight: it falls at g (1 - u / 10).
+void liftByUid(const ForceStep& step) {
+  for (std::size_t i = 0; i < step.forces.size(); ++i) {
+    const auto& p = (*step.particles)[i];
+    step.forces[i].addBodyForce(Vec3(0, 0, 0.1 * static_cast<double>(p.uid) * kG *
+                                               step.particles->mass(i)));
+  }
+}
+
+TEST(ForceOperator, EveryParticleFallsAtItsOwnAcceleration) {
+  Simulation sim(fallingCubes(6), MPI_COMM_WORLD);
+  sim.addForceOperator("lift", liftByUid);
+  sim.run();
+  const double t = sim.time();
+  ASSERT_NEAR(t, 0.04, 1e-12);
+  int checked = 0;
+  for (std::size_t i = 0; i < sim.particles().localCount(); ++i) {
+    const auto& p = sim.particles()[i];
+    const double a = kG * (1.0 - 0.1 * static_cast<double>(p.uid));
+    const double expected = 0.5 * a * t * t;  // exact for the leapfrog under constant forces
+    EXPECT_NEAR(kHeight - p.position.z(), expected, 1e-10 * expected) << "uid " << p.uid;
+    ++checked;
+  }
+  int total = 0;
+  MPI_Allreduce(&checked, &total, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(total, 6);
+}
+
+TEST(ForceOperator, AnOperatorAddingNothingChangesNoBit) {
+  Simulation plain(fallingCubes(6), MPI_COMM_WORLD);
+  plain.run();
+  Simulation with(fallingCubes(6), MPI_COMM_WORLD);
+  int calls = 0;
+  with.addForceOperator("nothing", [&](const ForceStep& step) {
+    ++calls;
+    for (auto& f : step.forces) f.addBodyForce(Vec3::Zero());
+  });
+  with.run();
+  EXPECT_EQ(calls, 401);  // the leapfrog's start and every step
+  EXPECT_EQ(plain.stateHash().hex(), with.stateHash().hex());
+}
+
+TEST(ForceOperator, OperatorsRunInOrderAndNeedNewNames) {
+  Simulation sim(fallingCubes(1), MPI_COMM_WORLD);
+  sim.addForceOperator("first", [](const ForceStep&) {});
+  sim.addForceOperator("second", [](const ForceStep&) {});
+  EXPECT_EQ(sim.forceOperatorNames(), (std::vector<std::string>{"first", "second"}));
+  EXPECT_THROW(sim.addForceOperator("first", [](const ForceStep&) {}), Error);
+  EXPECT_THROW(sim.addForceOperator("", [](const ForceStep&) {}), Error);
+  EXPECT_THROW(sim.addForceOperator("empty", ForceOperator{}), Error);
+}
+
+}  // namespace
+}  // namespace polydem::sim
