@@ -1,4 +1,5 @@
 #include "polydem/run/checks.h"
+#include "polydem/run/check_registry.h"
 
 #include <cmath>
 #include <functional>
@@ -401,48 +402,92 @@ Uid uidOfLabel(const io::Scene& scene, const std::string& label) {
   return 0;
 }
 
+namespace {
+
+struct KindEntry {
+  std::string kind;
+  CheckFactory make;
+};
+
+// A kind of check whose whole value is read from the simulation at the end.
+CheckFactory atTheEnd(std::function<double(Simulation&, std::string&)> value) {
+  return [value](const io::Scene&, const io::CheckSpec& spec, Tracker&) -> std::unique_ptr<Check> {
+    return std::make_unique<FinalCheck>(spec, value);
+  };
+}
+
+template <typename C>
+CheckFactory tracked() {
+  return [](const io::Scene& scene, const io::CheckSpec& spec, Tracker& t) -> std::unique_ptr<Check> {
+    return std::make_unique<C>(scene, spec, t);
+  };
+}
+
+// The built-in kinds, in the order of docs/scene-format.md; then those registered by programs.
+std::vector<KindEntry>& registry() {
+  static std::vector<KindEntry> kinds = {
+      {"displacement", tracked<DisplacementCheck>()},
+      {"rotation", tracked<RotationCheck>()},
+      {"lateral_drift", tracked<LateralDriftCheck>()},
+      {"sliding_block", slidingBlock},
+      {"wedge_slide", wedgeSlide},
+      {"kinetic_energy_ratio", tracked<EnergyRatioCheck>()},
+      {"separation_time", tracked<SeparationCheck>()},
+      {"equilibrium_steps", atTheEnd(equilibriumSteps)},
+      {"mean_speed", atTheEnd([](Simulation& sim, std::string&) { return sim.monitors().mean_speed; })},
+      {"max_speed", atTheEnd([](Simulation& sim, std::string&) { return sim.monitors().max_speed; })},
+      // Touching pairs at the end, each once: cubes pushing their neighbours make new contacts.
+      {"contact_count", atTheEnd([](Simulation& sim, std::string&) {
+         return static_cast<double>(sim.monitors().contacts);
+       })},
+      {"max_contact_force",
+       [](const io::Scene& scene, const io::CheckSpec& spec, Tracker&) -> std::unique_ptr<Check> {
+         const auto axis = Params(scene, spec).vector("axis");
+         return std::make_unique<FinalCheck>(spec, [axis](Simulation& sim, std::string& note) {
+           return maxContactForce(sim, axis, note);
+         });
+       }},
+      {"free_motion", makeMotionCheck},
+      {"tilt_failure", makeMotionCheck},
+      {"pair_separation", makeMotionCheck},
+  };
+  return kinds;
+}
+
+}  // namespace
+
+void registerCheckKind(std::string kind, CheckFactory factory) {
+  if (kind.empty()) throw Error("registerCheckKind: a check kind needs a name");
+  if (!factory) throw Error(cat("registerCheckKind: check kind '", kind, "' has no factory"));
+  if (findCheckFactory(kind)) {
+    throw Error(cat("registerCheckKind: check kind '", kind, "' is already registered"));
+  }
+  registry().push_back({std::move(kind), std::move(factory)});
+}
+
+const CheckFactory* findCheckFactory(std::string_view kind) {
+  for (const auto& k : registry()) {
+    if (k.kind == kind) return &k.make;
+  }
+  return nullptr;
+}
+
+std::vector<std::string> registeredCheckKinds() {
+  std::vector<std::string> kinds;
+  for (const auto& k : registry()) kinds.push_back(k.kind);
+  return kinds;
+}
+
 std::vector<std::unique_ptr<Check>> makeChecks(const io::Scene& scene, Tracker& tracker) {
   std::vector<std::unique_ptr<Check>> checks;
   for (const auto& spec : scene.checks) {
-    const std::string& k = spec.kind;
-    Params p(scene, spec);
-    if (k == "displacement") {
-      checks.push_back(std::make_unique<DisplacementCheck>(scene, spec, tracker));
-    } else if (k == "rotation") {
-      checks.push_back(std::make_unique<RotationCheck>(scene, spec, tracker));
-    } else if (k == "lateral_drift") {
-      checks.push_back(std::make_unique<LateralDriftCheck>(scene, spec, tracker));
-    } else if (k == "sliding_block") {
-      checks.push_back(slidingBlock(scene, spec, tracker));
-    } else if (k == "wedge_slide") {
-      checks.push_back(wedgeSlide(scene, spec, tracker));
-    } else if (k == "kinetic_energy_ratio") {
-      checks.push_back(std::make_unique<EnergyRatioCheck>(scene, spec, tracker));
-    } else if (k == "separation_time") {
-      checks.push_back(std::make_unique<SeparationCheck>(scene, spec, tracker));
-    } else if (k == "equilibrium_steps") {
-      checks.push_back(std::make_unique<FinalCheck>(spec, equilibriumSteps));
-    } else if (k == "mean_speed" || k == "max_speed") {
-      const bool mean = k == "mean_speed";
-      checks.push_back(std::make_unique<FinalCheck>(spec, [mean](Simulation& sim, std::string&) {
-        const auto m = sim.monitors();
-        return mean ? m.mean_speed : m.max_speed;
-      }));
-    } else if (k == "contact_count") {
-      // Touching pairs at the end, each once: cubes pushing their neighbours make new contacts.
-      checks.push_back(std::make_unique<FinalCheck>(spec, [](Simulation& sim, std::string&) {
-        return static_cast<double>(sim.monitors().contacts);
-      }));
-    } else if (k == "max_contact_force") {
-      const auto axis = p.vector("axis");
-      checks.push_back(std::make_unique<FinalCheck>(
-          spec,
-          [axis](Simulation& sim, std::string& note) { return maxContactForce(sim, axis, note); }));
-    } else if (auto motion = makeMotionCheck(scene, spec, tracker)) {
-      checks.push_back(std::move(motion));
-    } else {
-      p.fail("unknown kind; known kinds: " + io::checkKindNames());
+    const CheckFactory* make = findCheckFactory(spec.kind);
+    if (!make) Params(scene, spec).fail("unknown kind; known kinds: " + io::checkKindNames());
+    auto check = (*make)(scene, spec, tracker);
+    if (!check) {
+      throw Error(cat("check kind '", spec.kind, "' built no check for '", spec.name, "'"));
     }
+    checks.push_back(std::move(check));
   }
   return checks;
 }

@@ -3,9 +3,11 @@
 // parameters given, builds its checks.
 #include <gtest/gtest.h>
 
+#include "polydem/core/error.h"
 #include "polydem/core/strings.h"
 #include "polydem/scene/check_kinds.h"
 #include "polydem/scene/scene_reader.h"
+#include "polydem/run/check_registry.h"
 #include "polydem/run/checks.h"
 
 namespace polydem::sim {
@@ -75,6 +77,51 @@ TEST(CheckKinds, EveryDeclaredKindIsComputedFromItsDeclaredParameters) {
     ASSERT_EQ(checks.size(), 1u) << kind.name;
     EXPECT_EQ(checks[0]->spec().kind, kind.name);
   }
+}
+
+TEST(CheckKinds, TheRegistryHoldsExactlyTheDeclaredKindsInOrder) {
+  std::vector<std::string> declared;
+  for (const auto& kind : io::checkKinds()) declared.emplace_back(kind.name);
+  const auto registered = registeredCheckKinds();
+  ASSERT_GE(registered.size(), declared.size());
+  EXPECT_EQ(std::vector<std::string>(registered.begin(), registered.begin() + declared.size()),
+            declared);
+}
+
+// A program's own kind: registered once, built by makeChecks from a setup made in C++.
+class ConstantCheck : public Check {
+ public:
+  explicit ConstantCheck(const io::CheckSpec& spec) : Check(spec) {}
+  void observe(const Simulation&, const Tracker&) override {}
+  double value(Simulation&) override { return 42.0; }
+};
+
+TEST(CheckKinds, AProgramRegistersAKindOfItsOwn) {
+  registerCheckKind("test_constant", [](const io::Scene&, const io::CheckSpec& spec, Tracker&) {
+    return std::make_unique<ConstantCheck>(spec);
+  });
+  EXPECT_THROW(registerCheckKind("test_constant", [](const io::Scene&, const io::CheckSpec& spec,
+                                                     Tracker&) {
+                 return std::make_unique<ConstantCheck>(spec);
+               }),
+               Error);
+  EXPECT_THROW(registerCheckKind("displacement", [](const io::Scene&, const io::CheckSpec& spec,
+                                                    Tracker&) {
+                 return std::make_unique<ConstantCheck>(spec);
+               }),
+               Error);
+  io::Scene scene = io::parseScene(kScene, "kinds.toml");
+  io::CheckSpec spec;
+  spec.name = "mine";
+  spec.kind = "test_constant";
+  scene.checks.push_back(spec);
+  Tracker tracker;
+  const auto checks = makeChecks(scene, tracker);
+  ASSERT_EQ(checks.size(), 1u);
+  EXPECT_EQ(checks[0]->spec().kind, "test_constant");
+  spec.kind = "no_such_kind";
+  scene.checks = {spec};
+  EXPECT_THROW(makeChecks(scene, tracker), InputError);
 }
 
 }  // namespace
