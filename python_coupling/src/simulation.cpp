@@ -173,6 +173,52 @@ const char* run(Simulation& sim) {
   return timeloop::toString(reason);
 }
 
+// A Python force operator: fn(time, dt, particles) -> forces, with `particles` a dict of numpy
+// arrays of this rank's own particles (uid, position, velocity, mass, free) and `forces` an
+// (n, 3) array-like (or None: no force). The forces are added at the centroids of the free ones.
+void addPythonForceOperator(Simulation& sim, const std::string& name, py::object fn) {
+  if (!PyCallable_Check(fn.ptr())) {
+    throw py::type_error(cat("add_force_operator: '", name, "' is not given a callable"));
+  }
+  sim.addForceOperator(name, [fn = std::move(fn), name](const sim::ForceStep& step) {
+    const auto& storage = *step.particles;
+    const auto n = static_cast<py::ssize_t>(step.forces.size());
+    auto uid = emptyArray<std::uint64_t>({n});
+    auto position = emptyArray<double>({n, 3});
+    auto velocity = emptyArray<double>({n, 3});
+    auto mass = emptyArray<double>({n});
+    auto free = emptyArray<bool>({n});
+    for (py::ssize_t i = 0; i < n; ++i) {
+      const auto& p = storage[static_cast<std::size_t>(i)];
+      uid.mutable_at(i) = p.uid;
+      mass.mutable_at(i) = storage.mass(static_cast<std::size_t>(i));
+      free.mutable_at(i) = p.isFree();
+      for (py::ssize_t k = 0; k < 3; ++k) {
+        position.mutable_at(i, k) = p.position[k];
+        velocity.mutable_at(i, k) = p.velocity[k];
+      }
+    }
+    py::dict particles;
+    particles["uid"] = uid;
+    particles["position"] = position;
+    particles["velocity"] = velocity;
+    particles["mass"] = mass;
+    particles["free"] = free;
+    const py::object result = fn(step.time, step.dt, particles);
+    if (result.is_none() || n == 0) return;
+    const auto forces = toPoints(result, cat("forces returned by force operator '", name, "'").c_str());
+    if (static_cast<py::ssize_t>(forces.size()) != n) {
+      throw py::value_error(cat("force operator '", name, "' returned ", forces.size(),
+                                " forces for ", n, " particles"));
+    }
+    for (py::ssize_t i = 0; i < n; ++i) {
+      if (storage[static_cast<std::size_t>(i)].isFree()) {
+        step.forces[static_cast<std::size_t>(i)].addBodyForce(forces[static_cast<std::size_t>(i)]);
+      }
+    }
+  });
+}
+
 std::unique_ptr<Simulation> fromPath(const py::object& path) {
   const std::string file = py::module_::import("os").attr("fspath")(path).cast<std::string>();
   return std::make_unique<Simulation>(io::readScene(file), MPI_COMM_WORLD);
@@ -211,6 +257,15 @@ principal axes, see `shapes`) into the world.)")
           "run_equilibrium", method(&Simulation::runEquilibrium),
           "Runs the initial-equilibrium stage if the scene has one (collective); returns its step\n"
           "count (0 without one). Call it before stepping the main stage, as polydem run does.")
+      .def("add_force_operator", &addPythonForceOperator, py::arg("name"), py::arg("fn"),
+           R"(Adds a force to every later step (sim/force_operator.h): fn(time, dt, particles)
+is called on every rank after the contact forces and gravity, before integration, with this
+rank's own particles as a dict of numpy arrays: uid (n,), position (n, 3) [m] at `time`,
+velocity (n, 3) [m/s] at time - dt/2, mass (n,) [kg], free (n,) bool. It returns an (n, 3)
+array of forces [N] acting at the centroids (entries of particles that are not free are
+ignored), or None. `name` must be new. Exceptions from fn end the step with that error.)")
+      .def_property_readonly("force_operators", method(&Simulation::forceOperatorNames),
+                             "Names of the force operators, in the order they run.")
       .def_property_readonly("time", method(&Simulation::time), "Simulated time [s].")
       .def_property_readonly("step_count", method(&Simulation::stepCount),
                              "Steps taken in this stage.")
