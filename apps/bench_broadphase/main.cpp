@@ -20,11 +20,11 @@
 #include <string>
 #include <vector>
 
+#include "cube_layer.h"
 #include "polydem/broadphase/broad_phase.h"
 #include "polydem/broadphase/multilevel_grid.h"
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
-#include "cube_layer.h"
 
 namespace {
 

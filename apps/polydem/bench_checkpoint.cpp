@@ -19,11 +19,11 @@
 #include <sstream>
 
 #include "commands.h"
+#include "polydem/checkpoint/checkpoint.h"
+#include "polydem/checkpoint/hdf5_types.h"
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
-#include "polydem/checkpoint/checkpoint.h"
-#include "polydem/checkpoint/hdf5_types.h"
 
 namespace polydem::app {
 

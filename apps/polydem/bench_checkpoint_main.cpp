@@ -3,9 +3,9 @@
 #include <exception>
 
 #include "commands.h"
+#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
-#include "polydem/checkpoint/checkpoint.h"
 
 int main(int argc, char** argv) {
   polydem::mpi::Environment env(argc, argv);

@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "commands.h"
+#include "generators/pile_scene.h"
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 #include "polydem/scene/scene_reader.h"
-#include "generators/pile_scene.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::app {
@@ -112,16 +112,16 @@ int benchContactModel(int argc, char** argv) {
   if (mpi::rank() == 0) {
     std::printf("contact phase per step, %d rank(s), kernel %s, medians of %d rounds\n",
                 mpi::size(), pile.kernel.c_str(), rounds);
-    std::printf("%-34s %9s %12s %11s %11s %8s %10s %10s %8s\n", "scene", "contacts",
-                "subcontacts", "point ms", "sub ms", "ratio", "step pt", "step sub", "ratio");
+    std::printf("%-34s %9s %12s %11s %11s %8s %10s %10s %8s\n", "scene", "contacts", "subcontacts",
+                "point ms", "sub ms", "ratio", "step pt", "step sub", "ratio");
   }
   nlohmann::json out = nlohmann::json::array();
   out.push_back(compare(cat("dense pack, ", pile.particles, " cubes"), sim::makePileScene(pile), 5,
                         steps, rounds));
   io::Scene rockslide = io::readScene(demo);
   rockslide.kernel = pile.kernel;
-  out.push_back(compare("demo rock slide (" + rockslide.id + ")", rockslide, 2000, 50 * steps,
-                        rounds));
+  out.push_back(
+      compare("demo rock slide (" + rockslide.id + ")", rockslide, 2000, 50 * steps, rounds));
   if (json_path && mpi::rank() == 0) {
     std::ofstream(*json_path) << out.dump(2) << "\n";
     std::printf("written: %s\n", json_path->c_str());

@@ -11,13 +11,13 @@
 #include <sstream>
 
 #include "commands.h"
+#include "generators/pile_scene.h"
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 #include "polydem/setup/setup.h"
 #include "polydem/sim/balance_figures.h"
-#include "generators/pile_scene.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::app {

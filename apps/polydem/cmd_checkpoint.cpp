@@ -3,8 +3,8 @@
 #include <cstdio>
 
 #include "commands.h"
-#include "polydem/core/mpi_env.h"
 #include "polydem/checkpoint/checkpoint.h"
+#include "polydem/core/mpi_env.h"
 
 namespace polydem::app {
 

@@ -3,14 +3,14 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "fos_files.h"
 #include "polydem/contact/contact.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
-#include "fos_files.h"
-#include "polydem/scene/scene_reader.h"
 #include "polydem/particles/material.h"
 #include "polydem/run/fos.h"
+#include "polydem/scene/scene_reader.h"
 
 namespace polydem::app {
 

@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "commands.h"
-#include "polydem/contact/contact.h"
 #include "contact_type_report.h"
+#include "polydem/contact/contact.h"
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"

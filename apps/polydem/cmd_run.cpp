@@ -7,8 +7,8 @@
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/test_pause.h"
-#include "polydem/scene/scene_reader.h"
 #include "polydem/run/run.h"
+#include "polydem/scene/scene_reader.h"
 
 namespace polydem::app {
 

@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "polydem/setup/setup.h"
 #include "polydem/run/fos.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::app {
 

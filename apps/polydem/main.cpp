@@ -6,10 +6,10 @@
 #include <string>
 
 #include "commands.h"
+#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
-#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/run/run_checkpoint.h"
 
 namespace {

@@ -76,9 +76,9 @@ int main(int argc, char** argv) {
       const double expected = 0.5 * a * t * t;
       const double drop = kHeight - p.position.z();
       const bool ok = std::abs(drop - expected) <= 1e-9 * expected;
-      std::printf("particle %llu: dropped %.12f m in %.4f s, analytical %.12f m (a = %.4f m/s^2) %s\n",
-                  static_cast<unsigned long long>(p.uid), drop, t, expected, a,
-                  ok ? "ok" : "MISMATCH");
+      std::printf(
+          "particle %llu: dropped %.12f m in %.4f s, analytical %.12f m (a = %.4f m/s^2) %s\n",
+          static_cast<unsigned long long>(p.uid), drop, t, expected, a, ok ? "ok" : "MISMATCH");
       failures += ok ? 0 : 1;
       ++checked;
     }

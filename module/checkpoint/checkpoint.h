@@ -26,11 +26,11 @@
 
 #include "polydem/core/exact_sum.h"
 #include "polydem/core/types.h"
-#include "polydem/setup/setup.h"
 #include "polydem/particles/contact_history.h"
 #include "polydem/particles/material.h"
 #include "polydem/particles/particle.h"
 #include "polydem/particles/particle_storage.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::io {
 
@@ -79,7 +79,8 @@ struct CheckpointData {
   // --- replicated: the same on every rank (written from rank 0's copy)
   // ----------------------------
   int format_version = kCheckpointFormatVersion;  // as read; writing always writes the current one
-  std::uint64_t digest = 0;  // as read and verified (io/checkpoint_digest.h); 0 before version 3; ignored on write
+  std::uint64_t digest =
+      0;  // as read and verified (io/checkpoint_digest.h); 0 before version 3; ignored on write
   std::string code_version;  // polydem version of the writer
   int writer_ranks = 0;      // as read: the number of ranks that wrote the file (ignored on write)
   std::string scene_toml;    // the scene file's text, verbatim

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 
-#include "polydem/core/error.h"
-#include "polydem/core/strings.h"
 #include "polydem/checkpoint/checkpoint_checksum.h"
 #include "polydem/checkpoint/hdf5_file.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::io {
 

@@ -7,9 +7,9 @@
 #include <cstdio>
 #include <string_view>
 
+#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
-#include "polydem/checkpoint/checkpoint.h"
 
 namespace polydem::io {
 

@@ -4,16 +4,16 @@
 #include <cmath>
 #include <cstring>
 
-#include "polydem/core/error.h"
-#include "polydem/core/mpi_env.h"
-#include "polydem/core/state_hash.h"
-#include "polydem/core/strings.h"
 #include "polydem/checkpoint/checkpoint.h"
 #include "polydem/checkpoint/checkpoint_checksum.h"
 #include "polydem/checkpoint/checkpoint_digest.h"
 #include "polydem/checkpoint/checkpoint_layout.h"
 #include "polydem/checkpoint/checkpoint_read_all.h"
 #include "polydem/checkpoint/hdf5_file.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
+#include "polydem/core/state_hash.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::io {
 

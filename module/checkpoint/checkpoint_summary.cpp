@@ -4,12 +4,12 @@
 #include <limits>
 #include <sstream>
 
+#include "polydem/checkpoint/checkpoint.h"
+#include "polydem/checkpoint/checkpoint_read_all.h"
 #include "polydem/core/exact_sum.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
-#include "polydem/checkpoint/checkpoint.h"
-#include "polydem/checkpoint/checkpoint_read_all.h"
 
 namespace polydem::io {
 

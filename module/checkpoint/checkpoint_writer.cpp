@@ -5,11 +5,11 @@
 
 #include <algorithm>
 
-#include "polydem/core/byte_buffer.h"
-#include "polydem/core/mpi_env.h"
 #include "polydem/checkpoint/checkpoint_checksum.h"
 #include "polydem/checkpoint/checkpoint_digest.h"
 #include "polydem/checkpoint/checkpoint_layout.h"
+#include "polydem/core/byte_buffer.h"
+#include "polydem/core/mpi_env.h"
 
 namespace polydem::io {
 

@@ -4,12 +4,12 @@
 #include <algorithm>
 #include <cstring>
 
+#include "polydem/checkpoint/checkpoint_checksum.h"
+#include "polydem/checkpoint/hdf5_types.h"
 #include "polydem/core/error.h"
 #include "polydem/core/file_kind.h"
 #include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
-#include "polydem/checkpoint/checkpoint_checksum.h"
-#include "polydem/checkpoint/hdf5_types.h"
 
 namespace polydem::io::h5 {
 

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <string>
 
-#include "polydem/core/error.h"
 #include "polydem/checkpoint/hdf5_file.h"
+#include "polydem/core/error.h"
 
 namespace polydem::io::h5 {
 

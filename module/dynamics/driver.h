@@ -1,5 +1,6 @@
 // Kinematic drivers: particles moved as prescribed (a tilting platform, a shaken base), never by
-// forces. A driver (DriverSpec, driver_spec.h) gives, while it is active (start_time <= t <= end_time),
+// forces. A driver (DriverSpec, driver_spec.h) gives, while it is active (start_time <= t <=
+// end_time),
 //   v(t) = velocity + oscillation sin(2 pi frequency (t - start_time) + phase),   w(t) = w,
 // and nothing outside that window. The pivot P moves with v (P = DriverSpec::pivot at start_time).
 // The velocity field of the body is u(x, t) = v(t) + w x (x - P(t)); relative to the pivot,

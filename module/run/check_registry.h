@@ -16,9 +16,8 @@
 namespace polydem::sim {
 
 /// Builds the check for `spec`; throws InputError (the check's line) for a bad parameter.
-using CheckFactory = std::function<std::unique_ptr<Check>(const io::Scene& scene,
-                                                          const io::CheckSpec& spec,
-                                                          Tracker& tracker)>;
+using CheckFactory = std::function<std::unique_ptr<Check>(
+    const io::Scene& scene, const io::CheckSpec& spec, Tracker& tracker)>;
 
 /// Adds a kind; throws polydem::Error if `kind` is empty or already registered.
 void registerCheckKind(std::string kind, CheckFactory factory);

@@ -10,8 +10,8 @@
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
-#include "polydem/scene/check_kinds.h"
 #include "polydem/run/motion_checks.h"
+#include "polydem/scene/check_kinds.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
@@ -418,9 +418,8 @@ CheckFactory atTheEnd(std::function<double(Simulation&, std::string&)> value) {
 
 template <typename C>
 CheckFactory tracked() {
-  return [](const io::Scene& scene, const io::CheckSpec& spec, Tracker& t) -> std::unique_ptr<Check> {
-    return std::make_unique<C>(scene, spec, t);
-  };
+  return [](const io::Scene& scene, const io::CheckSpec& spec,
+            Tracker& t) -> std::unique_ptr<Check> { return std::make_unique<C>(scene, spec, t); };
 }
 
 // The built-in kinds, in the order of docs/scene-format.md; then those registered by programs.
@@ -434,8 +433,10 @@ std::vector<KindEntry>& registry() {
       {"kinetic_energy_ratio", tracked<EnergyRatioCheck>()},
       {"separation_time", tracked<SeparationCheck>()},
       {"equilibrium_steps", atTheEnd(equilibriumSteps)},
-      {"mean_speed", atTheEnd([](Simulation& sim, std::string&) { return sim.monitors().mean_speed; })},
-      {"max_speed", atTheEnd([](Simulation& sim, std::string&) { return sim.monitors().max_speed; })},
+      {"mean_speed",
+       atTheEnd([](Simulation& sim, std::string&) { return sim.monitors().mean_speed; })},
+      {"max_speed",
+       atTheEnd([](Simulation& sim, std::string&) { return sim.monitors().max_speed; })},
       // Touching pairs at the end, each once: cubes pushing their neighbours make new contacts.
       {"contact_count", atTheEnd([](Simulation& sim, std::string&) {
          return static_cast<double>(sim.monitors().contacts);

@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "polydem/setup/setup.h"
 #include "polydem/output/summary_json.h"
 #include "polydem/run/tracker.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::sim {
 

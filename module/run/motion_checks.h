@@ -13,9 +13,9 @@
 
 #include <memory>
 
-#include "polydem/setup/setup.h"
 #include "polydem/run/checks.h"
 #include "polydem/run/tracker.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::sim {
 

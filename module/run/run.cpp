@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/contact/contact.h"
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
@@ -11,12 +12,11 @@
 #include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
 #include "polydem/core/test_pause.h"
-#include "polydem/checkpoint/checkpoint.h"
-#include "polydem/scene/scene_reader.h"
-#include "polydem/sim/balance_figures.h"
 #include "polydem/run/checks.h"
 #include "polydem/run/run_checkpoint.h"
 #include "polydem/run/run_output.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/sim/balance_figures.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::sim {

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "polydem/comm/state_hash.h"
-#include "polydem/setup/setup.h"
 #include "polydem/output/summary_json.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::sim {
 

@@ -4,12 +4,12 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/contact/contact.h"
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
-#include "polydem/checkpoint/checkpoint.h"
 
 namespace polydem::sim {
 

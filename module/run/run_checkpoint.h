@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "polydem/setup/setup.h"
 #include "polydem/run/checks.h"
-#include "polydem/sim/simulation.h"
 #include "polydem/run/tracker.h"
+#include "polydem/setup/setup.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 

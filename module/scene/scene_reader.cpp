@@ -14,8 +14,8 @@
 #include "polydem/core/file_kind.h"
 #include "polydem/core/memory.h"
 #include "polydem/core/strings.h"
-#include "polydem/scene/scene_sections.h"
 #include "polydem/particles/material.h"
+#include "polydem/scene/scene_sections.h"
 
 namespace polydem::io {
 

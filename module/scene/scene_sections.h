@@ -5,8 +5,8 @@
 
 #include <toml++/toml.h>
 
-#include "polydem/setup/setup.h"
 #include "polydem/scene/toml_values.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::io::detail {
 

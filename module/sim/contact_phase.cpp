@@ -58,9 +58,8 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
                                frame.va};
     const contact::Body body_b{&shapes[pb.shape].polyhedron, frame.xb, storage.rotation(c.b),
                                frame.vb};
-    const ModelledContact modelled = model_.evaluate(*setup.kernel, setup.model,
-                                                     setup.overlap_centroid, body_a, body_b,
-                                                     &h.kernel);
+    const ModelledContact modelled = model_.evaluate(
+        *setup.kernel, setup.model, setup.overlap_centroid, body_a, body_b, &h.kernel);
 
     const PairMotion a = motion(c.a, frame.xa), b = motion(c.b, frame.xb);
     const double ma = storage.mass(c.a), mb = storage.mass(c.b);

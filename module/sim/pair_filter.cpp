@@ -61,9 +61,9 @@ bool PairFilter::accept(const ParticleStorage& storage, const particles::ShapeTa
       unshifted ? storage.worldVertices(c.a) : verticesAt(storage, shapes, c.a, xa, scratch_a_);
   const auto vb =
       unshifted ? storage.worldVertices(c.b) : verticesAt(storage, shapes, c.b, xb, scratch_b_);
-  const bool boxes = unshifted ? boxesOverlap(box_lo_[c.a], box_hi_[c.a], box_lo_[c.b],
-                                              box_hi_[c.b], margin)
-                               : boxesOverlap(va, vb, margin);
+  const bool boxes =
+      unshifted ? boxesOverlap(box_lo_[c.a], box_hi_[c.a], box_lo_[c.b], box_hi_[c.b], margin)
+                : boxesOverlap(va, vb, margin);
   if (!boxes) return false;
   frame = {xa, xb, va, vb};
   return true;

@@ -15,8 +15,8 @@ namespace polydem::sim {
 
 /// A pair placed in its canonical frame, as the kernel gets it.
 struct PairFrame {
-  Vec3 xa, xb;                       // centroids
-  std::span<const Vec3> va, vb;      // world vertices (valid until the next accept())
+  Vec3 xa, xb;                   // centroids
+  std::span<const Vec3> va, vb;  // world vertices (valid until the next accept())
 };
 
 class PairFilter {

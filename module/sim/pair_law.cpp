@@ -35,12 +35,11 @@ PairLawResult PairLaw::apply(const particles::PairKey& key, const ModelledContac
     r.energy = f.energy;
     return r;
   }
-  const Vec3 v_rel =
-      contact.touching
-          ? dynamics::relativeVelocity(contact.point, ma.position, ma.velocity_half,
-                                       ma.angular_velocity, mb.position, mb.velocity_half,
-                                       mb.angular_velocity)
-          : Vec3::Zero();
+  const Vec3 v_rel = contact.touching
+                         ? dynamics::relativeVelocity(contact.point, ma.position, ma.velocity_half,
+                                                      ma.angular_velocity, mb.position,
+                                                      mb.velocity_half, mb.angular_velocity)
+                         : Vec3::Zero();
   const auto f = dynamics::contactForce(contact, v_rel, m_eff, dt, law, h);
   next.appendSorted(key, h);
   if (!contact.touching) return r;

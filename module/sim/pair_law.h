@@ -27,9 +27,9 @@ struct PairLawResult {
   bool split = false;         // sub-contacts: force and torques as resultants
   Vec3 point = Vec3::Zero();  // single point: where the force acts; split: centre of pressure
   Vec3 normal = Vec3::Zero();
-  Vec3 force = Vec3::Zero();                                      // on A
-  Vec3 torque_a = Vec3::Zero(), torque_b = Vec3::Zero();          // split only: about A's, B's
-                                                                  // centroids
+  Vec3 force = Vec3::Zero();                              // on A
+  Vec3 torque_a = Vec3::Zero(), torque_b = Vec3::Zero();  // split only: about A's, B's
+                                                          // centroids
   double normal_force = 0.0, shear_force = 0.0, energy = 0.0;
   int subcontacts = 0;  // sub-contacts in compression
 };
@@ -43,8 +43,7 @@ class PairLaw {
                       const PairMotion& mb, double m_eff, double dt,
                       const dynamics::LawCoefficients& law, particles::PairHistory h,
                       std::span<const particles::SubKey> old_keys,
-                      std::span<const particles::SubHistory> old,
-                      particles::ContactHistory& next);
+                      std::span<const particles::SubHistory> old, particles::ContactHistory& next);
 
  private:
   contact::FaceContactBuilder face_;

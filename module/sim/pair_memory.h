@@ -10,8 +10,8 @@
 #include <string>
 
 #include "polydem/broadphase/broad_phase.h"
-#include "polydem/setup/setup.h"
 #include "polydem/particles/particle_storage.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::sim {
 

@@ -19,17 +19,17 @@
 #include <vector>
 
 #include "polydem/broadphase/broad_phase.h"
+#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/comm/particle_exchange.h"
 #include "polydem/comm/state_hash.h"
 #include "polydem/contact/contact.h"
 #include "polydem/domain/block_forest.h"
 #include "polydem/dynamics/contact_law.h"
 #include "polydem/dynamics/monitors.h"
-#include "polydem/checkpoint/checkpoint.h"
-#include "polydem/setup/setup.h"
 #include "polydem/particles/contact_history.h"
 #include "polydem/particles/material.h"
 #include "polydem/particles/particle_storage.h"
+#include "polydem/setup/setup.h"
 #include "polydem/sim/contact_phase.h"
 #include "polydem/sim/force_operator.h"
 #include "polydem/sim/load_balance.h"
@@ -65,8 +65,8 @@ class Simulation {
   /// velocities are taken as stored, so that stepping on gives the same bits as a run that never
   /// stopped (sim/simulation_checkpoint.cpp). Throws CheckpointError naming `file` if the shapes
   /// built from `scene` differ from the stored ones, or the time step does.
-  Simulation(const setup::Setup& scene, const io::CheckpointData& checkpoint, const std::string& file,
-             MPI_Comm comm);
+  Simulation(const setup::Setup& scene, const io::CheckpointData& checkpoint,
+             const std::string& file, MPI_Comm comm);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;

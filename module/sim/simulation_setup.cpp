@@ -25,7 +25,8 @@ Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm, Unbuilt)
       loop_(comm),
       parked_loop_(comm) {}
 
-Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm) : Simulation(scene, comm, Unbuilt{}) {
+Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm)
+    : Simulation(scene, comm, Unbuilt{}) {
   buildTables();
   buildLaws();
   buildDomain();

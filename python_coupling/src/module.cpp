@@ -11,11 +11,11 @@
 #include <string>
 
 #include "bindings.h"
+#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
-#include "polydem/checkpoint/checkpoint.h"
 
 namespace polydem::python {
 

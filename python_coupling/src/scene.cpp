@@ -7,9 +7,9 @@
 #include "polydem/contact/contact.h"
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
-#include "polydem/setup/setup.h"
-#include "polydem/scene/scene_reader.h"
 #include "polydem/run/run.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::python {
 

@@ -9,8 +9,8 @@
 #include "polydem/core/strings.h"
 #include "polydem/dynamics/driver.h"
 #include "polydem/dynamics/integrator.h"
-#include "polydem/setup/setup.h"
 #include "polydem/scene/scene_reader.h"
+#include "polydem/setup/setup.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::python {
@@ -206,7 +206,8 @@ void addPythonForceOperator(Simulation& sim, const std::string& name, py::object
     particles["free"] = free;
     const py::object result = fn(step.time, step.dt, particles);
     if (result.is_none() || n == 0) return;
-    const auto forces = toPoints(result, cat("forces returned by force operator '", name, "'").c_str());
+    const auto forces =
+        toPoints(result, cat("forces returned by force operator '", name, "'").c_str());
     if (static_cast<py::ssize_t>(forces.size()) != n) {
       throw py::value_error(cat("force operator '", name, "' returned ", forces.size(),
                                 " forces for ", n, " particles"));

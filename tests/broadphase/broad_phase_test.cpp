@@ -7,8 +7,8 @@
 #include <cmath>
 #include <string>
 
-#include "polydem/broadphase/overlap.h"
 #include "broadphase/scenes.h"
+#include "polydem/broadphase/overlap.h"
 #include "polydem/core/error.h"
 
 namespace polydem::broadphase {

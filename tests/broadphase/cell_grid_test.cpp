@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "polydem/broadphase/overlap.h"
 #include "broadphase/scenes.h"
+#include "polydem/broadphase/overlap.h"
 
 namespace polydem::broadphase {
 namespace {

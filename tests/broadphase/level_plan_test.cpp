@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "polydem/broadphase/multilevel_grid.h"
 #include "broadphase/scenes.h"
+#include "polydem/broadphase/multilevel_grid.h"
 
 namespace polydem::broadphase {
 namespace {

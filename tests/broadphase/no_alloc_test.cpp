@@ -1,9 +1,9 @@
 // Once warm, a search allocates nothing: the broad phase runs every step on every rank.
 #include <gtest/gtest.h>
 
-#include "polydem/broadphase/broad_phase.h"
 #include "broadphase/scenes.h"
 #include "common/allocation_counter.h"
+#include "polydem/broadphase/broad_phase.h"
 
 namespace polydem::broadphase {
 namespace {

@@ -12,11 +12,11 @@
 
 #include "checkpoint_edit_util.h"
 #include "checkpoint_test_data.h"
+#include "polydem/checkpoint/checkpoint.h"
+#include "polydem/checkpoint/checkpoint_checksum.h"
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
-#include "polydem/checkpoint/checkpoint.h"
-#include "polydem/checkpoint/checkpoint_checksum.h"
 
 namespace polydem::io {
 namespace {

@@ -13,9 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "checkpoint_test_data.h"
+#include "polydem/checkpoint/checkpoint_checksum.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/state_hash.h"
-#include "polydem/checkpoint/checkpoint_checksum.h"
 
 namespace polydem::io {
 namespace {

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/core/byte_buffer.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/geometry/body_shape.h"
-#include "polydem/checkpoint/checkpoint.h"
 
 namespace polydem::io::testing {
 

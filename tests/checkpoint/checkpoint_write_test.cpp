@@ -13,9 +13,9 @@
 #include <sstream>
 
 #include "checkpoint_test_data.h"
+#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
-#include "polydem/checkpoint/checkpoint.h"
 
 namespace polydem::io {
 namespace {

@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <limits>
 
+#include "contact_test_util.h"
 #include "polydem/contact/contact.h"
 #include "polydem/contact/fcp.h"
-#include "contact_test_util.h"
 
 namespace polydem::contact::testing {
 

@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <random>
 
-#include "polydem/contact/fcp.h"
 #include "contact_test_util.h"
 #include "fcp_reference.h"
+#include "polydem/contact/fcp.h"
 #include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {

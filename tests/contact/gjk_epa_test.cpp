@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <random>
 
+#include "contact_test_util.h"
 #include "polydem/contact/contact_cases.h"
 #include "polydem/contact/gjk_epa.h"
-#include "contact_test_util.h"
 #include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {

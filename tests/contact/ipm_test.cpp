@@ -8,9 +8,9 @@
 #include <cmath>
 #include <random>
 
+#include "contact_test_util.h"
 #include "polydem/contact/gjk_epa.h"
 #include "polydem/contact/ipm.h"
-#include "contact_test_util.h"
 #include "polydem/geometry/plane_section.h"
 #include "polydem/geometry/shapes.h"
 

@@ -14,9 +14,9 @@
 #include <random>
 
 #include "common/allocation_counter.h"
+#include "contact/lp_test_util.h"
 #include "polydem/contact/contact_cases.h"
 #include "polydem/contact/lp.h"
-#include "contact/lp_test_util.h"
 #include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {

@@ -25,8 +25,8 @@
 #include <random>
 #include <string>
 
-#include "polydem/contact/contact_cases.h"
 #include "contact/lp_test_util.h"
+#include "polydem/contact/contact_cases.h"
 #include "polydem/core/error.h"
 #include "polydem/geometry/shapes.h"
 

@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "polydem/core/error.h"
-#include "polydem/core/mpi_env.h"
 #include "output/output_test_util.h"
 #include "output/vtk_test_reader.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
 
 namespace polydem::io {
 namespace {

@@ -11,10 +11,10 @@
 #include <limits>
 #include <sstream>
 
-#include "polydem/core/error.h"
-#include "polydem/core/mpi_env.h"
 #include "output/output_test_util.h"
 #include "output/vtk_test_reader.h"
+#include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
 
 namespace polydem::io {
 namespace {

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <filesystem>
 
-#include "polydem/core/error.h"
 #include "output/output_test_util.h"
 #include "output/vtk_test_reader.h"
+#include "polydem/core/error.h"
 
 namespace polydem::io {
 namespace {

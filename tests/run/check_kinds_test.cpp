@@ -5,10 +5,10 @@
 
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
-#include "polydem/scene/check_kinds.h"
-#include "polydem/scene/scene_reader.h"
 #include "polydem/run/check_registry.h"
 #include "polydem/run/checks.h"
+#include "polydem/scene/check_kinds.h"
+#include "polydem/scene/scene_reader.h"
 
 namespace polydem::sim {
 namespace {
@@ -100,15 +100,15 @@ TEST(CheckKinds, AProgramRegistersAKindOfItsOwn) {
   registerCheckKind("test_constant", [](const io::Scene&, const io::CheckSpec& spec, Tracker&) {
     return std::make_unique<ConstantCheck>(spec);
   });
-  EXPECT_THROW(registerCheckKind("test_constant", [](const io::Scene&, const io::CheckSpec& spec,
-                                                     Tracker&) {
-                 return std::make_unique<ConstantCheck>(spec);
-               }),
+  EXPECT_THROW(registerCheckKind("test_constant",
+                                 [](const io::Scene&, const io::CheckSpec& spec, Tracker&) {
+                                   return std::make_unique<ConstantCheck>(spec);
+                                 }),
                Error);
-  EXPECT_THROW(registerCheckKind("displacement", [](const io::Scene&, const io::CheckSpec& spec,
-                                                    Tracker&) {
-                 return std::make_unique<ConstantCheck>(spec);
-               }),
+  EXPECT_THROW(registerCheckKind("displacement",
+                                 [](const io::Scene&, const io::CheckSpec& spec, Tracker&) {
+                                   return std::make_unique<ConstantCheck>(spec);
+                                 }),
                Error);
   io::Scene scene = io::parseScene(kScene, "kinds.toml");
   io::CheckSpec spec;

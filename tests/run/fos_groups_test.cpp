@@ -7,8 +7,8 @@
 
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
-#include "polydem/scene/scene_reader.h"
 #include "polydem/run/fos.h"
+#include "polydem/scene/scene_reader.h"
 
 namespace polydem::sim {
 namespace {

@@ -14,8 +14,8 @@
 
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
-#include "polydem/scene/scene_reader.h"
 #include "polydem/run/fos.h"
+#include "polydem/scene/scene_reader.h"
 
 namespace polydem::sim {
 namespace {

@@ -8,8 +8,8 @@
 
 #include "polydem/core/logging.h"
 #include "polydem/core/strings.h"
-#include "polydem/scene/scene_reader.h"
 #include "polydem/run/run.h"
+#include "polydem/scene/scene_reader.h"
 
 namespace polydem::sim {
 namespace {

@@ -106,8 +106,9 @@ TEST(SceneReaderErrors, DuplicateNamesAndLabels) {
                   "[[interaction]]\nmaterials = [\"rock\", \"rock\"]  # <-\n",
               {"the pair is already given at line"});
   const std::string check = "[[check]]\nname = \"c\"\nkind = \"mean_speed\"\nexpected = 1\n";
-  expectError(kBase + check + "[[check]]\nname = \"c\"  # <-\nkind = \"mean_speed\"\nexpected = 1\n",
-              {"check 'c' is already defined at line"});
+  expectError(
+      kBase + check + "[[check]]\nname = \"c\"  # <-\nkind = \"mean_speed\"\nexpected = 1\n",
+      {"check 'c' is already defined at line"});
 }
 
 TEST(SceneReaderErrors, NonFiniteValues) {

@@ -9,13 +9,13 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "generators/pile_scene.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 #include "polydem/domain/block_forest.h"
-#include "polydem/sim/balance_figures.h"
-#include "generators/pile_scene.h"
 #include "polydem/run/run.h"
+#include "polydem/sim/balance_figures.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::sim {

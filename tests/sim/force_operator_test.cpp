@@ -30,7 +30,8 @@ setup::Setup fallingCubes(int count) {
   rock.ks = 5e7;
   rock.penalty = 1e9;
   s.materials.push_back(rock);
-  s.shapes.push_back({"cube", geometry::shapes::box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5)), 0});
+  s.shapes.push_back(
+      {"cube", geometry::shapes::box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5)), 0});
   for (int i = 0; i < count; ++i) {
     setup::ParticleSpec p;
     p.uid = static_cast<Uid>(i + 1);
@@ -48,8 +49,8 @@ setup::Setup fallingCubes(int count) {
 void liftByUid(const ForceStep& step) {
   for (std::size_t i = 0; i < step.forces.size(); ++i) {
     const auto& p = (*step.particles)[i];
-    step.forces[i].addBodyForce(Vec3(0, 0, 0.1 * static_cast<double>(p.uid) * kG *
-                                               step.particles->mass(i)));
+    step.forces[i].addBodyForce(
+        Vec3(0, 0, 0.1 * static_cast<double>(p.uid) * kG * step.particles->mass(i)));
   }
 }
 

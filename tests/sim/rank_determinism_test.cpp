@@ -4,9 +4,9 @@
 // in the same test, on rank 0 alone.
 #include <gtest/gtest.h>
 
+#include "generators/pile_scene.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
-#include "generators/pile_scene.h"
 #include "polydem/sim/simulation.h"
 #include "sliding_heap.h"
 

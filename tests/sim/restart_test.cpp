@@ -8,13 +8,13 @@
 
 #include <filesystem>
 
+#include "generators/pile_scene.h"
+#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
-#include "polydem/checkpoint/checkpoint.h"
-#include "polydem/scene/scene_reader.h"
-#include "generators/pile_scene.h"
 #include "polydem/run/run.h"
+#include "polydem/scene/scene_reader.h"
 #include "polydem/sim/simulation.h"
 #include "sliding_heap.h"
 

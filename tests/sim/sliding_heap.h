@@ -7,8 +7,8 @@
 #include <array>
 #include <string>
 
-#include "polydem/setup/setup.h"
 #include "generators/pile_scene.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::sim::testing {
 

@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "common/allocation_counter.h"
-#include "polydem/core/logging.h"
 #include "generators/pile_scene.h"
+#include "polydem/core/logging.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
