@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "polydem/scene/units.h"
+#include "polydem/setup/setup.h"
 
 namespace polydem::io {
 
@@ -43,8 +44,6 @@ struct CheckKind {
   std::string_view value_help;                // what the value is, with its unit
   std::vector<CheckParam> params;
 };
-
-struct CheckSpec;
 
 /// The unit of what a check of `kind` measures: the kind's `value`, except for free_motion, whose
 /// `quantity` word (already read into spec.strings) decides it.

@@ -141,7 +141,28 @@ void Simulation::addForceOperator(std::string name, ForceOperator op) {
       throw Error(cat("addForceOperator: a force operator named '", name, "' is already added"));
     }
   }
+  if (leapfrog_fresh_) startLeapfrogWith(op);
   force_operators_.push_back({std::move(name), std::move(op)});
+}
+
+// The constructor started the leapfrog (velocities to t = -dt/2) with the forces it knew; an
+// operator added before the first step gets its half kick too, as if it had been there (the
+// start is linear in the forces). Its velocities are then those at -dt/2, not the scene's.
+void Simulation::startLeapfrogWith(const ForceOperator& op) {
+  std::vector<dynamics::ForceAccumulator> extra(storage_.localCount());
+  ForceStep step;
+  step.time = 0.0;
+  step.dt = dt();
+  step.particles = &storage_;
+  step.forces = extra;
+  op(step);
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    auto& p = storage_[i];
+    if (p.isFree()) {
+      dynamics::startLeapfrog(p, massProperties(i), extra[i].force, extra[i].torque, dt());
+    }
+  }
+  exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
 }
 
 std::vector<std::string> Simulation::forceOperatorNames() const {
@@ -151,6 +172,7 @@ std::vector<std::string> Simulation::forceOperatorNames() const {
 }
 
 void Simulation::integrate() {
+  leapfrog_fresh_ = false;
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
     auto& p = storage_[i];
     if (p.isFree()) {
@@ -227,6 +249,7 @@ void Simulation::startLeapfrog() {
     }
   }
   exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  leapfrog_fresh_ = true;
 }
 
 void Simulation::step() {

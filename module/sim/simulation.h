@@ -134,6 +134,8 @@ class Simulation {
   void setStepHook(std::function<bool()> hook) { step_hook_ = std::move(hook); }
   /// Adds a force to every step from now on (force_operator.h): `op` runs on every rank after
   /// the contact forces and gravity, before integration, after the operators added before it.
+  /// Added before the first step (collective then: every rank adds the same operators), it also
+  /// gets its share of the leapfrog's start, so a constant force acts from t = 0 exactly.
   /// Throws polydem::Error if `name` is empty or already taken. With no operator the step is the
   /// same bits as before operators existed.
   void addForceOperator(std::string name, ForceOperator op);
@@ -198,6 +200,7 @@ class Simulation {
   void findCandidates();
   void computeContacts();
   void applyForceOperators();
+  void startLeapfrogWith(const ForceOperator& op);
   void integrate();
   void checkParticlesInside(std::int64_t step) const;
   void communicate();
@@ -263,6 +266,7 @@ class Simulation {
     ForceOperator apply;
   };
   std::vector<NamedForceOperator> force_operators_;
+  bool leapfrog_fresh_ = false;  // started from the setup and not stepped since
 };
 
 }  // namespace polydem::sim

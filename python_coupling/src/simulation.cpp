@@ -264,7 +264,9 @@ is called on every rank after the contact forces and gravity, before integration
 rank's own particles as a dict of numpy arrays: uid (n,), position (n, 3) [m] at `time`,
 velocity (n, 3) [m/s] at time - dt/2, mass (n,) [kg], free (n,) bool. It returns an (n, 3)
 array of forces [N] acting at the centroids (entries of particles that are not free are
-ignored), or None. `name` must be new. Exceptions from fn end the step with that error.)")
+ignored), or None. `name` must be new. Added before the first step (collective then), fn is
+also called at once, for its share of the leapfrog's start. Exceptions from fn end the step (or
+the call adding it) with that error.)")
       .def_property_readonly("force_operators", method(&Simulation::forceOperatorNames),
                              "Names of the force operators, in the order they run.")
       .def_property_readonly("time", method(&Simulation::time), "Simulated time [s].")

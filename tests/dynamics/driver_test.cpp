@@ -13,7 +13,7 @@ namespace {
 // hinge line has not moved, and each of its points has turned about the hinge.
 TEST(Driver, TiltingPlatformTurnsAboutAFixedHinge) {
   for (double scale : {1.0, 1e-3, 1e3}) {  // the same motion in m, km or mm
-    io::DriverSpec d;
+    DriverSpec d;
     d.angular_velocity = Vec3(0, 0.03, 0);
     d.pivot = scale * Vec3(2.0, 0.0, -1.0);
     particles::Particle p;
@@ -56,7 +56,7 @@ TEST(Driver, TiltingPlatformTurnsAboutAFixedHinge) {
 // Shaken base: v(t) = a sin(2 pi f (t - t0) + phase) between t0 and t1, so
 // x(t) = x0 + a (cos(phase) - cos(2 pi f (t - t0) + phase)) / (2 pi f), and still outside.
 TEST(Driver, ShakenBaseFollowsTheSinusoid) {
-  io::DriverSpec d;
+  DriverSpec d;
   d.oscillation = Vec3(0.05, 0.0, 0.02);
   d.frequency = 5.0;
   d.phase = 0.7;
@@ -91,7 +91,7 @@ TEST(Driver, ShakenBaseFollowsTheSinusoid) {
 }
 
 TEST(Driver, StateOutsideTheWindowIsAtRest) {
-  io::DriverSpec d;
+  DriverSpec d;
   d.velocity = Vec3(1, 0, 0);
   d.angular_velocity = Vec3(0, 0, 0.5);
   d.pivot = Vec3(0, 0, 1);
@@ -116,7 +116,7 @@ TEST(Driver, StateOutsideTheWindowIsAtRest) {
 // The velocity field v + w x (x - P) is the time derivative of the material points' positions,
 // for a motion that combines translation, oscillation and rotation about the moving pivot.
 TEST(Driver, MaterialPointVelocityIsTheDerivativeOfThePosition) {
-  io::DriverSpec d;
+  DriverSpec d;
   d.velocity = Vec3(0.2, -0.1, 0.05);
   d.oscillation = Vec3(0.0, 0.3, 0.1);
   d.frequency = 2.0;

@@ -37,7 +37,7 @@ class ForceOperator(unittest.TestCase):
         z = sim.particles()["position"][0, 2]
         expected = 0.5 * (0.5 * G) * t * t
         self.assertAlmostEqual(5.0 - z, expected, delta=1e-9 * expected)
-        # Called at the start (t = 0, for the leapfrog's first half step) and once per step.
+        # Called when added (t = 0: its share of the leapfrog's start) and once per step.
         self.assertEqual(len(calls), 501)
         self.assertEqual(calls[0], (0.0, 1e-4))
 
@@ -56,18 +56,19 @@ class ForceOperator(unittest.TestCase):
         sim.add_force_operator("once", lambda t, dt, p: None)
         with self.assertRaisesRegex(Exception, "already added"):
             sim.add_force_operator("once", lambda t, dt, p: None)
-        sim.add_force_operator("wrong shape", lambda t, dt, p: np.zeros((5, 3)))
+        # Before the first step an operator is called at once (its share of the leapfrog start):
+        # a wrong result is reported there, and the operator is not added.
         with self.assertRaisesRegex(ValueError, "returned 5 forces for 1 particles"):
-            sim.step()
+            sim.add_force_operator("wrong shape", lambda t, dt, p: np.zeros((5, 3)))
+        self.assertEqual(sim.force_operators, ["once"])
 
         def fails(t, dt, p):
             raise RuntimeError("user error")
 
-        other = polydem.Simulation(SCENE)
-        other.add_force_operator("fails", fails)
+        sim.step()
+        sim.add_force_operator("fails", fails)
         with self.assertRaisesRegex(RuntimeError, "user error"):
-            other.step()
-
+            sim.step()
 
 if __name__ == "__main__":
     unittest.main()
