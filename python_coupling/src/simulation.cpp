@@ -1,5 +1,5 @@
 // Bindings of sim::Simulation: step a scene from Python and read the particle state as numpy
-// arrays. All ranks of MPI_COMM_WORLD take part; the collective methods are marked so.
+// arrays. All ranks of its communicator take part; the collective methods are marked so.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -173,11 +173,6 @@ const char* run(Simulation& sim) {
   return timeloop::toString(reason);
 }
 
-std::unique_ptr<Simulation> fromPath(const py::object& path) {
-  const std::string file = py::module_::import("os").attr("fspath")(path).cast<std::string>();
-  return std::make_unique<Simulation>(io::readScene(file), MPI_COMM_WORLD);
-}
-
 }  // namespace
 
 void bindSimulation(py::module_& m) {
@@ -185,8 +180,9 @@ void bindSimulation(py::module_& m) {
   m.attr("FLAG_FIXED") = static_cast<std::uint32_t>(particles::kFixed);
   m.attr("FLAG_DRIVEN") = static_cast<std::uint32_t>(particles::kDriven);
 
-  py::class_<Simulation>(m, "Simulation",
-                         R"(A run of a scene on all ranks of MPI_COMM_WORLD, stepped from Python.
+  py::class_<Simulation> simulation(
+      m, "Simulation",
+      R"(A run of a scene on the ranks of a communicator, stepped from Python.
 
 Built from a Scene (or a scene file's path) as `polydem run` builds it; step(n) advances it, the
 state is read with particles(), contacts(), monitors() and state_hash(). On several ranks
@@ -195,13 +191,14 @@ marked "collective" talk to the other ranks.
 
 The state follows polydem's leapfrog: positions and orientations at `time`, velocities at
 time - dt/2. `position` is the centroid and `orientation` turns the shape's body frame (its
-principal axes, see `shapes`) into the world.)")
-      .def(py::init([](const io::Scene& scene) {
-             return std::make_unique<Simulation>(scene, MPI_COMM_WORLD);
-           }),
-           py::arg("scene"), "Builds the simulation of `scene` (collective).")
-      .def(py::init(&fromPath), py::arg("path"),
-           "Reads the scene file at `path` and builds its simulation (collective).")
+principal axes, see `shapes`) into the world.
+
+Simulation(scene, comm=None): `scene` is a polydem.Scene built in Python, a SceneData read with
+read_scene, or the path of a scene file; `comm` None (MPI_COMM_WORLD) or an mpi4py
+communicator (its ranks run the simulation; every rank of it must build it).)");
+  simulation
+      .def(py::init(&makeSimulation), py::arg("scene"), py::arg("comm") = py::none(),
+           py::keep_alive<1, 3>(), "Builds the simulation of `scene` on `comm` (collective).")
       .def("step", &step, py::arg("n") = 1,
            "Advances `n` steps of the current stage (collective). Ctrl-C stops between steps.")
       .def("run", &run,
@@ -259,6 +256,7 @@ force (n, 3) on the lower-uid particle [N], normal_force, shear_force (n,) [N].)
         return cat("Simulation('", s.scene().id, "', step ", s.stepCount(), ", t = ", num(s.time()),
                    " s)");
       });
+  bindSimulationCheckpoint(simulation);
 }
 
 }  // namespace polydem::python
