@@ -30,7 +30,7 @@ def build(tilt_deg=30.0, friction_deg=20.0, steps=4000):
     s.add_particle("slab", "rock", fixed=True, label="slab")
     sink = 2650 * 0.5 * G * math.cos(t) / 2e9  # static overlap of the contact springs
     block = s.add_particle("block", "rock", position=(0, 0, 0.25 - sink), label="block")
-    s.add_particle_grid("cube", "rock", count=(3, 1, 1), spacing=1.0, origin=(3, 1.5, 0.6),
+    s.add_particle_grid("cube", "rock", count=(3, 1, 1), spacing=1.0, origin=(3, 1.5, 0.21),
                         label_prefix="cube")
     s.set_output(monitor=["block"])
     return s, block

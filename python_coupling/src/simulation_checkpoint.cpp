@@ -2,8 +2,10 @@
 // a polydem.Scene built in Python, a path) on any communicator, writing a checkpoint and
 // continuing from one (docs/checkpoint.md). A checkpoint stores the scene's TOML text
 // (io::Scene::text), which is how a scene built in Python, without a file, can be restarted.
+#include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,6 +65,25 @@ std::unique_ptr<Simulation> restart(const py::object& path_object, const py::obj
   return std::make_unique<Simulation>(scene, data, path, comm);
 }
 
+// A finite 3-vector or nothing (None).
+std::optional<Vec3> optionalVec3(const py::object& object, const char* what) {
+  if (object.is_none()) return std::nullopt;
+  const Vec3 v = toVec3(object, what);
+  if (!v.allFinite()) throw py::value_error(cat(what, " must be finite"));
+  return v;
+}
+
+void setVelocity(Simulation& sim, std::int64_t uid, const py::object& velocity,
+                 const py::object& angular_velocity) {
+  const auto v = optionalVec3(velocity, "velocity");
+  const auto w = optionalVec3(angular_velocity, "angular_velocity");
+  if (uid <= 0) throw py::value_error(cat("uid must be positive, got ", uid));
+  if (!sim.setVelocity(static_cast<Uid>(uid), v, w)) {
+    throw py::value_error(
+        cat("no free particle has uid ", uid, " (fixed and driven bodies move as the scene says)"));
+  }
+}
+
 }  // namespace
 
 std::unique_ptr<Simulation> makeSimulation(const py::object& scene, const py::object& comm_object) {
@@ -85,6 +106,12 @@ void bindSimulationCheckpoint(py::class_<Simulation>& c) {
 The file holds the scene's TOML text and everything needed to continue bit for bit, on this or
 any other number of ranks: Simulation.restart(path). Call it between steps. Raises
 polydem.CheckpointError if the file cannot be written (an older file at `path` is kept).)")
+      .def("set_velocity", &setVelocity, py::arg("uid"), py::arg("velocity") = py::none(),
+           py::arg("angular_velocity") = py::none(),
+           R"(Sets the velocity [m/s] and/or angular velocity [rad/s, world frame] of the free
+particle `uid` between steps (collective: the same call on every rank). They are the leapfrog's
+values at time - dt/2, as particles() reports them; checkpoints keep the change. ValueError if no
+free particle has that uid.)")
       .def_static("restart", &restart, py::arg("path"), py::arg("comm") = py::none(),
                   py::keep_alive<0, 2>(),
                   R"(Continues the run stored in the checkpoint `path` (collective) on `comm`

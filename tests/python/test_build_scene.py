@@ -222,6 +222,59 @@ class SameRunAsTheFile(unittest.TestCase):
         self.assertEqual(built.particles["label"][0], "c0")
 
 
+class ChangeBetweenSteps(unittest.TestCase):
+    def run_with_kick(self, comm=None, checkpoint=None):
+        """Two cubes pressed together by gravity tilted sideways; after 200 steps the upper one
+        is kicked sideways and set spinning, then 200 steps more."""
+        s = polydem.Scene("kick", dt=2e-5, steps=400, gravity=(0, 0, -G))
+        s.add_material("rock", density=2650, kn=2e9, ks=1e9, friction_angle=30,
+                       normal_damping=0.3)
+        s.add_shape("cube", box=(1, 1, 1))
+        s.add_particle("cube", "rock", position=(0, 0, 0.5), fixed=True)
+        top = s.add_particle("cube", "rock", position=(0, 0, 1.5 - 2650 * G / 2e9))
+        free = s.add_particle("cube", "rock", position=(5, 0, 10))
+        sim = polydem.Simulation(s, comm=comm)
+        sim.step(200)
+        sim.set_velocity(top, velocity=(0.5, 0, 0))
+        sim.set_velocity(free, angular_velocity=(0, 0, 2.0))
+        if checkpoint:
+            sim.write_checkpoint(checkpoint)
+        sim.step(200)
+        return sim, top, free
+
+    def test_kick_is_deterministic_and_survives_a_restart(self):
+        from mpi4py import MPI
+        sim, top, free = self.run_with_kick()
+        p = sim.particles(gather=True)
+        i = list(p["uid"]).index(free)
+        # A cube spins freely about a principal axis: w stays as set, to rounding.
+        np.testing.assert_allclose(p["angular_velocity"][i], [0, 0, 2.0], atol=1e-12)
+        j = list(p["uid"]).index(top)
+        self.assertGreater(p["position"][j, 0], 0.0)  # it moved the way it was kicked
+        self.assertLess(p["velocity"][j, 0], 0.5)      # and friction slows it
+        path = os.path.join(work_dir("kick"), "kick.h5")
+        with_checkpoint, _, _ = self.run_with_kick(checkpoint=path)
+        self.assertEqual(with_checkpoint.state_hash(), sim.state_hash())
+        restarted = polydem.Simulation.restart(path)
+        restarted.step(200)
+        self.assertEqual(restarted.state_hash(), sim.state_hash())
+        alone, _, _ = self.run_with_kick(comm=MPI.COMM_SELF)  # one rank, beside the others
+        self.assertEqual(alone.state_hash(), sim.state_hash())
+
+    def test_bad_kicks(self):
+        s, uids = falling_cubes(steps=5)
+        s.add_particle("cube", "rock", position=(0, 20, 0), fixed=True)
+        sim = polydem.Simulation(s)
+        with self.assertRaisesRegex(ValueError, "no free particle has uid 4"):
+            sim.set_velocity(4, velocity=(1, 0, 0))
+        with self.assertRaisesRegex(ValueError, "no free particle has uid 99"):
+            sim.set_velocity(99, velocity=(1, 0, 0))
+        with self.assertRaisesRegex(ValueError, "velocity must be finite"):
+            sim.set_velocity(uids[0], velocity=(float("nan"), 0, 0))
+        with self.assertRaisesRegex(ValueError, "angular_velocity must be a 3-vector"):
+            sim.set_velocity(uids[0], angular_velocity=(1, 0))
+
+
 class BadArguments(unittest.TestCase):
     def setUp(self):
         self.s, _ = falling_cubes()
