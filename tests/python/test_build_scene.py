@@ -158,11 +158,16 @@ class SameRunAsTheFile(unittest.TestCase):
     def test_polydem_run_of_the_saved_scene_has_the_same_hash(self):
         s, _ = sliding_block(steps=300)
         s.set_output(monitor=["block"], series_every=50)
+        s.add_check("slides", "displacement", particle="block", direction=(1, 0, 0),
+                    compare="report", reference="recorded only")
         text = s.to_toml()
         doc = tomllib.loads(text)  # valid TOML, holding what was set
         self.assertEqual(doc["simulation"]["dt"], 2e-5)
         self.assertEqual([p.get("label") for p in doc["particle"]], ["slab", "block"])
-        from_python = polydem.run(s)["state_hash"]
+        result = polydem.run(s)
+        from_python = result["state_hash"]
+        self.assertEqual([c["name"] for c in result["checks"]], ["slides"])
+        self.assertGreater(result["checks"][0]["value"], 0.0)  # down the slope
         sim = polydem.Simulation(s)
         sim.run()
         self.assertEqual(sim.state_hash(), from_python)
@@ -210,12 +215,40 @@ class SameRunAsTheFile(unittest.TestCase):
         sim.run()
         self.assertEqual(sim.step_count, 5)
 
+    def test_driver_and_settings(self):
+        dt, n = 1e-3, 8
+        s = polydem.Scene("driven", dt=dt, steps=n, gravity=(0, 0, 0))
+        s.add_material("steel", density=7800, kn=1e6)
+        s.add_shape("plate", box=(2, 2, 0.1))
+        s.add_driver("lift", velocity=(0, 0, 0.25), start_time=0)
+        plate = s.add_particle("plate", "steel", position=(0, 0, 1), driver="lift", label="plate")
+        s.set_domain(min=(-5, -5, -5), max=(5, 5, 5), balancer="sfc")
+        s.set_output(monitor=["plate"], series_every=2)
+        s.set_checkpoint(every_steps=100, keep=1)
+        s.set_equilibrium(enabled=False, force_ratio=1e-4)
+        s.set_kernel_params(lp_rounding=0.1)
+        s.set_simulation(kernel="lp", contact_model="point")
+        built = s.build()
+        self.assertEqual((built.kernel, built.contact_model), ("lp", "point"))
+        self.assertEqual(built.monitor, ["plate"])
+        self.assertFalse(built.equilibrium)
+        self.assertEqual(built.drivers[0]["velocity"].tolist(), [0, 0, 0.25])
+        sim = polydem.Simulation(s)
+        sim.run()
+        p = sim.particles(gather=True)
+        self.assertEqual(int(p["flags"][0]) & polydem.FLAG_DRIVEN, polydem.FLAG_DRIVEN)
+        self.assertEqual(int(p["uid"][0]), plate)
+        self.assertAlmostEqual(p["position"][0, 2], 1 + 0.25 * n * dt, places=12)
+
     def test_changing_values_rebuilds_the_scene(self):
         s, uids = falling_cubes(steps=10)
         s.set_particle(uids[0], velocity=(0, 0, 5))
         s.set_material("rock", friction_angle=10)
-        s.set_simulation(gravity=(0, 0, -1.0))
+        s.gravity = (0, 0, -1.0)
+        s.dt = 5e-4
+        self.assertEqual(s.dt, 5e-4)
         built = s.build()
+        self.assertEqual(built.dt, 5e-4)
         self.assertEqual(built.particles["velocity"][0].tolist(), [0, 0, 5])
         self.assertEqual(built.materials[0]["friction_angle"], 10)
         self.assertEqual(built.gravity.tolist(), [0, 0, -1.0])
