@@ -60,6 +60,18 @@ ParticleRow rowOf(const Simulation& sim, std::size_t i) {
   return r;
 }
 
+// The scene's labels of `rows` ("" where none): the reader numbers particles 1, 2, ... in scene
+// order, so uid u is entry u - 1 of the scene's list.
+py::list labelsOf(const io::Scene& scene, const std::vector<ParticleRow>& rows) {
+  py::list labels;
+  for (const ParticleRow& r : rows) {
+    const bool known =
+        r.uid >= 1 && r.uid <= scene.particles.size() && scene.particles[r.uid - 1].uid == r.uid;
+    labels.append(known ? scene.particles[r.uid - 1].label : std::string());
+  }
+  return labels;
+}
+
 py::dict particleArrays(const Simulation& sim, bool gather) {
   const auto& storage = sim.particles();
   const bool root = mpi::rank(sim.comm()) == 0;
@@ -102,6 +114,7 @@ py::dict particleArrays(const Simulation& sim, bool gather) {
   d["shape"] = shape;
   d["material"] = material;
   d["flags"] = flags;
+  d["label"] = labelsOf(sim.scene(), rows);
   return d;
 }
 
@@ -237,9 +250,10 @@ communicator (its ranks run the simulation; every rank of it must build it).)");
 
 uid (n,) uint64, position (n, 3) [m], orientation (n, 4) unit quaternions (w, x, y, z),
 velocity (n, 3) [m/s], angular_velocity (n, 3) [rad/s], shape and material (n,) int32 indices,
-flags (n,) uint32 (polydem.FLAG_FIXED, FLAG_DRIVEN). Without `gather`, this rank's local
-particles: those it owns plus the fixed and driven bodies every rank holds. With
-gather=True (collective), every particle of the simulation once, on every rank.)")
+flags (n,) uint32 (polydem.FLAG_FIXED, FLAG_DRIVEN), label (list of n str, "" for none).
+Without `gather`, this rank's local particles: those it owns plus the fixed and driven bodies
+every rank holds. With gather=True (collective), every particle of the simulation once, on every
+rank.)")
       .def("contacts", &contactArrays,
            R"(The touching contacts of the last step whose lower-uid particle is local to this rank.
 

@@ -72,6 +72,7 @@ class Physics(unittest.TestCase):
         sim.run()
         p = sim.particles(gather=True)
         self.assertEqual(list(p["uid"]), uids)
+        self.assertEqual(p["label"], ["c0", "c1", ""])
         # The leapfrog with the half-step start (velocities at t - dt/2) integrates constant
         # acceleration exactly: z = z0 - g t^2 / 2, x = x0 + vx t.
         t = n * dt
