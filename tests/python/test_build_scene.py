@@ -130,6 +130,23 @@ class CheckpointRestart(unittest.TestCase):
         alone.step(350)
         self.assertEqual(alone.state_hash(), expected)
 
+    def test_polydem_run_continues_a_python_checkpoint(self):
+        exe = os.environ.get("POLYDEM_EXECUTABLE")
+        if SIZE > 1 or not exe:
+            return  # the command line is run from the one-rank test
+        s, _ = sliding_block(steps=600)
+        sim = polydem.Simulation(s)
+        sim.step(250)
+        d = work_dir("cli_restart")
+        path = os.path.join(d, "half.h5")
+        sim.write_checkpoint(path)
+        sim.run()
+        out = os.path.join(d, "out")
+        subprocess.run([exe, "run", "--restart", path, "--out", out, "--no-snapshots",
+                        "--quiet"], check=True)
+        with open(os.path.join(out, "summary.json")) as f:
+            self.assertEqual(json.load(f)["state_hash"], sim.state_hash())
+
     def test_a_restarted_run_checkpoints_again(self):
         s, _ = falling_cubes(steps=30)
         whole = polydem.Simulation(s)
