@@ -8,6 +8,7 @@ ValueError naming the method and the value); the reader checks the rest when the
 """
 import os
 
+from . import _scene_load
 from . import _toml
 from . import _values as v
 from ._polydem import InputError, parse_scene
@@ -313,6 +314,20 @@ class Scene(Bodies):
         self._entries["check"].append(c)
         self._changed()
         return self
+
+    @classmethod
+    def from_toml(cls, text, name="<string>"):
+        """A Scene holding what the scene-file text says (docs/scene-format.md), to change and
+        extend; building it gives the scene the file gives. Each [[particle]], [[particle_grid]]
+        and [[rock_mass]] must be a [[...]] table of its own (their order gives the uids)."""
+        return _scene_load.fill(cls(), v.text(text, "text"), name)
+
+    @classmethod
+    def load(cls, path):
+        """Scene.from_toml of the scene file at `path` (str or os.PathLike)."""
+        path = os.fspath(path)
+        with open(path, encoding="utf-8") as f:
+            return cls.from_toml(f.read(), path)
 
     # --- the scene ---------------------------------------------------------------------------
     def to_toml(self):
