@@ -7,7 +7,6 @@ class Bodies:
     """Methods of polydem.Scene that add and change bodies; they use the scene's tables
     (self._find, self._entries) and its list of bodies (self._bodies, in order)."""
 
-    # --- bodies ------------------------------------------------------------------------------
     def add_particle(self, shape, material, position=(0.0, 0.0, 0.0), orientation=None,
                      velocity=None, angular_velocity=None, fixed=False, driver=None, label=None,
                      rotation=None):
@@ -38,11 +37,8 @@ class Bodies:
                                          "angular_velocity", "driver", "label", "rotation")}
         args["fixed"] = old.get("fixed", False)
         if "orientation" in values:
-            args["rotation"] = None
+            args["rotation"] = None  # the new orientation replaces the rotation it had
         args.update(values)
-        if isinstance(args.get("rotation"), dict) and "quaternion" in args["rotation"] and \
-                args.get("orientation") is None and "rotation" not in values:
-            args["orientation"], args["rotation"] = args["rotation"]["quaternion"], None
         new = self._particle(args, old.get("label"))
         index = next(i for i, (_, b) in enumerate(self._bodies) if b is old)
         self._bodies[index] = ("particle", new)
