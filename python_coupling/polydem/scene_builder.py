@@ -315,6 +315,13 @@ class Scene(Bodies):
         self._changed()
         return self
 
+    def remove_check(self, name):
+        """Removes the [[check]] `name` (the reader judges a check's kind and parameters only when
+        the scene is built: this takes back one it refused)."""
+        self._entries["check"].remove(self._find("check", name, "remove_check"))
+        self._changed()
+        return self
+
     @classmethod
     def from_toml(cls, text, name="<string>"):
         """A Scene holding what the scene-file text says (docs/scene-format.md), to change and

@@ -367,6 +367,9 @@ class BadArguments(unittest.TestCase):
         self.assertRaisesWith(polydem.CheckpointError, "no-such.h5",
                               polydem.Simulation.restart, os.path.join(work_dir("bad"),
                                                                        "no-such.h5"))
+        s.add_check("wrong", "no-such-kind")  # judged when built, and taken back
+        self.assertRaisesWith(polydem.InputError, "'no-such-kind' is not a check kind", s.build)
+        s.remove_check("wrong")
         sim = polydem.Simulation(s)
         self.assertRaisesWith(TypeError, "path must be a str", sim.write_checkpoint, 42)
         # The scene still builds: every refused call left it as it was.
