@@ -311,6 +311,7 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
                   "output", "checkpoint", "check", "fos"});
   Scene scene;
   scene.file = name_for_messages;
+  scene.text = std::string(text);
   // Sections that others refer to come first, whatever their order in the file.
   readSceneTable(ctx, root, scene);
   readSimulation(ctx, root, scene);

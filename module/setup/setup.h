@@ -146,6 +146,9 @@ struct CheckSpec {
 
 struct Setup {
   std::string file;  // path of the scene file, for messages (diagnostics only)
+  // The TOML text the scene was parsed from, verbatim: what a checkpoint of its run stores (and a
+  // restart parses again), so that a scene built without a file (Python) can be continued too.
+  std::string text;
   std::string id, title, description, source;
 
   std::string kernel = "gjk-epa-ipm";

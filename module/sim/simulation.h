@@ -142,6 +142,15 @@ class Simulation {
   /// The names of the force operators, in the order they run.
   std::vector<std::string> forceOperatorNames() const;
 
+  /// Sets the velocity and/or angular velocity [rad/s, world frame] of the free particle `uid`
+  /// between steps, as the leapfrog holds them (at time() - dt/2): a driving script's change of
+  /// state, which a checkpoint then keeps. Collective, with the same arguments on every rank: the
+  /// owner changes it and the ghosts are refreshed, so the next step sees it on any rank count.
+  /// Returns false (on every rank) if no rank owns a free particle `uid`
+  /// (sim/simulation_edit.cpp).
+  bool setVelocity(Uid uid, const std::optional<Vec3>& velocity,
+                   const std::optional<Vec3>& angular_velocity);
+
   /// This rank's part of a checkpoint of the current state (not collective): replicated tables,
   /// this rank's free particles (and the fixed/driven ones on rank 0), each pair history once
   /// over all ranks. Call between steps. `scene_toml` and `scene_file` are stored as given.

@@ -10,12 +10,14 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <memory>
 #include <span>
 #include <utility>
 #include <vector>
 
 #include "polydem/core/types.h"
 #include "polydem/geometry/rock_mass.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::python {
 
@@ -55,6 +57,15 @@ auto method(R (C::*f)(A...)) {
 /// Raises KeyboardInterrupt (through py::error_already_set) if Ctrl-C was pressed; called between
 /// steps of long runs, which hold the GIL.
 void checkSignals();
+
+/// The communicator of a `comm` argument: None is MPI_COMM_WORLD, else an mpi4py communicator
+/// (through its py2f()). TypeError for anything else, ValueError for COMM_NULL.
+MPI_Comm toComm(const py::object& comm);
+/// The simulation of a SceneData, a polydem.Scene (through its build()) or a scene file's path,
+/// on `comm` (simulation_checkpoint.cpp).
+std::unique_ptr<sim::Simulation> makeSimulation(const py::object& scene, const py::object& comm);
+/// write_checkpoint and restart (simulation_checkpoint.cpp).
+void bindSimulationCheckpoint(py::class_<sim::Simulation>& c);
 
 void bindGeometry(py::module_& m);
 void bindContact(py::module_& m);

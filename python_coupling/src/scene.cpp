@@ -190,9 +190,10 @@ py::dict checkDict(const io::CheckResult& c) {
 
 py::dict runScene(const Scene& scene, const std::string& out, std::optional<std::int64_t> steps,
                   std::optional<double> end_time, std::optional<std::string> kernel, bool snapshots,
-                  std::int64_t progress_every) {
-  const auto options = runOptions(out, steps, end_time, kernel, snapshots, progress_every);
-  const sim::RunResult r = sim::runScene(scene, options, MPI_COMM_WORLD);
+                  std::int64_t progress_every, const py::object& comm) {
+  auto options = runOptions(out, steps, end_time, kernel, snapshots, progress_every);
+  options.scene_text = scene.text;  // what its checkpoints store
+  const sim::RunResult r = sim::runScene(scene, options, toComm(comm));
   py::list check_list;
   for (const auto& c : r.checks) check_list.append(checkDict(c));
   py::dict d;
@@ -209,13 +210,22 @@ py::dict runScene(const Scene& scene, const std::string& out, std::optional<std:
 }  // namespace
 
 void bindScene(py::module_& m) {
-  py::class_<Scene>(m, "Scene",
-                    R"(A scene as read from a scene file (docs/scene-format.md), in SI units.
+  py::class_<Scene>(
+      m, "SceneData",
+      R"(A checked scene as read from a scene file (docs/scene-format.md), in SI units.
+
+read_scene and parse_scene return one, and so does polydem.Scene.build() for a scene built in
+Python; `text` is the TOML it was read from, which checkpoints of its run store.
 
 A read-only view of its main fields, except the kernel, the contact model and the stop condition,
 which may be overridden (as `polydem run --kernel/--contact-model/--steps/--end-time` do). Setting `steps` or `end_time`
 replaces the scene's whole stop condition: the other one is cleared.)")
       .def_readonly("file", &Scene::file, "Path of the scene file.")
+      .def_readonly("text", &Scene::text, "The TOML text the scene was read from, verbatim.")
+      .def(
+          "to_toml", [](const Scene& s) { return s.text; },
+          "The TOML text the scene was read from (kernel, contact model and stop overrides are\n"
+          "not written into it).")
       .def_readonly("id", &Scene::id)
       .def_readonly("title", &Scene::title)
       .def_readonly("description", &Scene::description)
@@ -310,6 +320,7 @@ replaces the scene's whole stop condition: the other one is cleared.)")
   m.def("run_scene", &runScene, py::arg("scene"), py::arg("out") = "",
         py::arg("steps") = py::none(), py::arg("end_time") = py::none(),
         py::arg("kernel") = py::none(), py::arg("snapshots") = true, py::arg("progress_every") = 0,
+        py::arg("comm") = py::none(),
         "sim::runScene: the run `polydem run` makes (use polydem.run, which takes paths too).");
 }
 

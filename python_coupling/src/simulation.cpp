@@ -1,5 +1,5 @@
 // Bindings of sim::Simulation: step a scene from Python and read the particle state as numpy
-// arrays. All ranks of MPI_COMM_WORLD take part; the collective methods are marked so.
+// arrays. All ranks of its communicator take part; the collective methods are marked so.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -60,6 +60,18 @@ ParticleRow rowOf(const Simulation& sim, std::size_t i) {
   return r;
 }
 
+// The scene's labels of `rows` ("" where none): the reader numbers particles 1, 2, ... in scene
+// order, so uid u is entry u - 1 of the scene's list.
+py::list labelsOf(const io::Scene& scene, const std::vector<ParticleRow>& rows) {
+  py::list labels;
+  for (const ParticleRow& r : rows) {
+    const bool known =
+        r.uid >= 1 && r.uid <= scene.particles.size() && scene.particles[r.uid - 1].uid == r.uid;
+    labels.append(known ? scene.particles[r.uid - 1].label : std::string());
+  }
+  return labels;
+}
+
 py::dict particleArrays(const Simulation& sim, bool gather) {
   const auto& storage = sim.particles();
   const bool root = mpi::rank(sim.comm()) == 0;
@@ -102,6 +114,7 @@ py::dict particleArrays(const Simulation& sim, bool gather) {
   d["shape"] = shape;
   d["material"] = material;
   d["flags"] = flags;
+  d["label"] = labelsOf(sim.scene(), rows);
   return d;
 }
 
@@ -220,11 +233,6 @@ void addPythonForceOperator(Simulation& sim, const std::string& name, py::object
   });
 }
 
-std::unique_ptr<Simulation> fromPath(const py::object& path) {
-  const std::string file = py::module_::import("os").attr("fspath")(path).cast<std::string>();
-  return std::make_unique<Simulation>(io::readScene(file), MPI_COMM_WORLD);
-}
-
 }  // namespace
 
 void bindSimulation(py::module_& m) {
@@ -232,8 +240,9 @@ void bindSimulation(py::module_& m) {
   m.attr("FLAG_FIXED") = static_cast<std::uint32_t>(particles::kFixed);
   m.attr("FLAG_DRIVEN") = static_cast<std::uint32_t>(particles::kDriven);
 
-  py::class_<Simulation>(m, "Simulation",
-                         R"(A run of a scene on all ranks of MPI_COMM_WORLD, stepped from Python.
+  py::class_<Simulation> simulation(
+      m, "Simulation",
+      R"(A run of a scene on the ranks of a communicator, stepped from Python.
 
 Built from a Scene (or a scene file's path) as `polydem run` builds it; step(n) advances it, the
 state is read with particles(), contacts(), monitors() and state_hash(). On several ranks
@@ -242,13 +251,14 @@ marked "collective" talk to the other ranks.
 
 The state follows polydem's leapfrog: positions and orientations at `time`, velocities at
 time - dt/2. `position` is the centroid and `orientation` turns the shape's body frame (its
-principal axes, see `shapes`) into the world.)")
-      .def(py::init([](const io::Scene& scene) {
-             return std::make_unique<Simulation>(scene, MPI_COMM_WORLD);
-           }),
-           py::arg("scene"), "Builds the simulation of `scene` (collective).")
-      .def(py::init(&fromPath), py::arg("path"),
-           "Reads the scene file at `path` and builds its simulation (collective).")
+principal axes, see `shapes`) into the world.
+
+Simulation(scene, comm=None): `scene` is a polydem.Scene built in Python, a SceneData read with
+read_scene, or the path of a scene file; `comm` None (MPI_COMM_WORLD) or an mpi4py
+communicator (its ranks run the simulation; every rank of it must build it).)");
+  simulation
+      .def(py::init(&makeSimulation), py::arg("scene"), py::arg("comm") = py::none(),
+           py::keep_alive<1, 3>(), "Builds the simulation of `scene` on `comm` (collective).")
       .def("step", &step, py::arg("n") = 1,
            "Advances `n` steps of the current stage (collective). Ctrl-C stops between steps.")
       .def("run", &run,
@@ -298,9 +308,10 @@ the call adding it) with that error.)")
 
 uid (n,) uint64, position (n, 3) [m], orientation (n, 4) unit quaternions (w, x, y, z),
 velocity (n, 3) [m/s], angular_velocity (n, 3) [rad/s], shape and material (n,) int32 indices,
-flags (n,) uint32 (polydem.FLAG_FIXED, FLAG_DRIVEN). Without `gather`, this rank's local
-particles: those it owns plus the fixed and driven bodies every rank holds. With
-gather=True (collective), every particle of the simulation once, on every rank.)")
+flags (n,) uint32 (polydem.FLAG_FIXED, FLAG_DRIVEN), label (list of n str, "" for none).
+Without `gather`, this rank's local particles: those it owns plus the fixed and driven bodies
+every rank holds. With gather=True (collective), every particle of the simulation once, on every
+rank.)")
       .def("contacts", &contactArrays,
            R"(The touching contacts of the last step whose lower-uid particle is local to this rank.
 
@@ -317,6 +328,7 @@ force (n, 3) on the lower-uid particle [N], normal_force, shear_force (n,) [N].)
         return cat("Simulation('", s.scene().id, "', step ", s.stepCount(), ", t = ", num(s.time()),
                    " s)");
       });
+  bindSimulationCheckpoint(simulation);
 }
 
 }  // namespace polydem::python

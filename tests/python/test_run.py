@@ -92,7 +92,8 @@ class Stepping(unittest.TestCase):
         sim.step(100)
         p = sim.particles()
         self.assertEqual(set(p), {"uid", "position", "orientation", "velocity",
-                                  "angular_velocity", "shape", "material", "flags"})
+                                  "angular_velocity", "shape", "material", "flags", "label"})
+        self.assertEqual(p["label"], scene.particles["label"])  # by uid: ["base", "cube"]
         n = scene.num_particles
         for key, shape, kind in (("uid", (n,), "u"), ("position", (n, 3), "f"),
                                  ("orientation", (n, 4), "f"), ("velocity", (n, 3), "f"),

@@ -1,0 +1,59 @@
+"""Scene.load and Scene.from_toml: a scene file read into a polydem.Scene, to change and extend in
+Python. The values are kept as the file writes them (strings with units included); the scene
+reader checks them when the scene is built, as it checks the file.
+"""
+import re
+import tomllib
+
+_TABLES = ("material", "interaction", "shape", "driver", "check")
+_BODIES = ("particle", "particle_grid", "rock_mass")
+_BODY_HEADER = re.compile(r"^\s*\[\[\s*(particle|particle_grid|rock_mass)\s*\]\]\s*(#.*)?$")
+
+
+def body_order(text):
+    """The kinds of the [[particle]], [[particle_grid]] and [[rock_mass]] headers of `text`, in
+    file order: the order that gives the bodies their uids, which tomllib's lists lose."""
+    return [m.group(1) for m in map(_BODY_HEADER.match, text.splitlines()) if m]
+
+
+def fill(scene, text, name):
+    """Fills the empty polydem.Scene `scene` from scene-file text (what the file says, as
+    tomllib reads it); ValueError for text that is not TOML."""
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise ValueError("%s: not TOML: %s" % (name, e)) from None
+    lists = {kind: list(doc.get(kind, [])) for kind in _BODIES}
+    order = body_order(text)
+    if sorted(order) != sorted(k for k in _BODIES for _ in lists[k]):
+        # Bodies written as inline arrays (particle = [{...}]) have no header to order them by.
+        raise ValueError("%s: give each [[particle]], [[particle_grid]] and [[rock_mass]] as a "
+                         "[[...]] table of its own to load the scene into polydem.Scene" % name)
+    for key, value in doc.items():
+        if key in _BODIES:
+            continue
+        if key == "scene" and isinstance(value, dict):
+            scene._scene = dict(value)
+        elif key == "simulation" and isinstance(value, dict):
+            scene._simulation = dict(value)
+        elif key in _TABLES and isinstance(value, list):
+            scene._entries[key] = [dict(e) for e in value]
+        else:
+            scene._sections[key] = value  # the reader judges it when the scene is built
+    scene._bodies = [(kind, dict(lists[kind].pop(0))) for kind in order]
+    # uids: one per particle, count[0] count[1] count[2] per grid, and a rock mass's blocks,
+    # which only cutting it tells (the built scene's rock_masses, in file order).
+    built = scene.build()
+    blocks = iter(r["blocks"] for r in built.rock_masses)
+    uid = 1
+    for kind, body in scene._bodies:
+        if kind == "particle":
+            scene._particle_uids[uid] = body
+            uid += 1
+        elif kind == "particle_grid":
+            n = body["count"]
+            uid += int(n[0]) * int(n[1]) * int(n[2])
+        else:
+            uid += next(blocks)
+    scene._next_uid = uid
+    return scene

@@ -1,0 +1,123 @@
+// Simulation from Python beyond stepping: building one from any scene (a Scene read from a file,
+// a polydem.Scene built in Python, a path) on any communicator, writing a checkpoint and
+// continuing from one (docs/checkpoint.md). A checkpoint stores the scene's TOML text
+// (io::Scene::text), which is how a scene built in Python, without a file, can be restarted.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+#include "polydem/core/error.h"
+#include "polydem/core/logging.h"
+#include "polydem/core/strings.h"
+#include "polydem/checkpoint/checkpoint.h"
+#include "polydem/setup/setup.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/run/checks.h"
+#include "polydem/run/run_checkpoint.h"
+#include "polydem/sim/simulation.h"
+#include "polydem/run/tracker.h"
+
+namespace polydem::python {
+
+namespace {
+
+using sim::Simulation;
+
+std::string fspath(const py::object& path, const char* what) {
+  if (!py::isinstance<py::str>(path) && !py::hasattr(path, "__fspath__")) {
+    throw py::type_error(cat(what, " must be a str or os.PathLike, got ",
+                             py::str(py::type::of(path).attr("__name__")).cast<std::string>()));
+  }
+  return py::module_::import("os").attr("fspath")(path).cast<std::string>();
+}
+
+void writeCheckpoint(const Simulation& sim, const py::object& path_object) {
+  const std::string path = fspath(path_object, "path");
+  if (sim.scene().text.empty()) {
+    throw py::value_error("the simulation's scene has no TOML text to store in a checkpoint");
+  }
+  // A run from Python has no checks or monitors of its own: its run state holds the kernel and
+  // contact model, which may have been set over the scene text's.
+  const sim::Tracker tracker;
+  const std::vector<std::unique_ptr<sim::Check>> checks;
+  io::CheckpointData data = sim.checkpoint(sim.scene().text, sim.scene().file,
+                                           sim::runStateJson(sim.scene(), tracker, checks));
+  data.code_version = POLYDEM_VERSION;
+  io::writeCheckpoint(path, data, sim.comm());
+}
+
+std::unique_ptr<Simulation> restart(const py::object& path_object, const py::object& comm_object) {
+  const std::string path = fspath(path_object, "path");
+  const MPI_Comm comm = toComm(comm_object);
+  const io::CheckpointData data = io::readCheckpoint(path, comm);
+  io::Scene scene = io::parseScene(data.scene_toml, data.scene_file);
+  sim::restoreRunSettings(data.run_state, path, scene);
+  if (data.format_version < 2 && scene.contact_model != "point") {
+    // Written before sub-contacts existed, by the single-point model (as sim::continueRun).
+    log::info(cat(path, ": format version ", data.format_version,
+                  " predates sub-contacts; continuing with contact_model = \"point\""));
+    scene.contact_model = "point";
+  }
+  return std::make_unique<Simulation>(scene, data, path, comm);
+}
+
+// A finite 3-vector or nothing (None).
+std::optional<Vec3> optionalVec3(const py::object& object, const char* what) {
+  if (object.is_none()) return std::nullopt;
+  const Vec3 v = toVec3(object, what);
+  if (!v.allFinite()) throw py::value_error(cat(what, " must be finite"));
+  return v;
+}
+
+void setVelocity(Simulation& sim, std::int64_t uid, const py::object& velocity,
+                 const py::object& angular_velocity) {
+  const auto v = optionalVec3(velocity, "velocity");
+  const auto w = optionalVec3(angular_velocity, "angular_velocity");
+  if (uid <= 0) throw py::value_error(cat("uid must be positive, got ", uid));
+  if (!sim.setVelocity(static_cast<Uid>(uid), v, w)) {
+    throw py::value_error(
+        cat("no free particle has uid ", uid, " (fixed and driven bodies move as the scene says)"));
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<Simulation> makeSimulation(const py::object& scene, const py::object& comm_object) {
+  const MPI_Comm comm = toComm(comm_object);
+  if (py::isinstance<io::Scene>(scene)) {
+    return std::make_unique<Simulation>(scene.cast<const io::Scene&>(), comm);
+  }
+  if (py::hasattr(scene, "build") && py::hasattr(scene, "to_toml")) {  // polydem.Scene
+    const py::object built = scene.attr("build")();
+    if (!py::isinstance<io::Scene>(built)) throw py::type_error("Scene.build() returned no scene");
+    return std::make_unique<Simulation>(built.cast<const io::Scene&>(), comm);
+  }
+  return std::make_unique<Simulation>(io::readScene(fspath(scene, "scene")), comm);
+}
+
+void bindSimulationCheckpoint(py::class_<Simulation>& c) {
+  c.def("write_checkpoint", &writeCheckpoint, py::arg("path"),
+        R"(Writes a checkpoint of the current state to `path` (collective; docs/checkpoint.md).
+
+The file holds the scene's TOML text and everything needed to continue bit for bit, on this or
+any other number of ranks: Simulation.restart(path). Call it between steps. Raises
+polydem.CheckpointError if the file cannot be written (an older file at `path` is kept).)")
+      .def("set_velocity", &setVelocity, py::arg("uid"), py::arg("velocity") = py::none(),
+           py::arg("angular_velocity") = py::none(),
+           R"(Sets the velocity [m/s] and/or angular velocity [rad/s, world frame] of the free
+particle `uid` between steps (collective: the same call on every rank). They are the leapfrog's
+values at time - dt/2, as particles() reports them; checkpoints keep the change. ValueError if no
+free particle has that uid.)")
+      .def_static("restart", &restart, py::arg("path"), py::arg("comm") = py::none(),
+                  py::keep_alive<0, 2>(),
+                  R"(Continues the run stored in the checkpoint `path` (collective) on `comm`
+(None: MPI_COMM_WORLD; or an mpi4py communicator), on any number of ranks. Stepping it on gives
+the same bits as the run that wrote it would have. Raises polydem.CheckpointError for a missing,
+corrupted or mismatching file.)");
+}
+
+}  // namespace polydem::python
