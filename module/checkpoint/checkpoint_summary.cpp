@@ -1,4 +1,4 @@
-// verifyCheckpoint and its text form; the shape records and their comparison with a built table.
+// verifyCheckpoint and its text form.
 #include <algorithm>
 #include <cstring>
 #include <limits>
@@ -14,13 +14,6 @@
 namespace polydem::io {
 
 namespace {
-
-bool sameBits(const Vec3& a, const Vec3& b) {
-  return std::memcmp(a.data(), b.data(), 24) == 0;
-}
-bool sameBits(double a, double b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
 
 /// Kinetic energy of one free particle: translation plus rotation, 1/2 L . w with
 /// w = R diag(1 / (density I_k)) R^T L (body-frame principal moments I_k per unit density).
@@ -118,47 +111,6 @@ std::string formatCheckpointSummary(const CheckpointSummary& s) {
         << BitHasher::hex(d.checksum) << "\n";
   }
   return out.str();
-}
-
-std::vector<CheckpointShape> shapeRecords(const particles::ShapeTable& shapes) {
-  std::vector<CheckpointShape> out;
-  for (const auto& s : shapes) {
-    CheckpointShape r;
-    r.name = s.name;
-    r.vertices = s.polyhedron.vertices();
-    for (const auto& f : s.polyhedron.faces()) r.faces.push_back(f.vertices);
-    r.volume = s.volume;
-    r.principal_moments = s.principal_moments;
-    r.circumradius = s.circumradius;
-    r.inradius = s.inradius;
-    out.push_back(std::move(r));
-  }
-  return out;
-}
-
-std::string shapeMismatch(const std::vector<CheckpointShape>& stored,
-                          const particles::ShapeTable& built) {
-  if (stored.size() != built.size()) {
-    return cat("the checkpoint has ", stored.size(), " shapes, the scene builds ", built.size());
-  }
-  for (std::size_t i = 0; i < stored.size(); ++i) {
-    const CheckpointShape& a = stored[i];
-    const CheckpointShape b = shapeRecords({built[i]}).front();
-    const std::string which = cat("shape ", i, " '", a.name, "'");
-    if (a.name != b.name) return cat(which, ": the scene calls it '", b.name, "'");
-    if (a.vertices.size() != b.vertices.size()) {
-      return cat(which, ": ", a.vertices.size(), " vertices stored, ", b.vertices.size(), " built");
-    }
-    for (std::size_t v = 0; v < a.vertices.size(); ++v) {
-      if (!sameBits(a.vertices[v], b.vertices[v])) return cat(which, ": vertex ", v, " differs");
-    }
-    if (a.faces != b.faces) return cat(which, ": the faces differ");
-    if (!sameBits(a.volume, b.volume) || !sameBits(a.principal_moments, b.principal_moments) ||
-        !sameBits(a.circumradius, b.circumradius) || !sameBits(a.inradius, b.inradius)) {
-      return cat(which, ": the mass properties or radii differ");
-    }
-  }
-  return {};
 }
 
 }  // namespace polydem::io

@@ -128,10 +128,6 @@ void syncDirectory(const fs::path& dir) {
 
 }  // namespace
 
-const char* toString(CheckpointStage stage) {
-  return stage == CheckpointStage::kEquilibrium ? "equilibrium" : "main";
-}
-
 void writeCheckpoint(const fs::path& path, const CheckpointData& data, MPI_Comm comm,
                      const CheckpointIoOptions& options) {
   const h5::ErrorSilencer silence;

@@ -19,7 +19,6 @@
 #include <vector>
 
 #include "polydem/broadphase/broad_phase.h"
-#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/comm/particle_exchange.h"
 #include "polydem/comm/state_hash.h"
 #include "polydem/contact/contact.h"
@@ -33,6 +32,7 @@
 #include "polydem/sim/contact_phase.h"
 #include "polydem/sim/force_operator.h"
 #include "polydem/sim/load_balance.h"
+#include "polydem/sim/saved_state.h"
 #include "polydem/timeloop/time_loop.h"
 
 namespace polydem::sim {
@@ -65,8 +65,8 @@ class Simulation {
   /// velocities are taken as stored, so that stepping on gives the same bits as a run that never
   /// stopped (sim/simulation_checkpoint.cpp). Throws CheckpointError naming `file` if the shapes
   /// built from `scene` differ from the stored ones, or the time step does.
-  Simulation(const setup::Setup& scene, const io::CheckpointData& checkpoint,
-             const std::string& file, MPI_Comm comm);
+  Simulation(const setup::Setup& scene, const CheckpointData& checkpoint, const std::string& file,
+             MPI_Comm comm);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -154,8 +154,8 @@ class Simulation {
   /// This rank's part of a checkpoint of the current state (not collective): replicated tables,
   /// this rank's free particles (and the fixed/driven ones on rank 0), each pair history once
   /// over all ranks. Call between steps. `scene_toml` and `scene_file` are stored as given.
-  io::CheckpointData checkpoint(const std::string& scene_toml, const std::string& scene_file,
-                                const std::string& run_state) const;
+  CheckpointData checkpoint(const std::string& scene_toml, const std::string& scene_file,
+                            const std::string& run_state) const;
 
   /// Weighs a new decomposition against the current one by the work of the last contact phase
   /// (sim/load_balance.h) and, if it is better by the margin, installs it and moves the particles
@@ -203,7 +203,7 @@ class Simulation {
   domain::Aabb computeExtents();
   void checkFreeBodies() const;
   void suggestTimeStep();
-  void restoreParticles(const io::CheckpointData& checkpoint, const std::string& file);
+  void restoreParticles(const CheckpointData& checkpoint, const std::string& file);
 
   void updateDerived();
   void findCandidates();

@@ -39,21 +39,19 @@ bool writesPair(const particles::ParticleStorage& storage, const particles::Pair
 
 }  // namespace
 
-io::CheckpointData Simulation::checkpoint(const std::string& scene_toml,
-                                          const std::string& scene_file,
-                                          const std::string& run_state) const {
-  io::CheckpointData d;
+CheckpointData Simulation::checkpoint(const std::string& scene_toml, const std::string& scene_file,
+                                      const std::string& run_state) const {
+  CheckpointData d;
   d.scene_toml = scene_toml;
   d.scene_file = scene_file;
   d.step = loop_.step();
   d.time_digits = loop_.exactTime().digits();
   d.time = loop_.time();
   d.dt = dt();
-  d.stage = stage_ == Stage::kEquilibrium ? io::CheckpointStage::kEquilibrium
-                                          : io::CheckpointStage::kMain;
+  d.stage = stage_ == Stage::kEquilibrium ? CheckpointStage::kEquilibrium : CheckpointStage::kMain;
   d.equilibrium_steps = stage_ == Stage::kEquilibrium ? loop_.step() : equilibrium_steps_;
   d.equilibrium_reached = equilibrium_reached_;
-  d.shapes = io::shapeRecords(shapes_);
+  d.shapes = shapeRecords(shapes_);
   d.materials = scene_.materials;
   d.interactions = scene_.interactions;
   d.domain.lo = forest_->domain().lo;
@@ -82,13 +80,13 @@ io::CheckpointData Simulation::checkpoint(const std::string& scene_toml,
   return d;
 }
 
-Simulation::Simulation(const setup::Setup& scene, const io::CheckpointData& checkpoint,
+Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoint,
                        const std::string& file, MPI_Comm comm)
     : Simulation(scene, comm, Unbuilt{}) {
   buildTables();
   // The shapes are rebuilt by the code that built them in the first run; a change in that code
   // or in the scene would silently change the continued run.
-  if (const std::string diff = io::shapeMismatch(checkpoint.shapes, shapes_); !diff.empty()) {
+  if (const std::string diff = shapeMismatch(checkpoint.shapes, shapes_); !diff.empty()) {
     throw CheckpointError(cat(file, ": the shapes built from scene '", scene_.file,
                               "' differ from the stored ones (", diff, ")"));
   }
@@ -108,7 +106,7 @@ Simulation::Simulation(const setup::Setup& scene, const io::CheckpointData& chec
   equilibrium_steps_ = checkpoint.equilibrium_steps;
   equilibrium_reached_ = checkpoint.equilibrium_reached;
   const ExactSum time = ExactSum::fromDigits(checkpoint.time_digits);
-  if (checkpoint.stage == io::CheckpointStage::kEquilibrium) {
+  if (checkpoint.stage == CheckpointStage::kEquilibrium) {
     if (!scene_.equilibrium.enabled) {
       throw CheckpointError(cat(file, ": written in the equilibrium stage, but scene '",
                                 scene_.file, "' has no [equilibrium] stage"));
@@ -126,7 +124,7 @@ Simulation::Simulation(const setup::Setup& scene, const io::CheckpointData& chec
 // free particles for this rank count (the scene's blocks if it gives them), balanced on their
 // counts. Then every particle to its owner and every history to the
 // owners of its particles.
-void Simulation::restoreParticles(const io::CheckpointData& checkpoint, const std::string& file) {
+void Simulation::restoreParticles(const CheckpointData& checkpoint, const std::string& file) {
   const auto& dom = checkpoint.domain;
   const domain::Aabb box{dom.lo, dom.hi};
   const bool same_ranks = dom.ranks == ranks_ && !dom.rank_map.empty();
@@ -171,7 +169,7 @@ void Simulation::restoreParticles(const io::CheckpointData& checkpoint, const st
   particles::HistoryRecords records{checkpoint.pair_keys, checkpoint.pair_histories,
                                     checkpoint.sub_keys, checkpoint.sub_histories};
   history_ = comm::routeHistories(records, storage_, comm_);
-  log::info(cat("restored step ", checkpoint.step, " (", io::toString(checkpoint.stage),
+  log::info(cat("restored step ", checkpoint.step, " (", toString(checkpoint.stage),
                 " stage) from ", file, ", written by ", dom.ranks, " rank(s), on ", ranks_,
                 " rank(s)"));
 }
