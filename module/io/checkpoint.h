@@ -79,7 +79,8 @@ struct CheckpointData {
   // --- replicated: the same on every rank (written from rank 0's copy)
   // ----------------------------
   int format_version = kCheckpointFormatVersion;  // as read; writing always writes the current one
-  std::uint64_t digest = 0;  // as read and verified (io/checkpoint_digest.h); 0 before version 3; ignored on write
+  std::uint64_t digest =
+      0;  // as read and verified (io/checkpoint_digest.h); 0 before version 3; ignored on write
   std::string code_version;  // polydem version of the writer
   int writer_ranks = 0;      // as read: the number of ranks that wrote the file (ignored on write)
   std::string scene_toml;    // the scene file's text, verbatim
@@ -124,6 +125,8 @@ struct CheckpointIoOptions {
   /// it. Larger rounds mean fewer collective calls and more memory; every rank takes part in
   /// every round (with no rows once it has none left).
   std::size_t round_bytes = std::size_t{32} << 20;
+  /// What the file is, for messages ("checkpoint FILE: ..."); the snapshots reuse this layer.
+  std::string kind = "checkpoint";
 };
 
 /// Writes `data` to `path` (collective; see the top of this file). Throws CheckpointError on every

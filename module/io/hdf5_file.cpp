@@ -190,7 +190,7 @@ File::~File() {
 }
 
 std::string File::context(const std::string& what) const {
-  return "checkpoint " + name_ + ": " + what;
+  return options_.kind + " " + name_ + ": " + what;
 }
 
 File File::create(const std::filesystem::path& path, MPI_Comm comm,

@@ -1,0 +1,219 @@
+#!/usr/bin/python3
+"""Parallel snapshots of `polydem run` read back without polydem (h5py, and VTK's XDMF reader).
+
+Runs tests/apps/snapshot_scene.toml on 1 and on 2 ranks and checks, for each run:
+- one snapshot file per output time (steps 0, 25, ... 100) and nothing else in snapshots/;
+  snapshots.xmf lists exactly those files with their times;
+- counts: particles = the scene's 73, faces = 6 per cube and plate, topology length, contacts;
+- the chosen fields and no others; values against series.csv: the monitored blocks' velocity and
+  position equal the snapshot's bit for bit, and the contacts column equals the contact rows;
+- each particle's contact_count and resultant force equal what its rows in /contacts give;
+- the 2-rank files hold the same values per uid as the 1-rank files (rows are in rank order);
+- VTK's vtkXdmfReader opens snapshots.xmf and contacts.xmf and sees the cells and arrays (when
+  `import vtk` works for /usr/bin/python3; otherwise that part is skipped with a message);
+- an unknown field in the scene stops the run with the file, the line and the known fields.
+
+Usage: snapshot_xdmf_test.py POLYDEM MPIEXEC SCENE WORKDIR
+"""
+import csv
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+STEPS = [0, 25, 50, 75, 100]
+PARTICLES = 73  # 72 cubes and the plate, each 6 faces
+FIELDS = ["uid", "speed", "velocity", "rank", "material", "contact_count", "force", "position"]
+CONTACT_FIELDS = ["uid_a", "uid_b", "normal", "normal_force", "force"]
+
+
+def fail(message):
+    print("snapshot_xdmf_test: FAIL: " + message, file=sys.stderr)
+    sys.exit(1)
+
+
+def expect(condition, message):
+    if not condition:
+        fail(message)
+
+
+def text(attribute):
+    """A string attribute (polydem writes fixed-length strings, which h5py gives as bytes)."""
+    return attribute.decode() if isinstance(attribute, bytes) else str(attribute)
+
+
+def run(polydem, mpiexec, scene, out, ranks):
+    shutil.rmtree(out, ignore_errors=True)
+    command = [polydem, "run", scene, "--out", out, "--quiet"]
+    if ranks > 1:
+        command = [mpiexec, "-n", str(ranks), "--oversubscribe"] + command
+    result = subprocess.run(command, capture_output=True, text=True)
+    expect(result.returncode == 0, f"{ranks}-rank run failed:\n{result.stderr}")
+
+
+def read_series(out):
+    with open(os.path.join(out, "series.csv")) as f:
+        rows = list(csv.DictReader(f))
+    return {int(float(r["step"])): r for r in rows}
+
+
+def check_run(out, ranks):
+    files = sorted(os.listdir(os.path.join(out, "snapshots")))
+    expect(files == [f"snapshot_{s:010d}.h5" for s in STEPS],
+           f"{ranks} ranks: snapshots/ holds {files}")
+    xmf = open(os.path.join(out, "snapshots.xmf")).read()
+    listed = re.findall(r"(snapshots/snapshot_\d+\.h5):/mesh/points", xmf)
+    expect(listed == ["snapshots/" + f for f in files], f"snapshots.xmf lists {listed}")
+    series = read_series(out)
+    snapshots = {}
+    for step, name in zip(STEPS, files):
+        with h5py.File(os.path.join(out, "snapshots", name), "r") as h:
+            expect(text(h.attrs["format"]) == "polydem-snapshot", "format attribute")
+            expect(text(h.attrs["fields"]).split(",") == FIELDS, "fields attribute")
+            expect(int(h.attrs["step"]) == step, f"{name}: step {h.attrs['step']}")
+            expect(int(h.attrs["writer_ranks"]) == ranks, f"{name}: writer_ranks")
+            time = float(h.attrs["time"])
+            expect(f'<Time Value="{time!r}"/>' in xmf or f'<Time Value="{time:.17g}"/>' in xmf,
+                   f"{name}: time {time} not in snapshots.xmf")
+            uid = h["particles/uid"][:]
+            faces = h["particles/face_count"][:]
+            expect(len(uid) == PARTICLES and len(set(uid)) == PARTICLES,
+                   f"{name}: {len(uid)} particles ({len(set(uid))} distinct), expected {PARTICLES}")
+            expect(np.all(faces == 6) and faces.sum() == 6 * PARTICLES, f"{name}: face counts")
+            expect(sorted(h["faces"].keys()) == sorted(FIELDS), f"{name}: fields {list(h['faces'])}")
+            expect(sorted(h["contacts"].keys()) == sorted(CONTACT_FIELDS + ["point", "vertex"]),
+                   f"{name}: contact fields {list(h['contacts'])}")
+            topology = h["mesh/topology"][:]
+            expect(len(topology) == 6 * PARTICLES * (2 + 4), f"{name}: topology length")
+            expect(np.all(topology.reshape(-1, 6)[:, :2] == [3, 4]), f"{name}: cubes' faces")
+            expect(topology.reshape(-1, 6)[:, 2:].max() < len(h["mesh/points"]),
+                   f"{name}: face vertex out of range")
+            face = {k: h["faces/" + k][:] for k in FIELDS}
+            first = np.concatenate([[0], np.cumsum(faces)[:-1]])
+            expect(np.all(face["uid"][first] == uid), f"{name}: /faces/uid against /particles/uid")
+            expect(np.array_equal(face["velocity"][first], h["particles/velocity"][:]),
+                   f"{name}: /faces/velocity against /particles/velocity")
+            expect(np.allclose(face["speed"], np.linalg.norm(face["velocity"], axis=1), rtol=1e-15,
+                               atol=0), f"{name}: speed is not |velocity|")
+            expect(set(face["rank"]) <= set(range(ranks)), f"{name}: ranks {set(face['rank'])}")
+            if ranks == 2:
+                free = face["rank"][face["uid"] != 1]
+                expect(len(set(free)) == 2, f"{name}: the particles are not on both ranks")
+            contacts = {k: h["contacts/" + k][:] for k in CONTACT_FIELDS + ["point"]}
+            count = len(contacts["uid_a"])
+            expect(count == int(float(series[step]["contacts"])),
+                   f"{name}: {count} contacts, series.csv says {series[step]['contacts']}")
+            expect(np.all(contacts["uid_a"] < contacts["uid_b"]), f"{name}: uid_a < uid_b")
+            for label in ("c_0_0_0", "u_5_5_0"):
+                row = series[step]
+                position = np.array([float(row[f"{label}_{a}"]) for a in "xyz"])
+                velocity = np.array([float(row[f"{label}_v{a}"]) for a in "xyz"])
+                hits = np.flatnonzero(np.all(h["particles/position"][:] == position, axis=1))
+                expect(len(hits) == 1, f"{name}: {label}'s position from series.csv not found")
+                expect(np.array_equal(h["particles/velocity"][hits[0]], velocity),
+                       f"{name}: {label}'s velocity differs from series.csv")
+            # contact_count and force of each free particle from the contact rows.
+            fixed_uid = 1  # the plate: the first particle of the scene (uids count from 1)
+            total = {u: np.zeros(3) for u in uid}
+            number = {u: 0 for u in uid}
+            for a, b, f in zip(contacts["uid_a"], contacts["uid_b"], contacts["force"]):
+                total[a] += f
+                total[b] -= f
+                number[a] += 1
+                number[b] += 1
+            for i, u in enumerate(uid):
+                if u == fixed_uid:
+                    continue
+                expect(face["contact_count"][first[i]] == number[u],
+                       f"{name}: uid {u} contact_count {face['contact_count'][first[i]]}, "
+                       f"contacts table {number[u]}")
+                scale = 1e-12 * max(1.0, np.abs(contacts["force"]).max() if count else 1.0)
+                expect(np.allclose(face["force"][first[i]], total[u], rtol=0, atol=scale),
+                       f"{name}: uid {u} force {face['force'][first[i]]}, contacts {total[u]}")
+            order = np.argsort(uid)
+            snapshots[step] = {
+                "uid": uid[order],
+                "position": h["particles/position"][:][order],
+                "velocity": h["particles/velocity"][:][order],
+                "contacts": sorted(zip(contacts["uid_a"], contacts["uid_b"])),
+            }
+    return snapshots, xmf
+
+
+def check_vtk(out):
+    try:
+        import vtk  # noqa: F401  (Debian's python3-vtk9, scripts/install-deps)
+    except ImportError as e:
+        print(f"snapshot_xdmf_test: SKIPPED the VTK reader check: import vtk failed ({e})")
+        return
+    for name, cells_per_step, arrays in (("snapshots.xmf", 6 * PARTICLES, FIELDS),
+                                         ("contacts.xmf", None, CONTACT_FIELDS)):
+        reader = vtk.vtkXdmfReader()
+        reader.SetFileName(os.path.join(out, name))
+        reader.UpdateInformation()
+        info = reader.GetOutputInformation(0)
+        times = info.Get(vtk.vtkStreamingDemandDrivenPipeline.TIME_STEPS())
+        expect(times is not None and len(times) >= 1, f"VTK: {name} has no time steps")
+        if name == "snapshots.xmf":
+            expect(len(times) == len(STEPS), f"VTK: {name} has {len(times)} time steps")
+        reader.UpdateTimeStep(times[-1])
+        data = reader.GetOutputDataObject(0)
+        expect(data is not None and data.GetNumberOfCells() > 0, f"VTK: {name} has no cells")
+        if cells_per_step:
+            expect(data.GetNumberOfCells() == cells_per_step,
+                   f"VTK: {name}: {data.GetNumberOfCells()} cells, expected {cells_per_step}")
+            expect(data.GetCellType(0) == vtk.VTK_POLYGON, f"VTK: {name}: cell type")
+            expect(data.GetCell(0).GetNumberOfPoints() == 4, f"VTK: {name}: a face's points")
+        data_arrays = data.GetCellData() if cells_per_step else data.GetPointData()
+        names = {data_arrays.GetArrayName(i) for i in range(data_arrays.GetNumberOfArrays())}
+        expect(set(arrays) <= names, f"VTK: {name} arrays {sorted(names)}")
+        if cells_per_step:
+            speed = data_arrays.GetArray("speed").GetRange()
+            print(f"VTK reader: {name}, t = {times[-1]:.4g} s: {data.GetNumberOfCells()} cells, "
+                  f"speed {speed[0]:.3g} .. {speed[1]:.3g} m/s")
+        else:
+            print(f"VTK reader: {name}, t = {times[-1]:.4g} s: {data.GetNumberOfPoints()} points")
+
+
+def check_unknown_field(polydem, scene, work):
+    text = open(scene).read()
+    bad = text.replace('"contact_count", "force"', '"contact_count",\n  "forse"')
+    path = os.path.join(work, "bad_fields.toml")
+    with open(path, "w") as f:
+        f.write(bad)
+    line = bad[:bad.index('"forse"')].count("\n") + 1
+    result = subprocess.run([polydem, "run", path, "--out", os.path.join(work, "bad")],
+                            capture_output=True, text=True)
+    expect(result.returncode != 0, "a scene with an unknown field ran")
+    expect(f"{path}:{line}" in result.stderr and "unknown field 'forse'" in result.stderr and
+           "contact_count" in result.stderr, f"message for an unknown field: {result.stderr}")
+    expect(not os.path.exists(os.path.join(work, "bad")), "the bad scene wrote its --out")
+
+
+def main():
+    if len(sys.argv) != 5:
+        fail("usage: snapshot_xdmf_test.py POLYDEM MPIEXEC SCENE WORKDIR")
+    polydem, mpiexec, scene, work = sys.argv[1:]
+    os.makedirs(work, exist_ok=True)
+    runs = {}
+    for ranks in (1, 2):
+        out = os.path.join(work, f"run{ranks}")
+        run(polydem, mpiexec, scene, out, ranks)
+        runs[ranks], _ = check_run(out, ranks)
+    for step in STEPS:
+        one, two = runs[1][step], runs[2][step]
+        for key in ("uid", "position", "velocity"):
+            expect(np.array_equal(one[key], two[key]), f"step {step}: {key} differs, 1 vs 2 ranks")
+        expect(one["contacts"] == two["contacts"], f"step {step}: contact pairs differ")
+    expect(any(len(runs[2][s]["contacts"]) for s in STEPS), "no contacts at all: a weak test")
+    check_vtk(os.path.join(work, "run2"))
+    check_unknown_field(polydem, scene, work)
+    print(f"snapshot_xdmf_test: OK ({len(STEPS)} snapshots on 1 and 2 ranks)")
+
+
+if __name__ == "__main__":
+    main()
