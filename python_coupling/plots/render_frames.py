@@ -8,7 +8,7 @@ offscreen with matplotlib's Agg backend (Poly3DCollection) from Debian's /usr/bi
 numpy and h5py; no display is needed.
 
     /usr/bin/python3 python_coupling/plots/render_frames.py RUN_DIR [--frames 4] [--out f.png]
-                     [--elevation 22] [--azimuth -62]
+                     [--elevation 22] [--azimuth -70]
 
 Writes RUN_DIR/frames.png by default and prints its path. `polydem run ... --picture` and
 `[output] picture = true` call this after the run; scripts/main-job always does. Snapshots
@@ -93,7 +93,7 @@ def clip_fixed(polygon, lo, hi):
     return np.clip(polygon, lo, hi)
 
 
-def render(run_dir, count=4, out=None, elevation=22.0, azimuth=-62.0):
+def render(run_dir, count=4, out=None, elevation=22.0, azimuth=-70.0):
     """Draws `count` frames of RUN_DIR's snapshots into one PNG; returns its path."""
     frames = [Frame(f) for f in pick(snapshot_files(run_dir), count)]
     lo, hi = view_box(frames)
@@ -103,7 +103,7 @@ def render(run_dir, count=4, out=None, elevation=22.0, azimuth=-62.0):
     n = len(frames)
     ncols = 2 if n == 4 else min(n, 3)
     nrows = (n + ncols - 1) // ncols
-    fig = plt.figure(figsize=(6.4 * ncols + 1.2, 4.9 * nrows))
+    fig = plt.figure(figsize=(6.4 * ncols + 1.2, 5.3 * nrows))
     for k, frame in enumerate(frames):
         ax = fig.add_subplot(nrows, ncols, k + 1, projection="3d")
         polygons, face_colours, edge_colours = [], [], []
@@ -123,7 +123,8 @@ def render(run_dir, count=4, out=None, elevation=22.0, azimuth=-62.0):
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])
         ax.set_zlim(lo[2], hi[2])
-        ax.set_box_aspect(hi - lo)  # true proportions: a 40 degree slope looks like one
+        # True proportions (a 40 degree slope looks like one), zoomed into the panel's white space.
+        ax.set_box_aspect(hi - lo, zoom=1.15)
         ax.view_init(elev=elevation, azim=azimuth)
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
@@ -134,7 +135,7 @@ def render(run_dir, count=4, out=None, elevation=22.0, azimuth=-62.0):
                      % (frame.time, frame.step, free_speed.max() if free_speed.size else 0.0),
                      fontsize=10)
     # The colour bar in a column of its own, right of the frames (not over the last one).
-    fig.subplots_adjust(left=0.0, right=0.88, bottom=0.03, top=0.9, wspace=0.05, hspace=0.08)
+    fig.subplots_adjust(left=0.0, right=0.88, bottom=0.03, top=0.9, wspace=0.05, hspace=0.12)
     bar = fig.add_axes([0.9, 0.2, 0.018, 0.6])
     fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), cax=bar, label="speed [m/s]")
     fig.suptitle("%s: blocks coloured by speed (fixed bodies grey)"
@@ -153,7 +154,7 @@ def main(argv=None):
     parser.add_argument("--frames", type=int, default=4, help="number of frames (default 4)")
     parser.add_argument("--out", help="PNG to write (default: RUN_DIR/frames.png)")
     parser.add_argument("--elevation", type=float, default=22.0, help="view elevation [deg]")
-    parser.add_argument("--azimuth", type=float, default=-62.0, help="view azimuth [deg]")
+    parser.add_argument("--azimuth", type=float, default=-70.0, help="view azimuth [deg]")
     args = parser.parse_args(argv)
     if args.frames < 1:
         sys.exit("render_frames: --frames must be at least 1")
