@@ -12,6 +12,7 @@ Runs tests/apps/snapshot_scene.toml on 1 and on 2 ranks and checks, for each run
 - ParaView's two XDMF readers (through pvpython) open snapshots.xmf and contacts.xmf and see the
   time steps, the polygons and the arrays (skipped with a message where pvpython is missing;
   Debian's python3-vtk9 has no XDMF reader);
+- snapshot_format = "vtk" writes the VTK files and no HDF5 ones;
 - `--picture` renders RUN/frames.png (a PNG) on the 1-rank run;
 - an unknown field in the scene stops the run with the file, the line and the known fields.
 
@@ -203,6 +204,27 @@ def check_unknown_field(polydem, scene, work):
     expect(not os.path.exists(os.path.join(work, "bad")), "the bad scene wrote its --out")
 
 
+def check_vtk_format(polydem, scene, work):
+    """snapshot_format = "vtk" keeps the VTK files (1 + P per snapshot and kind) and no HDF5;
+    --picture then warns (it reads HDF5 snapshots only) and the run still succeeds."""
+    text = open(scene).read().replace('snapshot_format = "xdmf"', 'snapshot_format = "vtk"')
+    path = os.path.join(work, "vtk_format.toml")
+    with open(path, "w") as f:
+        f.write(text)
+    out = os.path.join(work, "vtk")
+    shutil.rmtree(out, ignore_errors=True)
+    result = subprocess.run([polydem, "run", path, "--out", out, "--picture"],
+                            capture_output=True, text=True)
+    expect(result.returncode == 0, f"the VTK-format run failed:\n{result.stderr}")
+    files = sorted(os.listdir(os.path.join(out, "snapshots")))
+    expect(len(files) == 4 * len(STEPS) and all(f.endswith((".vtp", ".pvtp")) for f in files),
+           f"VTK format: snapshots/ holds {files}")
+    expect(os.path.isfile(os.path.join(out, "snapshots.pvd")) and
+           not os.path.exists(os.path.join(out, "snapshots.xmf")), "VTK format: collections")
+    expect("no picture" in result.stderr and not os.path.exists(os.path.join(out, "frames.png")),
+           f"VTK format with --picture: {result.stderr}")
+
+
 def main():
     if len(sys.argv) != 5:
         fail("usage: snapshot_xdmf_test.py POLYDEM MPIEXEC SCENE WORKDIR")
@@ -223,6 +245,7 @@ def main():
     check_paraview(os.path.join(work, "run2"),
                    {"speed_max": last["speed_max"], "contacts": len(last["contacts"])})
     check_unknown_field(polydem, scene, work)
+    check_vtk_format(polydem, scene, work)
     print(f"snapshot_xdmf_test: OK ({len(STEPS)} snapshots on 1 and 2 ranks)")
 
 
