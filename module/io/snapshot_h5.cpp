@@ -180,7 +180,19 @@ XdmfSnapshotWriter::XdmfSnapshotWriter(std::string dir, MPI_Comm comm, Options o
   for (const auto& f : options_.contact_fields) {
     if (auto problem = unknownField(kContactFields, f); !problem.empty()) throw Error(problem);
   }
+  // Every rank must name the same directory: the files are opened collectively, and MPI-IO
+  // waits forever on ranks that open different files.
+  std::uint64_t length = dir_.size();
+  MPI_Bcast(&length, 1, MPI_UINT64_T, 0, comm_);
+  std::string root_dir(length, '\0');
+  if (rank_ == 0) root_dir = dir_;
+  MPI_Bcast(root_dir.data(), static_cast<int>(length), MPI_CHAR, 0, comm_);
   std::string error;
+  if (root_dir != dir_) {
+    error = cat("snapshots: rank ", rank_, " writes to ", dir_, " but rank 0 to ", root_dir,
+                " (all ranks must use the same output directory)");
+  }
+  throwIfAnyRankFailed(error, comm_);
   // Rank 0 first, so that the others find the directory on a shared file system.
   if (rank_ == 0) {
     try {

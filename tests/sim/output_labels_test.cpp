@@ -77,8 +77,10 @@ Series readSeries(const fs::path& path) {
 
 TEST(OutputLabels, FreeFallAtExactStepTimes) {
   log::setLevel(log::Level::kWarning);
-  const fs::path dir =
-      fs::temp_directory_path() / cat("polydem_free_fall_", getpid(), "_", mpi::size());
+  // One directory for all ranks: the snapshot files are written by all of them together.
+  long pid = static_cast<long>(getpid());
+  MPI_Bcast(&pid, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+  const fs::path dir = fs::temp_directory_path() / cat("polydem_free_fall_", pid, "_", mpi::size());
   RunOptions options;
   options.out_dir = dir.string();
   const RunResult result =
