@@ -1,11 +1,13 @@
 #include "io/snapshot_h5.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <utility>
 
 #include "core/error.h"
+#include "core/mpi_env.h"
 #include "core/strings.h"
 #include "io/hdf5_file.h"
 #include "io/output_file.h"
@@ -20,36 +22,23 @@ using h5::File;
 using h5::Info;
 using h5::Slice;
 
-/// Rows this rank writes of each table, and where they go: one allgather for all five tables.
-enum Table { kParticles, kPoints, kFaces, kTopology, kContacts, kTables };
+/// Where this rank's rows of a table go: `runs` of the file's `total` rows, in file order.
+struct Placement {
+  std::uint64_t total = 0;
+  std::vector<Dataset::Run> runs;
+};
 
-std::array<Slice, kTables> slices(const std::array<std::uint64_t, kTables>& rows, MPI_Comm comm) {
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &ranks);
-  std::vector<std::uint64_t> all(static_cast<std::size_t>(ranks) * kTables);
-  MPI_Allgather(rows.data(), kTables, MPI_UINT64_T, all.data(), kTables, MPI_UINT64_T, comm);
-  std::array<Slice, kTables> out{};
-  for (int t = 0; t < kTables; ++t) {
-    out[t].rows = rows[t];
-    for (int r = 0; r < ranks; ++r) {
-      const std::uint64_t n = all[static_cast<std::size_t>(r) * kTables + t];
-      if (r < rank) out[t].offset += n;
-      out[t].total += n;
-      out[t].max_rows = std::max(out[t].max_rows, n);
-    }
-  }
-  return out;
+Placement contiguous(const Slice& s) {
+  return {s.total, {{s.offset, s.rows}}};
 }
 
 /// Creates a dataset and writes this rank's rows in one collective call; kept in `open` until
 /// File::finish() stores the checksums.
 template <typename T>
-void put(File& file, std::vector<Dataset>& open, const std::string& name, const Slice& slice,
+void put(File& file, std::vector<Dataset>& open, const std::string& name, const Placement& where,
          std::size_t cols, const std::vector<T>& data, const Info& info) {
-  Dataset d = file.create<T>(name, slice.total, cols, info);
-  d.write(data.data(), slice.offset, slice.rows);
-  d.hash(data.data(), slice.offset, slice.rows);
+  Dataset d = file.create<T>(name, where.total, cols, info);
+  d.writeRuns(data.data(), where.runs);
   open.push_back(std::move(d));
 }
 
@@ -72,7 +61,7 @@ std::vector<T> perFace(const PolyhedraBatch& b, F value) {
 
 /// Writes the cell data `name` (a kParticleFields entry) of `b`.
 void putParticleField(File& file, std::vector<Dataset>& open, const SnapshotField& f,
-                      const Slice& faces, const PolyhedraBatch& b, int rank) {
+                      const Placement& faces, const PolyhedraBatch& b, int rank) {
   using P = const ParticleFields&;
   const std::string name = f.name;
   const std::string dataset = "/faces/" + name;
@@ -127,7 +116,7 @@ std::vector<T> perContact(const ContactBatch& c, F value) {
 }
 
 void putContactField(File& file, std::vector<Dataset>& open, const SnapshotField& f,
-                     const Slice& contacts, const ContactBatch& c, int rank) {
+                     const Placement& contacts, const ContactBatch& c, int rank) {
   using R = const ContactRecord&;
   const std::string name = f.name;
   const std::string dataset = "/contacts/" + name;
@@ -160,6 +149,78 @@ void putContactField(File& file, std::vector<Dataset>& open, const SnapshotField
   } else {
     throw Error("snapshot: contact field '" + name + "' is declared but not written (a bug)");
   }
+}
+
+/// `b` with its particles in uid order.
+PolyhedraBatch byUid(const PolyhedraBatch& b) {
+  std::vector<std::size_t> order(b.particles.size());
+  for (std::size_t p = 0; p < order.size(); ++p) order[p] = p;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t x, std::size_t y) { return b.particles[x].uid < b.particles[y].uid; });
+  PolyhedraBatch out;
+  std::vector<int> face;
+  for (const std::size_t p : order) {
+    const std::int64_t first_point = p > 0 ? b.point_end[p - 1] : 0;
+    const std::int64_t first_face = p > 0 ? b.particle_face_end[p - 1] : 0;
+    out.addParticle(b.particles[p],
+                    std::span<const Vec3>(b.points.data() + first_point,
+                                          static_cast<std::size_t>(b.point_end[p] - first_point)));
+    for (std::int64_t f = first_face; f < b.particle_face_end[p]; ++f) {
+      face.clear();
+      for (std::int64_t i = f > 0 ? b.face_end[f - 1] : 0; i < b.face_end[f]; ++i) {
+        face.push_back(static_cast<int>(b.connectivity[i] - first_point));
+      }
+      out.addFace(face);
+    }
+  }
+  return out;
+}
+
+/// The rows of one particle in the particle, point, face and topology tables.
+struct ParticleRows {
+  std::uint64_t uid = 0;
+  std::array<std::uint64_t, 4> count{};
+};
+enum ParticleTable { kParticleRow, kPointRow, kFaceRow, kTopologyRow };
+
+/// Places the rows of the particles of `b` (in uid order) in tables of all ranks' particles in
+/// uid order, whatever rank holds them: gathers every particle's row counts (O(particles) per
+/// rank and snapshot) and sums them up in uid order. Collective.
+std::array<Placement, 4> uidPlacements(const PolyhedraBatch& b, MPI_Comm comm) {
+  std::vector<ParticleRows> mine(b.particles.size());
+  for (std::size_t p = 0; p < mine.size(); ++p) {
+    const std::int64_t first_face = p > 0 ? b.particle_face_end[p - 1] : 0;
+    const std::int64_t faces = b.particle_face_end[p] - first_face;
+    const std::int64_t first_index = first_face > 0 ? b.face_end[first_face - 1] : 0;
+    const std::int64_t indices =
+        (faces > 0 ? b.face_end[b.particle_face_end[p] - 1] : first_index) - first_index;
+    mine[p].uid = b.particles[p].uid;
+    mine[p].count = {
+        1, static_cast<std::uint64_t>(b.point_end[p] - (p > 0 ? b.point_end[p - 1] : 0)),
+        static_cast<std::uint64_t>(faces), static_cast<std::uint64_t>(2 * faces + indices)};
+  }
+  auto all = mpi::allgatherv(mine, comm);
+  std::sort(all.begin(), all.end(),
+            [](const ParticleRows& x, const ParticleRows& y) { return x.uid < y.uid; });
+  std::array<Placement, 4> out;
+  std::array<std::uint64_t, 4> row{};
+  std::size_t next = 0;  // the next of `mine` (uid order) in `all`
+  for (const ParticleRows& r : all) {
+    if (next < mine.size() && mine[next].uid == r.uid) {
+      for (int t = 0; t < 4; ++t) {
+        auto& runs = out[t].runs;
+        if (!runs.empty() && runs.back().first + runs.back().rows == row[t]) {
+          runs.back().rows += r.count[t];  // continues the previous run
+        } else {
+          runs.push_back({row[t], r.count[t]});
+        }
+      }
+      ++next;
+    }
+    for (int t = 0; t < 4; ++t) row[t] += r.count[t];
+  }
+  for (int t = 0; t < 4; ++t) out[t].total = row[t];
+  return out;
 }
 
 std::string joined(const std::vector<std::string>& names) {
@@ -219,28 +280,41 @@ std::string XdmfSnapshotWriter::snapshotPath(std::int64_t step) const {
 }
 
 void XdmfSnapshotWriter::writeFile(const std::string& path, std::int64_t step, double time,
-                                   const PolyhedraBatch& b, const ContactBatch& c,
+                                   const PolyhedraBatch& unsorted, const ContactBatch& c,
                                    XdmfSnapshot& counts) const {
-  // Mixed topology: each face is (3 = polygon, vertex count, vertex indices), the indices made
-  // global by the points of lower ranks.
-  const std::uint64_t faces = b.faceCount();
-  const std::array<std::uint64_t, kTables> rows = {b.particleCount(), b.points.size(), faces,
-                                                   2 * faces + b.connectivity.size(),
-                                                   c.contacts.size()};
-  const auto s = slices(rows, comm_);
-  counts.points = s[kPoints].total;
-  counts.faces = s[kFaces].total;
-  counts.topology = s[kTopology].total;
-  counts.contacts = s[kContacts].total;
+  // Particles, points, faces and topology in uid order, so that these tables are the same on any
+  // rank count; the contacts in rank order.
+  const PolyhedraBatch b = byUid(unsorted);
+  const auto place = uidPlacements(b, comm_);
+  const Slice s = h5::writerSlice(c.contacts.size(), comm_);
+  const Placement& faces = place[kFaceRow];
+  counts.points = place[kPointRow].total;
+  counts.faces = faces.total;
+  counts.topology = place[kTopologyRow].total;
+  counts.contacts = s.total;
 
+  // Mixed topology: each face is (3 = polygon, vertex count, vertex indices), the indices made
+  // global: the particle's first row in /mesh/points plus the vertex's index in the particle.
   std::vector<std::int64_t> topology;
-  topology.reserve(rows[kTopology]);
-  const auto first_point = static_cast<std::int64_t>(s[kPoints].offset);
-  std::int64_t begin = 0;
-  for (const std::int64_t end : b.face_end) {
-    topology.insert(topology.end(), {3, end - begin});
-    for (std::int64_t i = begin; i < end; ++i) topology.push_back(first_point + b.connectivity[i]);
-    begin = end;
+  std::size_t run = 0;
+  std::uint64_t in_run = 0;  // points of the current run already passed
+  for (std::size_t p = 0; p < b.particles.size(); ++p) {
+    const auto& point_runs = place[kPointRow].runs;
+    const std::int64_t first_point = p > 0 ? b.point_end[p - 1] : 0;
+    const std::int64_t points = b.point_end[p] - first_point;
+    while (in_run >= point_runs[run].rows) {
+      ++run;
+      in_run = 0;
+    }
+    const auto global = static_cast<std::int64_t>(point_runs[run].first + in_run);
+    in_run += static_cast<std::uint64_t>(points);
+    for (std::int64_t f = p > 0 ? b.particle_face_end[p - 1] : 0; f < b.particle_face_end[p]; ++f) {
+      const std::int64_t begin = f > 0 ? b.face_end[f - 1] : 0;
+      topology.insert(topology.end(), {3, b.face_end[f] - begin});
+      for (std::int64_t i = begin; i < b.face_end[f]; ++i) {
+        topology.push_back(global + b.connectivity[i] - first_point);
+      }
+    }
   }
   std::vector<double> points, position, velocity, contact_points;
   for (const Vec3& p : b.points) append(points, p);
@@ -256,8 +330,9 @@ void XdmfSnapshotWriter::writeFile(const std::string& path, std::int64_t step, d
   }
   for (std::size_t i = 0; i < c.contacts.size(); ++i) {
     append(contact_points, c.contacts[i].point);
-    vertex.push_back(static_cast<std::int64_t>(s[kContacts].offset + i));
+    vertex.push_back(static_cast<std::int64_t>(s.offset + i));
   }
+  const Placement contacts = contiguous(s);
 
   CheckpointIoOptions io;
   io.kind = "snapshot";
@@ -265,24 +340,25 @@ void XdmfSnapshotWriter::writeFile(const std::string& path, std::int64_t step, d
   File file = File::create(path, comm_, io);
   std::vector<Dataset> open;
   file.createGroup("/mesh", "the faces of all blocks as polygons (XDMF Mixed topology)");
-  put(file, open, "/mesh/points", s[kPoints], 3, points, {"m", "vertices, world frame"});
-  put(file, open, "/mesh/topology", s[kTopology], 1, topology,
+  put(file, open, "/mesh/points", place[kPointRow], 3, points, {"m", "vertices, world frame"});
+  put(file, open, "/mesh/topology", place[kTopologyRow], 1, topology,
       {"", "per face: 3 (polygon), vertex count, indices into /mesh/points"});
   file.createGroup("/particles", "one row per particle");
-  put(file, open, "/particles/uid", s[kParticles], 1, uid, {"", "particle uid"});
-  put(file, open, "/particles/face_count", s[kParticles], 1, face_count,
+  const Placement& particles = place[kParticleRow];
+  put(file, open, "/particles/uid", particles, 1, uid, {"", "particle uid"});
+  put(file, open, "/particles/face_count", particles, 1, face_count,
       {"", "faces of the particle: its rows in /faces follow those of the previous rows"});
-  put(file, open, "/particles/position", s[kParticles], 3, position, {"m", "centroid"});
-  put(file, open, "/particles/velocity", s[kParticles], 3, velocity, {"m/s", "centroid velocity"});
+  put(file, open, "/particles/position", particles, 3, position, {"m", "centroid"});
+  put(file, open, "/particles/velocity", particles, 3, velocity, {"m/s", "centroid velocity"});
   file.createGroup("/faces", "the chosen particle fields, one row per face (cell data)");
   for (const auto& name : options_.fields) {
-    putParticleField(file, open, *findField(kParticleFields, name), s[kFaces], b, rank_);
+    putParticleField(file, open, *findField(kParticleFields, name), faces, b, rank_);
   }
   file.createGroup("/contacts", "touching contacts: one row per contact point");
-  put(file, open, "/contacts/point", s[kContacts], 3, contact_points, {"m", "contact point"});
-  put(file, open, "/contacts/vertex", s[kContacts], 1, vertex, {"", "row index (vertex cells)"});
+  put(file, open, "/contacts/point", contacts, 3, contact_points, {"m", "contact point"});
+  put(file, open, "/contacts/vertex", contacts, 1, vertex, {"", "row index (vertex cells)"});
   for (const auto& name : options_.contact_fields) {
-    putContactField(file, open, *findField(kContactFields, name), s[kContacts], c, rank_);
+    putContactField(file, open, *findField(kContactFields, name), contacts, c, rank_);
   }
   std::vector<Dataset*> all;
   for (auto& d : open) all.push_back(&d);

@@ -16,8 +16,9 @@
 //   /faces       the chosen particle fields, one row per face (cell data)
 //   /contacts    point, vertex (0..C-1), and the chosen contact fields, one row per contact
 //
-// Rows are in rank order (rank 0's particles first), each rank's in its storage order, so the
-// files of one state differ in row order between rank counts; the values of each uid do not.
+// Particle, point, face and topology rows are in uid order whatever rank holds a particle (each
+// rank writes a union of hyperslabs), so those tables are the same on any rank count; contact
+// rows are in rank order.
 // The file is written as "snapshot_S.h5.tmp" and renamed when complete; the collections are
 // rewritten (atomically, by rank 0) only after that, so they never list a missing file.
 #pragma once

@@ -8,7 +8,8 @@ Runs tests/apps/snapshot_scene.toml on 1 and on 2 ranks and checks, for each run
 - the chosen fields and no others; values against series.csv: the monitored blocks' velocity and
   position equal the snapshot's bit for bit, and the contacts column equals the contact rows;
 - each particle's contact_count and resultant force equal what its rows in /contacts give;
-- the 2-rank files hold the same values per uid as the 1-rank files (rows are in rank order);
+- the rows are in uid order, and every table but /contacts and /faces/rank of the 2-rank files
+  equals the 1-rank files' bit for bit (the contacts as a set of pairs);
 - ParaView's two XDMF readers (through pvpython) open snapshots.xmf and contacts.xmf and see the
   time steps, the polygons and the arrays (skipped with a message where pvpython is missing;
   Debian's python3-vtk9 has no XDMF reader);
@@ -145,8 +146,15 @@ def check_run(out, ranks):
                 scale = 1e-12 * max(1.0, np.abs(contacts["force"]).max() if count else 1.0)
                 expect(np.allclose(face["force"][first[i]], total[u], rtol=0, atol=scale),
                        f"{name}: uid {u} force {face['force'][first[i]]}, contacts {total[u]}")
+            expect(np.all(np.diff(uid.astype(np.int64)) > 0), f"{name}: rows not in uid order")
+            # Every table but the contacts and the rank field, as stored: compared across runs.
+            tables = {}
+            h.visititems(lambda path, node: tables.__setitem__(path, node[:]) if isinstance(
+                node, h5py.Dataset) and not path.startswith("contacts") and path != "faces/rank"
+                else None)
             order = np.argsort(uid)
             snapshots[step] = {
+                "tables": tables,
                 "uid": uid[order],
                 "position": h["particles/position"][:][order],
                 "velocity": h["particles/velocity"][:][order],
@@ -239,6 +247,11 @@ def main():
         one, two = runs[1][step], runs[2][step]
         for key in ("uid", "position", "velocity"):
             expect(np.array_equal(one[key], two[key]), f"step {step}: {key} differs, 1 vs 2 ranks")
+        # Rows in uid order: the mesh, particle and face tables are the same on any rank count.
+        expect(sorted(one["tables"]) == sorted(two["tables"]), f"step {step}: datasets differ")
+        for path, values in one["tables"].items():
+            expect(np.array_equal(values, two["tables"][path]),
+                   f"step {step}: /{path} differs between 1 and 2 ranks")
         expect(one["contacts"] == two["contacts"], f"step {step}: contact pairs differ")
     expect(any(len(runs[2][s]["contacts"]) for s in STEPS), "no contacts at all: a weak test")
     last = runs[2][STEPS[-1]]
