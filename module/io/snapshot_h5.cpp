@@ -336,6 +336,7 @@ void XdmfSnapshotWriter::writeFile(const std::string& path, std::int64_t step, d
 
   CheckpointIoOptions io;
   io.kind = "snapshot";
+  io.sync_on_close = false;
   const h5::ErrorSilencer quiet;  // HDF5's errors become exceptions, not printed stacks
   File file = File::create(path, comm_, io);
   std::vector<Dataset> open;
