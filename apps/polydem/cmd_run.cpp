@@ -4,8 +4,10 @@
 #include <filesystem>
 
 #include "commands.h"
+#include "picture.h"
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
+#include "polydem/core/mpi_env.h"
 #include "polydem/core/test_pause.h"
 #include "polydem/run/run.h"
 #include "polydem/scene/scene_reader.h"
@@ -20,11 +22,23 @@ std::string programPath() {
   return ec ? std::string("polydem") : exe.string();
 }
 
+/// The picture of a finished run (rank 0; the others wait, so that mpirun ends after it).
+void pictureOf(const sim::RunOptions& options) {
+  if (mpi::rank(MPI_COMM_WORLD) == 0) {
+    if (!options.snapshots) {
+      log::warning("no picture: --no-snapshots");
+    } else {
+      renderPicture(options.out_dir);
+    }
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
 }  // namespace
 
 int runCommand(int argc, char** argv) {
   testPause("startup");  // test hook: signal handlers are in place (main.cpp), no file read yet
-  Args args(argc, argv, {"help", "no-snapshots", "quiet", "check"});
+  Args args(argc, argv, {"help", "no-snapshots", "quiet", "check", "picture"});
   const auto restart = args.value("restart");
   if (args.flag("help") || (args.positional().empty() && !restart)) {
     std::printf(
@@ -37,6 +51,8 @@ int runCommand(int argc, char** argv) {
         "  --contact-model M sub-contacts (default) or point: how penalty contacts become forces\n"
         "  --progress N      progress line every N steps (default: every 5 s)\n"
         "  --no-snapshots    do not write ParaView snapshots\n"
+        "  --picture         render frames of the snapshots to DIR/frames.png after the run\n"
+        "                    (also [output] picture = true; needs /usr/bin/python3, matplotlib)\n"
         "  --check           exit with status 3 if a check of the scene fails\n"
         "  --quiet           only warnings and errors\n"
         "checkpoints (docs/checkpoint.md), written to DIR/checkpoints/checkpoint_<step>.h5:\n"
@@ -50,7 +66,9 @@ int runCommand(int argc, char** argv) {
         "SIGTERM or SIGUSR1 to the ranks (or to scripts/polydem-mpirun, which forwards it): a\n"
         "checkpoint at the end of the step, then exit 0 with the command that continues the run\n"
         "(docs/checkpoint.md, 'Stopping on a signal', for mpirun, Slurm and PBS).\n"
-        "writes DIR/summary.json, DIR/series.csv and DIR/snapshots.pvd (+ snapshots/); after\n"
+        "writes DIR/summary.json, DIR/series.csv and DIR/snapshots.xmf, contacts.xmf (+ "
+        "snapshots/;\n"
+        "snapshots.pvd with [output] snapshot_format = \"vtk\"); after\n"
         "--restart they hold the continued part of the run only\n");
     return args.flag("help") ? 0 : 2;
   }
@@ -72,6 +90,7 @@ int runCommand(int argc, char** argv) {
     options.checkpoint_keep = static_cast<int>(args.integer("checkpoint-keep", 2));
   }
   const bool check = args.flag("check");
+  bool picture = args.flag("picture");
   if (args.flag("quiet")) log::setLevel(log::Level::kWarning);
   args.rejectUnknown();
   if (args.positional().size() > 1) throw UsageError("polydem run takes one scene file");
@@ -98,12 +117,14 @@ int runCommand(int argc, char** argv) {
     std::optional<std::string> scene_file;
     if (!args.positional().empty()) scene_file = args.positional()[0];
     const auto result = sim::continueRun(*restart, scene_file, options, MPI_COMM_WORLD);
+    if (picture) pictureOf(options);
     return check && !result.stopped_early() && !result.all_checks_pass() ? 3 : 0;
   }
   const std::string path = args.positional()[0];
   options.scene_text = io::readSceneText(path);
   const io::Scene scene = io::parseScene(options.scene_text, path);
   const auto result = sim::runScene(scene, options, MPI_COMM_WORLD);
+  if (picture || scene.output.picture) pictureOf(options);
   return check && !result.stopped_early() && !result.all_checks_pass() ? 3 : 0;
 }
 

@@ -62,6 +62,11 @@ struct CheckpointIoOptions {
   /// it. Larger rounds mean fewer collective calls and more memory; every rank takes part in
   /// every round (with no rows once it has none left).
   std::size_t round_bytes = std::size_t{32} << 20;
+  /// What the file is, for messages ("checkpoint FILE: ..."); the snapshots reuse this layer.
+  std::string kind = "checkpoint";
+  /// Flush to disk (MPI_File_sync) before closing: a checkpoint must survive a crash; a snapshot
+  /// need not, and the sync is most of the cost of writing a small one.
+  bool sync_on_close = true;
 };
 
 /// Writes `data` to `path` (collective; see the top of this file). Throws CheckpointError on every

@@ -63,6 +63,37 @@ void Dataset::transfer(bool writing, void* data, std::uint64_t first_row, std::u
   }
 }
 
+void Dataset::writeRuns(const void* data, std::span<const Run> runs) {
+  std::uint64_t rows = 0;
+  for (const Run& r : runs) rows += r.rows;
+  if (total_ == 0) return;
+  // The union of the runs' hyperslabs: HDF5 moves the selected rows in file order, which is the
+  // order of the runs in `data`.
+  std::uint64_t dummy = 0;
+  const hsize_t elements = std::max<hsize_t>(rows * cols_, 1);
+  Handle mem_space(H5Screate_simple(1, &elements, nullptr), H5Sclose);
+  H5Sselect_none(file_space_.get());
+  for (const Run& r : runs) {
+    if (r.rows == 0) continue;
+    const hsize_t start[2] = {r.first, 0}, count[2] = {r.rows, cols_};
+    H5Sselect_hyperslab(file_space_.get(), H5S_SELECT_OR, start, nullptr, count, nullptr);
+  }
+  if (rows == 0) {
+    H5Sselect_none(mem_space.get());
+    data = &dummy;
+  }
+  if (H5Dwrite(id_.get(), mem_type_, mem_space.get(), file_space_.get(), transfer_list_, data) <
+          0 &&
+      !error_) {
+    error_ = context_ + "cannot write dataset " + name_ + ": " + hdf5ErrorMessage();
+  }
+  const auto* bytes = static_cast<const std::byte*>(data);
+  for (const Run& r : runs) {
+    hash(bytes, r.first, r.rows);
+    bytes += r.rows * cols_ * element_bytes_;
+  }
+}
+
 void Dataset::write(const void* data, std::uint64_t first_row, std::uint64_t rows) {
   transfer(true, const_cast<void*>(data), first_row, rows);
 }

@@ -190,7 +190,7 @@ File::~File() {
 }
 
 std::string File::context(const std::string& what) const {
-  return "checkpoint " + name_ + ": " + what;
+  return options_.kind + " " + name_ + ": " + what;
 }
 
 File File::create(const std::filesystem::path& path, MPI_Comm comm,
@@ -237,7 +237,7 @@ void File::close() {
   collective_.reset();
   independent_.reset();
   if (file_.get() >= 0) {
-    if (writable_ && H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) < 0) {
+    if (writable_ && options_.sync_on_close && H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) < 0) {
       error = context("cannot flush the file: " + hdf5ErrorMessage());
     }
     const hid_t id = file_.release();

@@ -107,6 +107,14 @@ class Dataset {
   /// Collective (every rank calls it equally often, with rows = 0 when it has none): writes
   /// `rows` rows of `data` at file row `first_row`.
   void write(const void* data, std::uint64_t first_row, std::uint64_t rows);
+  /// A run of rows: `rows` rows at file row `first`.
+  struct Run {
+    std::uint64_t first = 0, rows = 0;
+  };
+  /// Collective like write(), for rows scattered over the file: writes the runs (in increasing
+  /// file order, not overlapping), their rows one after the other in `data`, and adds them to
+  /// the checksum (no hash() call needed).
+  void writeRuns(const void* data, std::span<const Run> runs);
   /// Collective likewise: reads `rows` rows at file row `first_row` into `data`.
   void read(void* data, std::uint64_t first_row, std::uint64_t rows);
   /// Adds `rows` rows of `data`, file rows [first_row, first_row + rows), to the checksum. Not

@@ -42,6 +42,11 @@ struct ParticleFields {
   Vec3 angular_velocity = Vec3::Zero();
   Vec3 displacement = Vec3::Zero();
   bool fixed = false;
+  // Written by the HDF5 snapshots only (io/snapshot_h5.h): the VTK pieces keep their fixed set.
+  std::int32_t material = -1;
+  Vec3 position = Vec3::Zero();  // centroid
+  std::int32_t contact_count = 0;
+  Vec3 force = Vec3::Zero();  // resultant contact force
 };
 
 /// The polyhedra of one rank, as plain arrays (no dependency on the particle storage). Fill with

@@ -218,7 +218,9 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
     summary["communication_seconds_per_step"] = balance["communication_seconds_per_step"];
     io::writeJsonAtomic(options.out_dir + "/summary.json", summary);
     log::info("wrote " + options.out_dir + "/summary.json, series.csv" +
-              (options.snapshots ? ", snapshots.pvd" : ""));
+              (!options.snapshots                      ? ""
+               : scene.output.snapshot_format == "vtk" ? ", snapshots.pvd, contacts.pvd"
+                                                       : ", snapshots.xmf, contacts.xmf"));
   }
   if (!result.stop_signal.empty() && mpi::rank(comm) == 0) {
     const std::string where =

@@ -36,7 +36,14 @@ RunOutput::RunOutput(const std::string& dir, Simulation& sim, const Tracker& tra
     for (const auto& [name, value] : c->seriesColumns(sim)) columns.push_back(name);
   }
   series_ = std::make_unique<io::SeriesWriter>(dir + "/series.csv", columns, sim.comm());
-  if (snapshots) snapshots_ = std::make_unique<io::SnapshotWriter>(dir, sim.comm());
+  if (snapshots && sim.scene().output.snapshot_format == "vtk") {
+    snapshots_ = std::make_unique<io::SnapshotWriter>(dir, sim.comm());
+  } else if (snapshots) {
+    xdmf_ = std::make_unique<io::XdmfSnapshotWriter>(
+        dir, sim.comm(),
+        io::XdmfSnapshotWriter::Options{sim.scene().output.fields,
+                                        sim.scene().output.contact_fields});
+  }
 
   // Initial centroids of all free particles (indexed by uid) for the displacement field.
   struct Start {
@@ -89,10 +96,25 @@ void RunOutput::writeSeries(Simulation& sim, const Tracker& tracker,
 }
 
 void RunOutput::writeSnapshot(const Simulation& sim) {
-  if (!snapshots_) return;
+  if (!snapshots_ && !xdmf_) return;
   last_snapshot_ = labelOf(sim);
   const auto& storage = sim.particles();
   const bool root = mpi::rank(sim.comm()) == 0;
+  // Touching contacts and resultant contact force of each local free particle, from the last
+  // contact phase's records (in key order, so the sum does not depend on the rank count).
+  contact_count_.assign(storage.localCount(), 0);
+  contact_force_.assign(storage.localCount(), Vec3::Zero());
+  for (const auto& r : sim.contacts().records()) {
+    if (!r.touching) continue;
+    if (r.a >= 0) {
+      ++contact_count_[r.a];
+      contact_force_[r.a] += r.force;
+    }
+    if (r.b >= 0) {
+      ++contact_count_[r.b];
+      contact_force_[r.b] -= r.force;
+    }
+  }
   batch_.clear();
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
     const auto& p = storage[i];
@@ -105,6 +127,10 @@ void RunOutput::writeSnapshot(const Simulation& sim) {
     fields.uid = p.uid;
     fields.velocity = p.velocity;
     fields.fixed = p.isFixed();
+    fields.material = p.material;
+    fields.position = p.position;
+    fields.contact_count = contact_count_[i];
+    fields.force = contact_force_[i];
     if (p.isFree()) {
       const auto mass = sim.massProperties(i);
       fields.angular_velocity =
@@ -128,7 +154,8 @@ void RunOutput::writeSnapshot(const Simulation& sim) {
     c.shear_force = r.force - r.force.dot(r.normal) * r.normal;
     contacts_.contacts.push_back(c);
   }
-  snapshots_->write(sim.time(), sim.stepCount(), batch_, &contacts_);
+  if (snapshots_) snapshots_->write(sim.time(), sim.stepCount(), batch_, &contacts_);
+  if (xdmf_) xdmf_->write(sim.time(), sim.stepCount(), batch_, &contacts_);
 }
 
 void RunOutput::close() {

@@ -1,4 +1,5 @@
-// Output of a run: the series.csv columns, ParaView snapshot batches and summary.json.
+// Output of a run: the series.csv columns, ParaView snapshot batches (XDMF + HDF5 or VTK, as the
+// scene's [output] snapshot_format says) and summary.json.
 #pragma once
 
 #include <memory>
@@ -6,6 +7,7 @@
 #include <vector>
 
 #include "polydem/output/series_writer.h"
+#include "polydem/output/snapshot_h5.h"
 #include "polydem/output/vtk_writer.h"
 #include "polydem/run/checks.h"
 #include "polydem/sim/simulation.h"
@@ -43,7 +45,10 @@ class RunOutput {
   Written last_series_, last_snapshot_;
   std::vector<std::pair<Uid, std::string>> monitored_;
   std::unique_ptr<io::SeriesWriter> series_;
-  std::unique_ptr<io::SnapshotWriter> snapshots_;
+  std::unique_ptr<io::SnapshotWriter> snapshots_;  // snapshot_format = "vtk"
+  std::unique_ptr<io::XdmfSnapshotWriter> xdmf_;   // snapshot_format = "xdmf"
+  std::vector<std::int32_t> contact_count_;        // per local particle, for the snapshot
+  std::vector<Vec3> contact_force_;
   std::vector<Vec3> initial_positions_;  // by uid order of the scene, for displacement
   std::vector<double> row_;
   io::PolyhedraBatch batch_;

@@ -16,6 +16,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/particles/material.h"
 #include "polydem/scene/scene_sections.h"
+#include "polydem/setup/snapshot_fields.h"
 
 namespace polydem::io {
 
@@ -263,10 +264,33 @@ void readEquilibrium(const Context& ctx, const toml::table& root, Scene& scene) 
   e.reset_velocities = s->boolean("reset_velocities").value_or(e.reset_velocities);
 }
 
+/// `[output] fields` or `contact_fields`: names from `known`, each once; an unknown or repeated
+/// name is an error at its own line. Absent: `defaults`.
+std::vector<std::string> snapshotFields(const Section& s, std::string_view key,
+                                        const std::vector<SnapshotField>& known,
+                                        const std::vector<std::string>& defaults) {
+  const auto names = s.strings(key);
+  if (!names) return defaults;
+  const toml::array& array = *s.find(key)->as_array();
+  for (std::size_t i = 0; i < names->size(); ++i) {
+    const std::string& name = (*names)[i];
+    std::string problem = unknownField(known, name);
+    if (problem.empty() &&
+        std::find(names->begin(), names->begin() + i, name) != names->begin() + i) {
+      problem = "field '" + name + "' is listed twice";
+    }
+    if (!problem.empty()) {
+      s.context().fail(detail::lineOf(array[i]), detail::element(s.where(key), i) + ": " + problem);
+    }
+  }
+  return *names;
+}
+
 void readOutput(const Context& ctx, const toml::table& root, Scene& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "output");
   if (!s) return;
-  s->allowOnly({"series_every", "snapshot_every", "progress_every", "monitor"});
+  s->allowOnly({"series_every", "snapshot_every", "progress_every", "monitor", "snapshot_format",
+                "fields", "contact_fields", "picture"});
   OutputSpec& o = scene.output;
   o.series_every = s->integer("series_every", o.series_every, Range::kPositive);
   o.snapshot_every = s->integer("snapshot_every", o.snapshot_every, Range::kNonNegative);
@@ -278,6 +302,10 @@ void readOutput(const Context& ctx, const toml::table& root, Scene& scene) {
                                    [&](const ParticleSpec& p) { return p.label == label; });
     if (!found) s->fail("monitor", "no particle is labelled '" + label + "'");
   }
+  o.snapshot_format = s->choice("snapshot_format", {"xdmf", "vtk"}, o.snapshot_format);
+  o.fields = snapshotFields(*s, "fields", kParticleFields, kDefaultParticleFields);
+  o.contact_fields = snapshotFields(*s, "contact_fields", kContactFields, kDefaultContactFields);
+  o.picture = s->boolean("picture").value_or(o.picture);
 }
 
 void readCheckpoint(const Context& ctx, const toml::table& root, Scene& scene) {

@@ -100,9 +100,15 @@ struct EquilibriumSpec {
 
 struct OutputSpec {
   std::int64_t series_every = 10;    // steps between rows of series.csv
-  std::int64_t snapshot_every = 0;   // steps between VTK snapshots (0 = first and last only)
+  std::int64_t snapshot_every = 0;   // steps between snapshots (0 = first and last only)
   std::int64_t progress_every = 0;   // steps between progress lines (0 = automatic)
   std::vector<std::string> monitor;  // particle labels whose state goes into series.csv
+  // "xdmf": one HDF5 file per snapshot, written collectively, and snapshots.xmf (the default:
+  // 1 file per snapshot on any rank count); "vtk": one .vtp per rank per snapshot (small runs).
+  std::string snapshot_format = "xdmf";
+  // Fields of the XDMF snapshots (setup/snapshot_fields.h); empty: the defaults declared there.
+  std::vector<std::string> fields, contact_fields;
+  bool picture = false;  // render frames.png after the run (python_coupling/plots/)
 };
 
 struct CheckpointSpec {

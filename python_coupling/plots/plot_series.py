@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Plot the time series of a polydem run (RUN_DIR/series.csv) to a PNG.
 
-Each chosen column gets a panel against time. When a column `<name>_analytic` sits beside
+By default related columns share a panel (a monitored block's x, y, z; its vx, vy, vz; the
+rotations of all monitored blocks; kinetic energy with the force ratio on a second axis); columns
+chosen with --columns get a panel each. When a column `<name>_analytic` sits beside
 `<name>`, the panel shows both (numerical solid, analytical dashed) and the relative error
 |numerical - analytical| / |analytical| on a second axis. Units come from summary.json's
 "series_units" map when the run wrote one, otherwise from the column name (see UNITS below).
@@ -135,6 +137,69 @@ def plot_panel(ax, x, name, series, units):
     return [ax, err_ax]
 
 
+def group_panels(columns):
+    """Panels of related columns, in the order of their first column: a block's x, y, z in one
+    panel and its vx, vy, vz in another, the rotations of all monitored blocks together, kinetic
+    energy with the force ratio (on a second axis); every other column alone. A column with an
+    analytical partner stays alone (its panel shows the error)."""
+    keys = []
+    panels = {}
+    for name in columns:
+        key = (name,)
+        alone = name + ANALYTIC in columns
+        for suffixes, kind in ((("_x", "_y", "_z"), "position"), (("_vx", "_vy", "_vz"), "velocity")):
+            for suffix in suffixes:
+                prefix = name[:-len(suffix)]
+                if name.endswith(suffix) and not alone and all(
+                        prefix + s in columns and prefix + s + ANALYTIC not in columns
+                        for s in suffixes):
+                    key = (prefix, kind)
+        if name.endswith("_rotation") and not alone:
+            key = ("rotation",)
+        if name in ("kinetic_energy", "force_ratio") and not alone:
+            key = ("energy",)
+        if key not in panels:
+            keys.append(key)
+            panels[key] = []
+        panels[key].append(name)
+    return [panels[k] for k in keys]
+
+
+def plot_group(ax, x, names, series, units):
+    """Several columns in one panel: one axis when they share a unit, else a second axis for the
+    second unit (kinetic energy and force ratio)."""
+    unit = unit_of(names[0], units)
+    first = [n for n in names if unit_of(n, units) == unit]
+    second = [n for n in names if unit_of(n, units) != unit]
+    # A block's x, y, z (or vx, vy, vz): the block's label once, the component in the legend.
+    prefix, what = "", ""
+    for suffix, kind in (("_vx", "velocity"), ("_x", "position")):
+        if len(first) > 1 and first[0].endswith(suffix):
+            prefix, what = first[0][:-len(suffix)], kind
+    for i, name in enumerate(first):
+        legend = name[len(prefix) + 1:] if prefix else name.replace("_", " ")
+        ax.plot(x, series[name], color="C%d" % i, lw=1.5, label=legend)
+    if prefix:
+        ax.set_ylabel("%s %s [%s]" % (prefix.replace("_", " "), what, unit))
+    elif len(first) > 1:
+        ax.set_ylabel("%s [%s]" % (first[0].split("_")[-1], unit))
+    else:
+        ax.set_ylabel(label_of(first[0], units))
+    drawn = [ax]
+    if second:
+        twin = ax.twinx()
+        for i, name in enumerate(second):
+            twin.plot(x, series[name], color="C%d" % (len(first) + i), lw=1.2, ls="--",
+                      label=name.replace("_", " "))
+        twin.set_ylabel(label_of(second[0], units))
+        values = np.concatenate([series[n] for n in second])
+        positive = values[values > 0]
+        if positive.size and positive.max() / positive.min() > 1000:
+            twin.set_yscale("log")  # a force ratio falls over decades as a deposit settles
+        drawn.append(twin)
+    return drawn
+
+
 def choose_columns(header, x_name, requested):
     """The columns to plot: `requested` (a list, or names separated by commas) or all of them."""
     if requested:
@@ -167,19 +232,33 @@ def plot(run_dir, columns=None, out=None, x="time"):
         raise ValueError("no column %s in series.csv" % x)
     summary = read_summary(run_dir)
     units = summary.get("series_units") if isinstance(summary.get("series_units"), dict) else {}
-    columns = choose_columns(header, x, columns)
-    if not columns:
+    if columns is None:
+        # By default related columns share a panel (at most MAX_DEFAULT_PANELS panels).
+        columns = [c for c in header if c not in (x, "step") and not c.endswith(ANALYTIC)]
+        panels = group_panels(columns + [c for c in header if c.endswith(ANALYTIC)])
+        panels = [[c for c in p if not c.endswith(ANALYTIC)] for p in panels]
+        panels = [p for p in panels if p]
+        if len(panels) > MAX_DEFAULT_PANELS:
+            print("plot_series: plotting the first %d of %d panels; choose with --columns"
+                  % (MAX_DEFAULT_PANELS, len(panels)), file=sys.stderr)
+            panels = panels[:MAX_DEFAULT_PANELS]
+    else:
+        panels = [[c] for c in choose_columns(header, x, columns)]  # chosen: a panel each
+    if not panels:
         raise ValueError("nothing to plot besides %s" % x)
 
-    n = len(columns)
+    n = len(panels)
     ncols = 1 if n <= 3 else 2
     nrows = math.ceil(n / ncols)
     fig, axes = plt.subplots(nrows, ncols, sharex=True, squeeze=False,
                              figsize=(7.5 * ncols, 2.8 * nrows + 0.9))
     xs = series[x]
-    for i, name in enumerate(columns):
+    for i, names in enumerate(panels):
         ax = axes[i // ncols][i % ncols]
-        drawn = plot_panel(ax, xs, name, series, units)
+        if len(names) == 1:
+            drawn = plot_panel(ax, xs, names[0], series, units)
+        else:
+            drawn = plot_group(ax, xs, names, series, units)
         ax.grid(True, which="major", alpha=0.35)
         ax.grid(True, which="minor", alpha=0.12)
         ax.minorticks_on()

@@ -68,6 +68,14 @@ def main():
     header, series = m.read_series(os.path.join(run_dir, "series.csv"))
     assert len(series["time"]) == 21, len(series["time"])  # torn row skipped
     assert m.choose_columns(header, "time", None) == ["kinetic_energy", "block_x", "block_vx"]
+    # Default panels: a block's x, y, z together (not when one has an analytical partner), its
+    # vx, vy, vz, all rotations, and kinetic energy with the force ratio.
+    columns = ["kinetic_energy", "contacts", "force_ratio", "b_x", "b_y", "b_z", "b_vx", "b_vy",
+               "b_vz", "b_rotation", "c_x", "c_y", "c_z", "c_x_analytic", "c_rotation"]
+    assert m.group_panels(columns) == [
+        ["kinetic_energy", "force_ratio"], ["contacts"], ["b_x", "b_y", "b_z"],
+        ["b_vx", "b_vy", "b_vz"], ["b_rotation", "c_rotation"], ["c_x"], ["c_y"], ["c_z"],
+        ["c_x_analytic"]], m.group_panels(columns)
     summary = m.read_summary(run_dir)
     assert m.title_of(summary, run_dir).endswith("checks: 1 of 2 pass (failed: velocity)")
 

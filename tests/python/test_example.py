@@ -63,7 +63,8 @@ class TiltExample(unittest.TestCase):
     def test_files_agree_with_the_run(self):
         for name in ("series.csv", "summary.json", "tilt.png"):
             self.assertTrue(os.path.isfile(os.path.join(self.out, name)), name)
-        self.assertFalse(os.path.exists(os.path.join(self.out, "snapshots.pvd")))
+        for name in ("snapshots.pvd", "snapshots.xmf"):
+            self.assertFalse(os.path.exists(os.path.join(self.out, name)), name)
         with open(os.path.join(self.out, "summary.json")) as f:
             summary = json.load(f)
         self.assertEqual(summary["state_hash"], self.r["state_hash"])
