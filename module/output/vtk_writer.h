@@ -42,7 +42,7 @@ struct ParticleFields {
   Vec3 angular_velocity = Vec3::Zero();
   Vec3 displacement = Vec3::Zero();
   bool fixed = false;
-  // Written by the HDF5 snapshots only (io/snapshot_h5.h): the VTK pieces keep their fixed set.
+  // Written by the HDF5 snapshots only (output/snapshot_h5.h): the VTK pieces keep their fixed set.
   std::int32_t material = -1;
   Vec3 position = Vec3::Zero();  // centroid
   std::int32_t contact_count = 0;

@@ -1,4 +1,4 @@
-// The XDMF (version 2) descriptions of a run's HDF5 snapshots (io/snapshot_h5.h): one temporal
+// The XDMF (version 2) descriptions of a run's HDF5 snapshots (output/snapshot_h5.h): one temporal
 // collection per kind, DIR/snapshots.xmf for the blocks and DIR/contacts.xmf for the contact
 // points, each listing every snapshot file with its time. The XML only points into the HDF5
 // files ("snapshots/snapshot_S.h5:/mesh/points"); ParaView's and VTK's XDMF readers load the
