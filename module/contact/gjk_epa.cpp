@@ -4,6 +4,7 @@
 #include "contact/gjk.h"
 #include "contact/ipm.h"
 #include "contact/kernel_factories.h"
+#include "contact/sat.h"
 #include "contact/support.h"
 #include "core/tolerance.h"
 
@@ -39,13 +40,60 @@ Contact gjkEpaContact(const Body& a, const Body& b, PairState* state, Extremes* 
   return c;
 }
 
+namespace {
+
+// The answer for small shapes (sat.h), false for larger ones: the exact minimum-overlap direction
+// and depth from the separating-axis test. The point is EPA's for the contact the axis stands for
+// (Keissar eqs. 2.1-2.2): on a face axis, the vertex-face contact's (the other body's deepest
+// vertex moved half the depth back along the normal); on an edge-edge axis, the crossing edges'
+// (the middle of their closest points). Face-face and edge-face contacts take their point from
+// the IPM or their sub-contacts.
+bool satContact(const Body& a, const Body& b, PairState* state, Contact& c, Extremes& extremes) {
+  if (!satApplies(a, b)) return false;
+  const double tolerance = absTol(pairLengthScale(a, b), RelTol::kIteration);
+  const bool warm = state != nullptr && state->warm_valid != 0;
+  const AxisTest sat = separatingAxisTest(a, b, warm ? &state->warm_direction : nullptr, tolerance);
+  if (state != nullptr) {
+    state->warm_direction = sat.normal;
+    state->warm_valid = 1;
+  }
+  c = Contact{};
+  if (sat.separated) return true;
+  c.touching = true;
+  c.normal = sat.normal;
+  c.depth = sat.depth;
+  switch (sat.axis) {
+    case AxisTest::Axis::kFaceA:
+      c.point = b.vertices[sat.highest_b] - (0.5 * sat.depth) * sat.normal;
+      break;
+    case AxisTest::Axis::kFaceB:
+      c.point = a.vertices[sat.lowest_a] + (0.5 * sat.depth) * sat.normal;
+      break;
+    case AxisTest::Axis::kEdges:
+      c.point = crossingPoint(a, b, sat);
+      break;
+  }
+  extremes = {sat.lowest_a, sat.highest_b};
+  return true;
+}
+
+}  // namespace
+
 Contact GjkEpaKernel::collide(const Body& a, const Body& b, PairState* state) const {
+  return gjkEpaContact(a, b, state);
+}
+
+Contact GjkEpaKernel::collideForSubContacts(const Body& a, const Body& b, PairState* state) const {
+  Contact c;
+  Extremes extremes;
+  if (satContact(a, b, state, c, extremes)) return c;
   return gjkEpaContact(a, b, state);
 }
 
 Contact GjkEpaIpmKernel::collide(const Body& a, const Body& b, PairState* state) const {
   Extremes extremes;
-  Contact c = gjkEpaContact(a, b, state, &extremes);
+  Contact c;
+  if (!satContact(a, b, state, c, extremes)) c = gjkEpaContact(a, b, state, &extremes);
   if (!c.touching) return c;
   // EPA's last support query already found the extremes of the overlap along its normal.
   const Vec3 plane_point = extremes.lowest_a >= 0
@@ -63,6 +111,9 @@ Contact GjkEpaIpmKernel::collide(const Body& a, const Body& b, PairState* state)
 
 Contact GjkEpaIpmKernel::collideForSubContacts(const Body& a, const Body& b,
                                                PairState* state) const {
+  Contact c;
+  Extremes extremes;
+  if (satContact(a, b, state, c, extremes)) return c;
   return gjkEpaContact(a, b, state, nullptr);  // no IPM: sub-contacts place the force on faces
 }
 
