@@ -12,14 +12,27 @@ namespace {
 
 /// A body's world vertices as structure of arrays, so that the projections onto an axis are
 /// one loop of independent multiplies and min/max without index bookkeeping (the vertices
-/// extreme on the chosen axis are found once at the end).
+/// extreme on the chosen axis are found once at the end). A parallelepiped (8 vertices, faces
+/// parallel in pairs: a cube, a box) is projected in closed form instead: its centre c and edge
+/// vectors e_k span it as c + sum s_k e_k / 2 with s_k = +-1, so along u its extent is
+/// c . u -+ sum |e_k . u| / 2 (Gottschalk et al. 1996), the same numbers as the vertices' up to
+/// round-off, in a third of the operations.
 struct Cloud {
   static constexpr int kMax = kScanSupportVertices;
   alignas(16) double x[kMax], y[kMax], z[kMax];
   int n;
+  bool box;
+  Vec3 centre, e0, e1, e2;
 
-  explicit Cloud(std::span<const Vec3> v) : n(static_cast<int>(v.size())) {
+  explicit Cloud(const Body& body) : n(static_cast<int>(body.vertices.size())) {
+    const auto& v = body.vertices;
     for (int i = 0; i < n; ++i) x[i] = v[i].x(), y[i] = v[i].y(), z[i] = v[i].z();
+    box = n == 8 && body.shape->axisFaces().size() == 3;
+    if (box) {
+      const auto& next = body.shape->vertexNeighbours()[0];  // three: a corner of the box
+      e0 = v[next[0]] - v[0], e1 = v[next[1]] - v[0], e2 = v[next[2]] - v[0];
+      centre = v[0] + 0.5 * (e0 + e1 + e2);
+    }
   }
 };
 
@@ -28,6 +41,12 @@ struct Extent {
 };
 
 Extent extent(const Cloud& c, const Vec3& u) {
+  if (c.box) {
+    const double middle = u.dot(c.centre);
+    const double half =
+        0.5 * (std::abs(u.dot(c.e0)) + std::abs(u.dot(c.e1)) + std::abs(u.dot(c.e2)));
+    return {middle - half, middle + half};
+  }
   const double ux = u.x(), uy = u.y(), uz = u.z();
   double lo = ux * c.x[0] + uy * c.y[0] + uz * c.z[0], hi = lo;
   for (int i = 1; i < c.n; ++i) {
@@ -116,7 +135,7 @@ bool satApplies(const Body& a, const Body& b) {
 }
 
 AxisTest separatingAxisTest(const Body& a, const Body& b, const Vec3* warm, double tolerance) {
-  const Cloud ca(a.vertices), cb(b.vertices);
+  const Cloud ca(a), cb(b);
   if (warm != nullptr && warm->squaredNorm() > 0.0) {
     // A separating axis of the last step usually still separates: one projection decides.
     const double gap = extent(ca, *warm).lo - extent(cb, *warm).hi;
