@@ -26,13 +26,13 @@ struct Cloud {
 
   explicit Cloud(const Body& body) : n(static_cast<int>(body.vertices.size())) {
     const auto& v = body.vertices;
-    for (int i = 0; i < n; ++i) x[i] = v[i].x(), y[i] = v[i].y(), z[i] = v[i].z();
     box = n == 8 && body.shape->axisFaces().size() == 3;
     if (box) {
       const auto& next = body.shape->vertexNeighbours()[0];  // three: a corner of the box
       e0 = v[next[0]] - v[0], e1 = v[next[1]] - v[0], e2 = v[next[2]] - v[0];
       centre = v[0] + 0.5 * (e0 + e1 + e2);
     }
+    for (int i = 0; i < n; ++i) x[i] = v[i].x(), y[i] = v[i].y(), z[i] = v[i].z();
   }
 };
 
@@ -40,7 +40,7 @@ struct Extent {
   double lo, hi;
 };
 
-Extent extent(const Cloud& c, const Vec3& u) {
+[[gnu::always_inline]] inline Extent extent(const Cloud& c, const Vec3& u) {
   if (c.box) {
     const double middle = u.dot(c.centre);
     const double half =
@@ -199,6 +199,10 @@ Vec3 crossingPoint(const Body& a, const Body& b, const AxisTest& t) {
   const Vec3 d = p1 - p, e = q1 - q, w = p - q;
   const double dd = d.dot(d), de = d.dot(e), ee = e.dot(e), dw = d.dot(w), ew = e.dot(w);
   const double denominator = dd * ee - de * de;
+  // Edges parallel to round-off (the supporting features are not the axis's two edges: a tie
+  // with a face axis): the middle of the two deepest vertices.
+  const double limit = geometry::ConvexPolyhedron::kParallelAxes;
+  if (!(denominator > limit * limit * dd * ee)) return 0.5 * (p + q);
   const double s = std::clamp((de * ew - ee * dw) / denominator, 0.0, 1.0);
   const double r = std::clamp((dd * ew - de * dw) / denominator, 0.0, 1.0);
   return 0.5 * (p + s * d + q + r * e);

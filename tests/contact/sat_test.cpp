@@ -87,6 +87,9 @@ TEST(Sat, AgreesWithEpaOnRandomPairs) {
     }
     ++overlapping;
     edge_axes += sat.axis == AxisTest::Axis::kEdges;
+    if (sat.axis == AxisTest::Axis::kEdges) {
+      EXPECT_TRUE(crossingPoint(a.body(), b.body(), sat).allFinite()) << "pair " << i;
+    }
     EXPECT_NEAR(sat.depth, epa.depth, 1e-9 * L) << "pair " << i;
     EXPECT_NEAR(sat.depth, reference.depth, 1e-9 * L) << "pair " << i;
     EXPECT_NEAR(overlapAlong(a.body(), b.body(), sat.normal), sat.depth, 1e-12 * L) << "pair " << i;
