@@ -86,14 +86,16 @@ Contact GjkEpaKernel::collide(const Body& a, const Body& b, PairState* state) co
 Contact GjkEpaKernel::collideForSubContacts(const Body& a, const Body& b, PairState* state) const {
   Contact c;
   Extremes extremes;
-  if (satContact(a, b, state, c, extremes)) return c;
+  if (separating_axes_ && satContact(a, b, state, c, extremes)) return c;
   return gjkEpaContact(a, b, state);
 }
 
 Contact GjkEpaIpmKernel::collide(const Body& a, const Body& b, PairState* state) const {
   Extremes extremes;
   Contact c;
-  if (!satContact(a, b, state, c, extremes)) c = gjkEpaContact(a, b, state, &extremes);
+  if (!separating_axes_ || !satContact(a, b, state, c, extremes)) {
+    c = gjkEpaContact(a, b, state, &extremes);
+  }
   if (!c.touching) return c;
   // EPA's last support query already found the extremes of the overlap along its normal.
   const Vec3 plane_point = extremes.lowest_a >= 0
@@ -113,16 +115,16 @@ Contact GjkEpaIpmKernel::collideForSubContacts(const Body& a, const Body& b,
                                                PairState* state) const {
   Contact c;
   Extremes extremes;
-  if (satContact(a, b, state, c, extremes)) return c;
+  if (separating_axes_ && satContact(a, b, state, c, extremes)) return c;
   return gjkEpaContact(a, b, state, nullptr);  // no IPM: sub-contacts place the force on faces
 }
 
-std::unique_ptr<Kernel> makeGjkEpa(const KernelParams&) {
-  return std::make_unique<GjkEpaKernel>();
+std::unique_ptr<Kernel> makeGjkEpa(const KernelParams& params) {
+  return std::make_unique<GjkEpaKernel>(params.separating_axes);
 }
 
-std::unique_ptr<Kernel> makeGjkEpaIpm(const KernelParams&) {
-  return std::make_unique<GjkEpaIpmKernel>();
+std::unique_ptr<Kernel> makeGjkEpaIpm(const KernelParams& params) {
+  return std::make_unique<GjkEpaIpmKernel>(params.separating_axes);
 }
 
 }  // namespace polydem::contact

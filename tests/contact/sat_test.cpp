@@ -166,5 +166,25 @@ TEST(Sat, AlignedCubesGiveFaceAxes) {
   }
 }
 
+// KernelParams::separating_axes = false: both kernels give GJK + EPA's answer, bit for bit.
+TEST(Sat, SwitchedOffKeepsGjkEpa) {
+  std::mt19937_64 rng(5);
+  const auto cube = geometry::ConvexPolyhedron::fromPoints(shapes::cube(1.0));
+  const Placed a(cube, Vec3(0.9, 0.2, 0.1), randomRotation(rng));
+  const Placed b(cube, Vec3::Zero(), randomRotation(rng));
+  KernelParams params;
+  params.separating_axes = false;
+  for (const char* name : {"gjk-epa", "gjk-epa-ipm"}) {
+    PairState s1, s2;
+    const Contact off = makeKernel(name, params)->collideForSubContacts(a.body(), b.body(), &s1);
+    const Contact epa = gjkEpaContact(a.body(), b.body(), &s2);
+    ASSERT_TRUE(epa.touching);
+    EXPECT_EQ(off.normal, epa.normal) << name;
+    EXPECT_EQ(off.depth, epa.depth) << name;
+    EXPECT_EQ(off.point, epa.point) << name;
+    EXPECT_EQ(s1.warm_direction, s2.warm_direction) << name;
+  }
+}
+
 }  // namespace
 }  // namespace polydem::contact
