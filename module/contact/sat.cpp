@@ -16,7 +16,7 @@ namespace {
 /// parallel in pairs: a cube, a box) is projected in closed form instead: its centre c and edge
 /// vectors e_k span it as c + sum s_k e_k / 2 with s_k = +-1, so along u its extent is
 /// c . u -+ sum |e_k . u| / 2 (Gottschalk et al. 1996), the same numbers as the vertices' up to
-/// round-off, in a third of the operations.
+/// round-off, with three dot products instead of eight.
 struct Cloud {
   static constexpr int kMax = kScanSupportVertices;
   alignas(16) double x[kMax], y[kMax], z[kMax];
@@ -57,7 +57,7 @@ struct Extent {
   return {lo, hi};
 }
 
-/// The first vertex lowest along u (the same dot products as extent()).
+/// The first vertex lowest along u (the dot products of extent()'s vertex loop).
 int lowest(const Cloud& c, const Vec3& u) {
   int best = 0;
   double value = u.x() * c.x[0] + u.y() * c.y[0] + u.z() * c.z[0];
