@@ -88,6 +88,10 @@ class Kernel {
 /// Parameters some kernels take; every kernel ignores the ones it does not use.
 struct KernelParams {
   double lp_rounding = 0.05;  // LP potential blocks: rounding radius r, fraction of inradius
+  // gjk-epa, gjk-epa-ipm: the exact separating-axis test for small shapes (contact/sat.h);
+  // false keeps GJK + EPA for every pair, the algorithm before issue 15 (e.g. to continue a run
+  // written by it to the same bits).
+  bool separating_axes = true;
 };
 
 /// The kernel called `name` (gjk-epa, gjk-epa-ipm, fcp, fcp-ipm, lp, distance-potential, fdem).

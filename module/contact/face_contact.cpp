@@ -62,7 +62,8 @@ void FaceContactBuilder::project(const Body& body, int face, std::vector<Vec2>& 
     const Vec3 d = body.vertices[f.vertices[i]] - frame_.origin;
     corners[i] = Vec2(frame_.u.dot(d), frame_.v.dot(d));
   }
-  for (int i = 0; i < m; ++i) twice_area += geometry::cross2(corners[i], corners[(i + 1) % m]);
+  for (int i = 0; i < m; ++i)
+    twice_area += geometry::cross2(corners[i], corners[i + 1 < m ? i + 1 : 0]);
   if (twice_area >= 0.0) {  // counter-clockwise seen from +n already (B's face)
     for (int i = 0; i < m; ++i) vertex[i] = f.vertices[i], edge[i] = f.edges[i];
     return;
@@ -72,7 +73,7 @@ void FaceContactBuilder::project(const Body& body, int face, std::vector<Vec2>& 
   std::reverse(corners.begin(), corners.end());
   for (int i = 0; i < m; ++i) {
     vertex[i] = f.vertices[m - 1 - i];
-    edge[i] = f.edges[((m - 2 - i) % m + m) % m];
+    edge[i] = f.edges[m - 2 - i >= 0 ? m - 2 - i : m - 1];  // i = m - 1: edge m - 1
   }
 }
 
@@ -134,7 +135,7 @@ bool FaceContactBuilder::faceFace(const Body& a, const Body& b, int fa, int fb, 
   shares_.resize(m);
   for (int i = 0; i < m; ++i) {
     const Vec2& p = overlap_[i].p;
-    const Vec2& q = overlap_[(i + 1) % m].p;
+    const Vec2& q = overlap_[i + 1 < m ? i + 1 : 0].p;
     shares_[i] = std::max(0.5 * geometry::cross2(p - middle, q - middle), 0.0);
     twice_area += 2.0 * shares_[i];
     extent = std::max(extent, (p - q).norm());
@@ -143,7 +144,7 @@ bool FaceContactBuilder::faceFace(const Body& a, const Body& b, int fa, int fb, 
   subs_.clear();
   for (int i = 0; i < m; ++i) {
     SubContact s = fromCorner(a, b, overlap_[i], c.normal);
-    s.weight = 0.5 * (shares_[i] + shares_[(i + m - 1) % m]) / (0.5 * twice_area);
+    s.weight = 0.5 * (shares_[i] + shares_[i > 0 ? i - 1 : m - 1]) / (0.5 * twice_area);
     subs_.push_back(s);
   }
   area_ = 0.5 * twice_area;
@@ -177,8 +178,21 @@ bool FaceContactBuilder::edgeFace(const Body& edge_body, const Body& face_body, 
 void FaceContactBuilder::finish() {
   // Canonical order, and one sub-contact per feature pair: a degenerate clip (a corner exactly on
   // an edge line) can meet the same pair of features twice; their weights are merged.
-  std::sort(subs_.begin(), subs_.end(),
-            [](const SubContact& x, const SubContact& y) { return x.feature < y.feature; });
+  // A pair has a handful of corners: a stable insertion sort, the order std::sort gives to
+  // ranges this short (it insertion-sorts up to 16 elements), without the call.
+  const auto before = [](const SubContact& x, const SubContact& y) {
+    return x.feature < y.feature;
+  };
+  if (subs_.size() > 16) {
+    std::sort(subs_.begin(), subs_.end(), before);
+  } else {
+    for (std::size_t i = 1; i < subs_.size(); ++i) {
+      const SubContact s = subs_[i];
+      std::size_t j = i;
+      for (; j > 0 && before(s, subs_[j - 1]); --j) subs_[j] = subs_[j - 1];
+      subs_[j] = s;
+    }
+  }
   std::size_t kept = 0;
   for (std::size_t i = 0; i < subs_.size(); ++i) {
     if (kept > 0 && subs_[kept - 1].feature == subs_[i].feature) {

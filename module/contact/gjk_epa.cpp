@@ -4,6 +4,7 @@
 #include "polydem/contact/gjk.h"
 #include "polydem/contact/ipm.h"
 #include "polydem/contact/kernel_factories.h"
+#include "polydem/contact/sat.h"
 #include "polydem/contact/support.h"
 #include "polydem/core/tolerance.h"
 
@@ -39,13 +40,62 @@ Contact gjkEpaContact(const Body& a, const Body& b, PairState* state, Extremes* 
   return c;
 }
 
+namespace {
+
+// The answer for small shapes (sat.h), false for larger ones: the exact minimum-overlap direction
+// and depth from the separating-axis test. The point is EPA's for the contact the axis stands for
+// (Keissar eqs. 2.1-2.2): on a face axis, the vertex-face contact's (the other body's deepest
+// vertex moved half the depth back along the normal); on an edge-edge axis, the crossing edges'
+// (the middle of their closest points). Face-face and edge-face contacts take their point from
+// the IPM or their sub-contacts.
+bool satContact(const Body& a, const Body& b, PairState* state, Contact& c, Extremes& extremes) {
+  if (!satApplies(a, b)) return false;
+  const double tolerance = absTol(pairLengthScale(a, b), RelTol::kIteration);
+  const bool warm = state != nullptr && state->warm_valid != 0;
+  const AxisTest sat = separatingAxisTest(a, b, warm ? &state->warm_direction : nullptr, tolerance);
+  if (state != nullptr) {
+    state->warm_direction = sat.normal;
+    state->warm_valid = 1;
+  }
+  c = Contact{};
+  if (sat.separated) return true;
+  c.touching = true;
+  c.normal = sat.normal;
+  c.depth = sat.depth;
+  switch (sat.axis) {
+    case AxisTest::Axis::kFaceA:
+      c.point = b.vertices[sat.highest_b] - (0.5 * sat.depth) * sat.normal;
+      break;
+    case AxisTest::Axis::kFaceB:
+      c.point = a.vertices[sat.lowest_a] + (0.5 * sat.depth) * sat.normal;
+      break;
+    case AxisTest::Axis::kEdges:
+      c.point = crossingPoint(a, b, sat);
+      break;
+  }
+  extremes = {sat.lowest_a, sat.highest_b};
+  return true;
+}
+
+}  // namespace
+
 Contact GjkEpaKernel::collide(const Body& a, const Body& b, PairState* state) const {
+  return gjkEpaContact(a, b, state);
+}
+
+Contact GjkEpaKernel::collideForSubContacts(const Body& a, const Body& b, PairState* state) const {
+  Contact c;
+  Extremes extremes;
+  if (separating_axes_ && satContact(a, b, state, c, extremes)) return c;
   return gjkEpaContact(a, b, state);
 }
 
 Contact GjkEpaIpmKernel::collide(const Body& a, const Body& b, PairState* state) const {
   Extremes extremes;
-  Contact c = gjkEpaContact(a, b, state, &extremes);
+  Contact c;
+  if (!separating_axes_ || !satContact(a, b, state, c, extremes)) {
+    c = gjkEpaContact(a, b, state, &extremes);
+  }
   if (!c.touching) return c;
   // EPA's last support query already found the extremes of the overlap along its normal.
   const Vec3 plane_point = extremes.lowest_a >= 0
@@ -63,15 +113,18 @@ Contact GjkEpaIpmKernel::collide(const Body& a, const Body& b, PairState* state)
 
 Contact GjkEpaIpmKernel::collideForSubContacts(const Body& a, const Body& b,
                                                PairState* state) const {
+  Contact c;
+  Extremes extremes;
+  if (separating_axes_ && satContact(a, b, state, c, extremes)) return c;
   return gjkEpaContact(a, b, state, nullptr);  // no IPM: sub-contacts place the force on faces
 }
 
-std::unique_ptr<Kernel> makeGjkEpa(const KernelParams&) {
-  return std::make_unique<GjkEpaKernel>();
+std::unique_ptr<Kernel> makeGjkEpa(const KernelParams& params) {
+  return std::make_unique<GjkEpaKernel>(params.separating_axes);
 }
 
-std::unique_ptr<Kernel> makeGjkEpaIpm(const KernelParams&) {
-  return std::make_unique<GjkEpaIpmKernel>();
+std::unique_ptr<Kernel> makeGjkEpaIpm(const KernelParams& params) {
+  return std::make_unique<GjkEpaIpmKernel>(params.separating_axes);
 }
 
 }  // namespace polydem::contact

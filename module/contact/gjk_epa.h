@@ -9,6 +9,11 @@
 // Both give the minimum translation direction: on vertex-vertex, vertex-edge and parallel-edge
 // contacts that is not the vertical of BENCHMARKS.md C (Keissar tables 3.1, 3.2, 3.4).
 // Warm start: PairState::warm_direction holds the last separating axis or contact normal.
+//
+// Small shapes (sat.h: two cubes, tetrahedra, prisms) skip GJK + EPA in gjk-epa-ipm and in both
+// kernels under sub-contacts: the separating-axis test gives the exact minimum-overlap direction
+// and depth where EPA gives them within its tolerance, and the point of the vertex-face contact
+// that direction stands for. GJK + EPA run for larger shapes.
 #pragma once
 
 #include "polydem/contact/contact.h"
@@ -25,17 +30,30 @@ Contact gjkEpaContact(const Body& a, const Body& b, PairState* state, Extremes* 
 
 class GjkEpaKernel final : public Kernel {
  public:
+  explicit GjkEpaKernel(bool separating_axes = true) : separating_axes_(separating_axes) {}
   std::string_view name() const override { return "gjk-epa"; }
   Contact collide(const Body& a, const Body& b, PairState* state) const override;
+  /// For small shapes the separating-axis test's exact answer (sat.h) where it is a face axis,
+  /// else collide()'s; sub-contacts replace the point of face contacts, so EPA's barycentric
+  /// point, the reason for this kernel, is not needed there.
+  Contact collideForSubContacts(const Body& a, const Body& b, PairState* state) const override;
+
+ private:
+  bool separating_axes_;  // KernelParams::separating_axes
 };
 
 class GjkEpaIpmKernel final : public Kernel {
  public:
+  explicit GjkEpaIpmKernel(bool separating_axes = true) : separating_axes_(separating_axes) {}
   std::string_view name() const override { return "gjk-epa-ipm"; }
-  /// EPA's contact with the point from the IPM; where the polygon of intersection has no area
+  /// EPA's (or, for small shapes, the separating-axis test's) contact with the point from the
+  /// IPM; where the polygon of intersection has no area
   /// (touching features), EPA's point with Status::kDegenerate.
   Contact collide(const Body& a, const Body& b, PairState* state) const override;
   Contact collideForSubContacts(const Body& a, const Body& b, PairState* state) const override;
+
+ private:
+  bool separating_axes_;  // KernelParams::separating_axes
 };
 
 }  // namespace polydem::contact

@@ -87,8 +87,30 @@ void ConvexPolyhedron::buildTopology(const std::vector<Vec3>& points,
     faces_[f1].edges[i1] = e;
   }
   buildVertexAdjacency();
+  buildAxes();
   const int euler = nv - static_cast<int>(edges_.size()) + static_cast<int>(faces_.size());
   if (euler != 2) inconsistent("Euler characteristic " + std::to_string(euler) + " != 2");
+}
+
+void ConvexPolyhedron::buildAxes() {
+  // Keeps the first of every family of directions parallel up to sign: |d x e| <= sin(angle).
+  const auto distinct = [](std::vector<int>& kept, const std::vector<Vec3>& directions) {
+    kept.clear();
+    for (int i = 0; i < static_cast<int>(directions.size()); ++i) {
+      const bool parallel = std::any_of(kept.begin(), kept.end(), [&](int k) {
+        return directions[k].cross(directions[i]).norm() <= kParallelAxes;
+      });
+      if (!parallel) kept.push_back(i);
+    }
+  };
+  std::vector<Vec3> directions;
+  for (const Face& face : faces_) directions.push_back(face.normal);
+  distinct(axis_faces_, directions);
+  directions.clear();
+  for (const Edge& edge : edges_) {
+    directions.push_back((vertices_[edge.v1] - vertices_[edge.v0]).normalized());
+  }
+  distinct(axis_edges_, directions);
 }
 
 void ConvexPolyhedron::buildVertexAdjacency() {

@@ -65,6 +65,12 @@ class ConvexPolyhedron {
   const std::vector<std::vector<int>>& vertexEdges() const { return vertex_edges_; }
   const std::vector<std::vector<int>>& vertexFaces() const { return vertex_faces_; }
   const std::vector<std::vector<int>>& vertexNeighbours() const { return vertex_neighbours_; }
+  /// The faces whose normals differ in direction up to sign, and the edges likewise (the first of
+  /// each parallel family, parallel meaning within kParallelAxes rad): the axes a separating-axis
+  /// test of two polyhedra needs (contact/sat.h). Indices, so they hold in any placed frame.
+  const std::vector<int>& axisFaces() const { return axis_faces_; }
+  const std::vector<int>& axisEdges() const { return axis_edges_; }
+  static constexpr double kParallelAxes = 1e-10;
 
   /// Exact mass properties of the solid with unit density (divergence theorem).
   double volume() const { return volume_; }
@@ -112,6 +118,7 @@ class ConvexPolyhedron {
 
   void buildTopology(const std::vector<Vec3>& points, const std::vector<std::vector<int>>& faces);
   void buildVertexAdjacency();
+  void buildAxes();
   void computeMassProperties();
   void computeRadii();
 
@@ -119,6 +126,7 @@ class ConvexPolyhedron {
   std::vector<Face> faces_;
   std::vector<Edge> edges_;
   std::vector<std::vector<int>> vertex_edges_, vertex_faces_, vertex_neighbours_;
+  std::vector<int> axis_faces_, axis_edges_;
   double volume_ = 0.0;
   Vec3 centroid_ = Vec3::Zero();
   Mat3 inertia_ = Mat3::Zero();

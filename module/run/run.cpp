@@ -265,8 +265,8 @@ RunResult continueRun(const std::string& file, const std::optional<std::string>&
     if (!diff.empty()) {
       throw CheckpointError(cat(file, ": scene ", *scene_file, " differs from the scene stored in ",
                                 "the checkpoint (", data.scene_file, ") in ", diff,
-                                "; only [simulation] end_time/steps, [output] and [checkpoint] ",
-                                "may change when a run continues"));
+                                "; only [simulation] end_time/steps, [output], [checkpoint] and ",
+                                "[kernel_params] separating_axes may change when a run continues"));
     }
     scene = io::parseScene(text, *scene_file);
     options.scene_text = text;  // later checkpoints store the scene this part runs

@@ -26,6 +26,12 @@ void dropStopSettings(toml::table& scene) {
     sim->erase("end_time");
     sim->erase("steps");
   }
+  // The kernel's algorithm switch, so that a run written before the separating-axis test
+  // continues to the same bits with separating_axes = false (docs/kernels/gjk-epa.md).
+  if (toml::table* params = scene["kernel_params"].as_table()) {
+    params->erase("separating_axes");
+    if (params->empty()) scene.erase("kernel_params");
+  }
 }
 
 }  // namespace

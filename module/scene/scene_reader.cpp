@@ -74,7 +74,8 @@ void readSimulation(const Context& ctx, const toml::table& root, Scene& scene) {
 void readKernelParams(const Context& ctx, const toml::table& root, Scene& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "kernel_params");
   if (!s) return;
-  s->allowOnly({"lp_rounding"});
+  s->allowOnly({"lp_rounding", "separating_axes"});
+  scene.kernel_params.separating_axes = s->boolean("separating_axes").value_or(true);
   // A fraction of the inradius: at 1 the core left inside the rounding would be a point.
   double& r = scene.kernel_params.lp_rounding;
   r = s->bounded("lp_rounding", Quantity::kDimensionless, r, 0.0, 1.0, false);

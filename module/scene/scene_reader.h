@@ -23,8 +23,9 @@ Scene readScene(const std::string& path);
 Scene parseScene(std::string_view text, const std::string& name_for_messages);
 
 /// Empty if two scene texts describe the same run up to its stop settings ([simulation] end_time
-/// and steps) and its [output] and [checkpoint] tables, which may change when a run continues from
-/// a checkpoint; otherwise the first table or key that differs, e.g. "[simulation] dt" or
+/// and steps), its [output] and [checkpoint] tables and [kernel_params] separating_axes, which may
+/// change when a run continues from a checkpoint; otherwise the first table or key that differs,
+/// e.g. "[simulation] dt" or
 /// "[[particle]]". Throws InputError if either text is not TOML.
 std::string sceneDifference(std::string_view stored, const std::string& stored_name,
                             std::string_view given, const std::string& given_name);

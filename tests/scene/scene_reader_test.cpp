@@ -39,6 +39,7 @@ contact_margin = 0.1
 
 [kernel_params]
 lp_rounding = 0.1
+separating_axes = false
 
 [domain]
 min = [-1, -2, "-300 cm"]
@@ -202,6 +203,7 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
   EXPECT_EQ(s.gravity, Vec3(0, -1, -9.81));
   EXPECT_EQ(s.contact_margin, 0.1);
   EXPECT_EQ(s.kernel_params.lp_rounding, 0.1);
+  EXPECT_FALSE(s.kernel_params.separating_axes);
 
   ASSERT_TRUE(s.domain.min && s.domain.max && s.domain.blocks);
   EXPECT_EQ(*s.domain.min, Vec3(-1, -2, -3));

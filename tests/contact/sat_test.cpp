@@ -1,0 +1,190 @@
+// The separating-axis test (contact/sat.h) against EPA and against the brute-force SAT of the
+// test helpers on random pairs of small shapes; the warm axis; and gjk-epa-ipm, which uses it.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <random>
+
+#include "contact_test_util.h"
+#include "polydem/contact/contact_cases.h"
+#include "polydem/contact/gjk_epa.h"
+#include "polydem/contact/sat.h"
+#include "polydem/geometry/shapes.h"
+
+namespace polydem::contact {
+namespace {
+
+using testing::overlapAlong;
+using testing::Placed;
+using testing::randomRotation;
+using testing::randomUnit;
+
+namespace shapes = geometry::shapes;
+
+// The small shapes the test uses: a cube, a tetrahedron, a triangular prism, a flat box.
+geometry::ConvexPolyhedron smallShape(int kind, double size) {
+  switch (kind % 4) {
+    case 0:
+      return geometry::ConvexPolyhedron::fromPoints(shapes::cube(size));
+    case 1:
+      return geometry::ConvexPolyhedron::fromPoints(shapes::tetrahedron(1.3 * size));
+    case 2:
+      return geometry::ConvexPolyhedron::fromPoints(shapes::prism(
+          {Vec3(0, 0, 0), Vec3(size, 0, 0), Vec3(0.3 * size, 0.8 * size, 0)}, Vec3(0, 0, size)));
+    default:
+      return geometry::ConvexPolyhedron::fromPoints(
+          shapes::box(Vec3::Zero(), Vec3(size, 0.6 * size, 0.3 * size)));
+  }
+}
+
+TEST(Sat, AxesOfACubeAndATetrahedron) {
+  const auto cube = geometry::ConvexPolyhedron::fromPoints(shapes::cube(1.0));
+  EXPECT_EQ(cube.axisFaces().size(), 3u);
+  EXPECT_EQ(cube.axisEdges().size(), 3u);
+  const auto tet = geometry::ConvexPolyhedron::fromPoints(shapes::tetrahedron(1.0));
+  EXPECT_EQ(tet.axisFaces().size(), 4u);
+  EXPECT_EQ(tet.axisEdges().size(), 6u);
+  const Placed a(cube, Vec3::Zero(), Mat3::Identity()), b(cube, Vec3::UnitX(), Mat3::Identity());
+  EXPECT_TRUE(satApplies(a.body(), b.body()));  // 15 axes of 16 vertices
+  const Placed big(geometry::ConvexPolyhedron::fromPoints(shapes::randomConvex(20, 7)),
+                   Vec3::Zero(), Mat3::Identity());
+  EXPECT_FALSE(satApplies(big.body(), b.body()));
+}
+
+// Random pairs from deep to apart, at scales 1e-3, 1 and 1e3: the separating-axis test finds
+// the pair apart exactly where EPA does, and otherwise EPA's depth within its tolerance (the
+// contact_gjk_epa bound, 1e-9 of the pair's size), a direction whose overlap (1) is that depth,
+// and EPA's direction wherever the minimum is unique.
+TEST(Sat, AgreesWithEpaOnRandomPairs) {
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int overlapping = 0, separated = 0, unique_normals = 0, edge_axes = 0;
+  double worst_depth = 0.0, worst_angle = 0.0;
+  for (int i = 0; i < 6000; ++i) {
+    const double scale = i % 3 == 0 ? 1e-3 : (i % 3 == 1 ? 1.0 : 1e3);
+    auto shape_a = smallShape(static_cast<int>(rng() % 4), scale);
+    auto shape_b = smallShape(static_cast<int>(rng() % 4), scale * (0.5 + unit(rng)));
+    const double reach = shape_a.circumradius() + shape_b.circumradius();
+    const double distance = 0.9 * reach * std::pow(unit(rng), 0.5);
+    const Vec3 where = 10.0 * scale * Vec3(unit(rng), unit(rng), unit(rng));
+    // Every fourth pair keeps both shapes aligned: ties between face and edge axes.
+    const bool aligned = i % 4 == 3;
+    const Placed a(std::move(shape_a), where + distance * randomUnit(rng),
+                   aligned ? Mat3::Identity() : randomRotation(rng));
+    const Placed b(std::move(shape_b), where, aligned ? Mat3::Identity() : randomRotation(rng));
+    const double L = a.body().circumradius() + b.body().circumradius();
+    ASSERT_TRUE(satApplies(a.body(), b.body()));
+    const AxisTest sat = separatingAxisTest(a.body(), b.body(), nullptr, 1e-12 * L);
+    const auto reference = testing::satPenetration(a.body(), b.body());
+    PairState state;
+    const Contact epa = gjkEpaContact(a.body(), b.body(), &state);
+    if (std::abs(reference.depth) < 1e-9 * L) continue;  // grazing: either answer is right
+    ASSERT_EQ(sat.separated, !epa.touching) << "pair " << i << " depth " << reference.depth;
+    if (sat.separated) {
+      ++separated;
+      EXPECT_LE(overlapAlong(a.body(), b.body(), sat.normal), 0.0) << "pair " << i;
+      continue;
+    }
+    ++overlapping;
+    edge_axes += sat.axis == AxisTest::Axis::kEdges;
+    if (sat.axis == AxisTest::Axis::kEdges) {
+      EXPECT_TRUE(crossingPoint(a.body(), b.body(), sat).allFinite()) << "pair " << i;
+    }
+    EXPECT_NEAR(sat.depth, epa.depth, 1e-9 * L) << "pair " << i;
+    EXPECT_NEAR(sat.depth, reference.depth, 1e-9 * L) << "pair " << i;
+    EXPECT_NEAR(overlapAlong(a.body(), b.body(), sat.normal), sat.depth, 1e-12 * L) << "pair " << i;
+    EXPECT_NEAR(sat.normal.norm(), 1.0, 1e-14);
+    worst_depth = std::max(worst_depth, std::abs(sat.depth - epa.depth) / L);
+    if (reference.runner_up - reference.depth > 1e-9 * L) {
+      ++unique_normals;
+      const double angle = angleBetween(sat.normal, epa.normal);
+      EXPECT_LT(angle, 1e-6) << "pair " << i;
+      worst_angle = std::max(worst_angle, angle);
+      // Crossing edges of random shapes: EPA's barycentric point is the middle of the edges'
+      // closest points, and so is crossingPoint().
+      if (sat.axis == AxisTest::Axis::kEdges && !aligned) {
+        EXPECT_LT((crossingPoint(a.body(), b.body(), sat) - epa.point).norm(), 1e-9 * L)
+            << "pair " << i;
+      }
+    }
+    // The features: A's lowest and B's highest vertex along the normal span the depth.
+    EXPECT_NEAR(sat.normal.dot(b.body().vertices[sat.highest_b] - a.body().vertices[sat.lowest_a]),
+                sat.depth, 1e-12 * L)
+        << "pair " << i;
+  }
+  std::printf(
+      "SAT vs EPA: %d overlapping (%d with a unique normal, %d on an edge-edge axis), %d "
+      "apart; worst depth difference %.2e of the size, worst angle %.2e rad\n",
+      overlapping, unique_normals, edge_axes, separated, worst_depth, worst_angle);
+  EXPECT_GT(overlapping, 2000);
+  EXPECT_GT(separated, 500);
+  EXPECT_GT(unique_normals, 1000);
+  EXPECT_GT(edge_axes, 50);  // the edge-edge axes are exercised too
+}
+
+// Separated pairs are found so from any warm axis, and a separating warm axis is returned as is.
+TEST(Sat, WarmAxis) {
+  std::mt19937_64 rng(3);
+  const auto cube = geometry::ConvexPolyhedron::fromPoints(shapes::cube(1.0));
+  const Placed a(cube, Vec3(1.2, 0.1, 0.0), randomRotation(rng));
+  const Placed b(cube, Vec3::Zero(), Mat3::Identity());
+  const AxisTest cold = separatingAxisTest(a.body(), b.body(), nullptr, 1e-12);
+  ASSERT_FALSE(cold.separated);
+  const Vec3 wrong = -Vec3::UnitX();  // does not separate: the full test runs
+  const AxisTest warm = separatingAxisTest(a.body(), b.body(), &wrong, 1e-12);
+  EXPECT_EQ(warm.normal, cold.normal);
+  EXPECT_EQ(warm.depth, cold.depth);
+  const Placed apart(cube, Vec3(3.0, 0.0, 0.0), Mat3::Identity());
+  const Vec3 axis = Vec3(1.0, 0.2, 0.0).normalized();
+  const AxisTest kept = separatingAxisTest(apart.body(), b.body(), &axis, 1e-12);
+  EXPECT_TRUE(kept.separated);
+  EXPECT_EQ(kept.normal, axis);
+  const AxisTest found = separatingAxisTest(apart.body(), b.body(), &wrong, 1e-12);
+  EXPECT_TRUE(found.separated);
+  EXPECT_LT(overlapAlong(apart.body(), b.body(), found.normal), 0.0);
+}
+
+// Two aligned cubes overlapping on a face, an edge and a corner: the answer is a face axis (the
+// edge axes that coincide with it must not win by round-off), so gjk-epa-ipm skips EPA on them.
+TEST(Sat, AlignedCubesGiveFaceAxes) {
+  const auto cube = geometry::ConvexPolyhedron::fromPoints(shapes::cube(1.0));
+  const Placed b(cube, Vec3::Zero(), Mat3::Identity());
+  for (const Vec3& offset : {Vec3(0.999, 0, 0), Vec3(0.999, 0.999, 0), Vec3(0.999, 0.999, 0.999),
+                             Vec3(0.3, 0.2, 0.999)}) {
+    const Placed a(cube, offset, Mat3::Identity());
+    const AxisTest sat = separatingAxisTest(a.body(), b.body(), nullptr, 1e-12 * 2 * 0.866);
+    ASSERT_FALSE(sat.separated);
+    EXPECT_NE(sat.axis, AxisTest::Axis::kEdges) << offset.transpose();
+    EXPECT_NEAR(sat.depth, 0.001, 1e-12) << offset.transpose();
+    PairState state;
+    const GjkEpaIpmKernel kernel;
+    const Contact c = kernel.collideForSubContacts(a.body(), b.body(), &state);
+    EXPECT_TRUE(c.touching);
+    EXPECT_EQ(c.normal, sat.normal);
+    EXPECT_EQ(c.depth, sat.depth);
+    EXPECT_EQ(state.warm_direction, sat.normal);
+  }
+}
+
+// KernelParams::separating_axes = false: both kernels give GJK + EPA's answer, bit for bit.
+TEST(Sat, SwitchedOffKeepsGjkEpa) {
+  std::mt19937_64 rng(5);
+  const auto cube = geometry::ConvexPolyhedron::fromPoints(shapes::cube(1.0));
+  const Placed a(cube, Vec3(0.9, 0.2, 0.1), randomRotation(rng));
+  const Placed b(cube, Vec3::Zero(), randomRotation(rng));
+  KernelParams params;
+  params.separating_axes = false;
+  for (const char* name : {"gjk-epa", "gjk-epa-ipm"}) {
+    PairState s1, s2;
+    const Contact off = makeKernel(name, params)->collideForSubContacts(a.body(), b.body(), &s1);
+    const Contact epa = gjkEpaContact(a.body(), b.body(), &s2);
+    ASSERT_TRUE(epa.touching);
+    EXPECT_EQ(off.normal, epa.normal) << name;
+    EXPECT_EQ(off.depth, epa.depth) << name;
+    EXPECT_EQ(off.point, epa.point) << name;
+    EXPECT_EQ(s1.warm_direction, s2.warm_direction) << name;
+  }
+}
+
+}  // namespace
+}  // namespace polydem::contact
