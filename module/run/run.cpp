@@ -252,11 +252,6 @@ RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm) {
 RunResult continueRun(const std::string& file, const std::optional<std::string>& scene_file,
                       RunOptions options, MPI_Comm comm) {
   const io::CheckpointData data = io::readCheckpoint(file, comm);
-  if (data.format_version < io::kFirstDigestCheckpointVersion) {
-    log::warning(cat(file, ": format version ", data.format_version,
-                     " predates the whole-file digest; its datasets' checksums were verified, but ",
-                     "an edit that kept them consistent cannot be detected"));
-  }
   io::Scene scene;
   if (scene_file) {
     const std::string text = io::readSceneText(*scene_file);
@@ -275,14 +270,7 @@ RunResult continueRun(const std::string& file, const std::optional<std::string>&
     options.scene_text = data.scene_toml;
   }
   // The kernel and contact model the run used (a command line may have set them over the scene).
-  restoreRunSettings(data.run_state, file, scene);
-  if (data.format_version < 2 && scene.contact_model != "point") {
-    // Version 1 was written before sub-contacts existed, by the single-point model; continuing
-    // with another model would not continue that run (docs/checkpoint.md).
-    log::info(cat(file, ": format version ", data.format_version,
-                  " predates sub-contacts; continuing with contact_model = \"point\""));
-    scene.contact_model = "point";
-  }
+  prepareContinuation(data, file, scene);
   return runWith(std::move(scene), options, comm, &data, file);
 }
 

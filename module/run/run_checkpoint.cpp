@@ -82,12 +82,29 @@ void restoreRunSettings(const std::string& json, const std::string& file, io::Sc
     }
     if (const auto m = j.find("contact_model"); m != j.end()) {
       scene.contact_model = m->get<std::string>();
-      if (scene.contact_model != "sub-contacts" && scene.contact_model != "point") {
-        throw Error(cat("unknown contact model '", scene.contact_model, "'"));
+      if (const std::string unknown = io::unknownContactModel(scene.contact_model);
+          !unknown.empty()) {
+        throw Error(unknown);
       }
     }
   } catch (const std::exception& e) {
     throw CheckpointError(cat(file, ": /run/state: ", e.what()));
+  }
+}
+
+void prepareContinuation(const io::CheckpointData& data, const std::string& file,
+                         io::Scene& scene) {
+  if (data.format_version < io::kFirstDigestCheckpointVersion) {
+    log::warning(cat(file, ": format version ", data.format_version,
+                     " predates the whole-file digest; its datasets' checksums were verified, but ",
+                     "an edit that kept them consistent cannot be detected"));
+  }
+  restoreRunSettings(data.run_state, file, scene);
+  if (data.format_version < 2 && scene.contact_model != "point") {
+    // Continuing with another model would not continue that run.
+    log::info(cat(file, ": format version ", data.format_version,
+                  " predates sub-contacts; continuing with contact_model = \"point\""));
+    scene.contact_model = "point";
   }
 }
 

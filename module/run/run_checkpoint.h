@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "polydem/checkpoint/checkpoint.h"
 #include "polydem/run/checks.h"
 #include "polydem/run/tracker.h"
 #include "polydem/setup/setup.h"
@@ -38,6 +39,11 @@ std::string runStateJson(const io::Scene& scene, const Tracker& tracker,
 /// that stores none (written before they were stored) leaves the scene's. Throws CheckpointError
 /// naming `file` for an unknown kernel or model.
 void restoreRunSettings(const std::string& json, const std::string& file, io::Scene& scene);
+/// What a continued run changes on the scene it was given (the stored one or a replacement):
+/// the stored run settings (restoreRunSettings), and for a version 1 file, written before
+/// sub-contacts existed, the single-point model it was written with (docs/checkpoint.md). Logs
+/// what an older file lacks. `polydem run --restart` and Python's Simulation.restart both use it.
+void prepareContinuation(const io::CheckpointData& data, const std::string& file, io::Scene& scene);
 /// Puts them back; throws CheckpointError naming `file` if they do not fit the scene's checks.
 void restoreRunState(const std::string& json, const std::string& file, Tracker& tracker,
                      std::vector<std::unique_ptr<Check>>& checks);

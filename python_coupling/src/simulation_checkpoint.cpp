@@ -10,16 +10,15 @@
 #include <vector>
 
 #include "bindings.h"
-#include "polydem/core/error.h"
-#include "polydem/core/logging.h"
-#include "polydem/core/strings.h"
 #include "polydem/checkpoint/checkpoint.h"
-#include "polydem/setup/setup.h"
-#include "polydem/scene/scene_reader.h"
+#include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 #include "polydem/run/checks.h"
 #include "polydem/run/run_checkpoint.h"
-#include "polydem/sim/simulation.h"
 #include "polydem/run/tracker.h"
+#include "polydem/scene/scene_reader.h"
+#include "polydem/setup/setup.h"
+#include "polydem/sim/simulation.h"
 
 namespace polydem::python {
 
@@ -55,13 +54,7 @@ std::unique_ptr<Simulation> restart(const py::object& path_object, const py::obj
   const MPI_Comm comm = toComm(comm_object);
   const io::CheckpointData data = io::readCheckpoint(path, comm);
   io::Scene scene = io::parseScene(data.scene_toml, data.scene_file);
-  sim::restoreRunSettings(data.run_state, path, scene);
-  if (data.format_version < 2 && scene.contact_model != "point") {
-    // Written before sub-contacts existed, by the single-point model (as sim::continueRun).
-    log::info(cat(path, ": format version ", data.format_version,
-                  " predates sub-contacts; continuing with contact_model = \"point\""));
-    scene.contact_model = "point";
-  }
+  sim::prepareContinuation(data, path, scene);
   return std::make_unique<Simulation>(scene, data, path, comm);
 }
 
