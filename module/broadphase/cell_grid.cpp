@@ -101,14 +101,22 @@ void CellGrid::buildLookup() {
 void CellGrid::sortMembers(const SphereSet& spheres, std::span<const std::int32_t> members) {
   const std::size_t n = members.size();
   order_.assign(members.begin(), members.end());  // sphere indices, sorted below
-  items_.resize(n);
-  meta_.resize(n);
+  size_ = n;
+  for (auto* coord : {&x_, &y_, &z_, &r_}) {
+    coord->resize(n + kPad);
+    std::fill(coord->begin() + static_cast<std::ptrdiff_t>(n), coord->end(), 0.0);
+  }
+  meta_.resize(n + kPad);
+  std::fill(meta_.begin() + static_cast<std::ptrdiff_t>(n), meta_.end(), Meta{0, 0, 0});
   cells_.clear();
   cells_.reserve(n);  // at most one cell per member: no growth below
   auto add = [&](std::size_t p, const CellKey& key) {
     const std::int32_t m = order_[p];
     const Vec3& c = spheres.centers[m];
-    items_[p] = {c.x(), c.y(), c.z(), spheres.radii[m]};
+    x_[p] = c.x();
+    y_[p] = c.y();
+    z_[p] = c.z();
+    r_[p] = spheres.radii[m];
     meta_[p] = {spheres.uids[m], m, spheres.active[m]};
     if (p == 0 || !(cells_.back().key == key)) {
       cells_.push_back({key, static_cast<std::int32_t>(p), static_cast<std::int32_t>(p + 1)});

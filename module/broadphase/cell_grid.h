@@ -21,6 +21,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -30,10 +31,17 @@
 
 namespace polydem::broadphase::detail {
 
-/// A particle as the inner loops read it: centre and radius, 32 bytes.
-struct Item {
-  double x, y, z, r;
+/// The members' centres and radii as the inner loops read them: four parallel arrays in cell
+/// order, so that two consecutive members load as one 16-byte vector per coordinate. Each array
+/// has one entry of padding past the last member (kPad): a two-lane test may read it, and its
+/// outcome is discarded.
+struct Coords {
+  const double* x;
+  const double* y;
+  const double* z;
+  const double* r;
 };
+inline constexpr std::size_t kPad = 1;
 
 /// What a pair needs besides the geometry: its canonical order and whether it counts.
 struct Meta {
@@ -47,6 +55,11 @@ struct Meta {
 /// outcomes are hard to predict (a third hit among neighbours of one size), and a mispredicted
 /// branch costs more than the write. The vector's elements past the pairs are scratch: it is
 /// resized only to grow (so no element is zeroed twice) and cut to the pairs by finish().
+///
+/// The searches write in two steps: the tests write the grid positions of each hit (cheap: no
+/// uid, index or flag is read per test), and resolve() then turns the positions written since a
+/// mark() into local indices in canonical order, dropping pairs without an active member. Only
+/// about one test in six hits, so the per-pair work is done six times less often.
 class PairWriter {
  public:
   /// Starts `out` afresh (its old pairs are dropped).
@@ -58,12 +71,18 @@ class PairWriter {
   PairWriter(const PairWriter&) = delete;
   PairWriter& operator=(const PairWriter&) = delete;
   /// Room for `k` more pairs after the ones kept; returns where the next one goes.
+  /// Two-lane writers ask for one more than they can keep.
   CandidatePair* room(std::size_t k) {
     if (count_ + k > out_.size()) out_.resize(std::max(count_ + k, 2 * out_.size()));
     return out_.data() + count_;
   }
   /// Keeps the pairs written from room()'s pointer up to `end`.
   void keep(const CandidatePair* end) { count_ = static_cast<std::size_t>(end - out_.data()); }
+  /// Where resolve() will start: the number of pairs kept so far.
+  std::size_t mark() const { return count_; }
+  /// Turns the pairs kept since `from` (positions: i in the grid of `meta_i`, j in that of
+  /// `meta_j`) into local indices, lower uid first, and drops those without an active member.
+  void resolve(std::size_t from, const Meta* meta_i, const Meta* meta_j);
   /// Cuts `out` to the pairs kept.
   void finish() {
     out_.resize(count_);
@@ -77,11 +96,34 @@ class PairWriter {
 };
 
 /// Writes the pair (a, b), lower uid first, at `w`, and returns the next place: `w` + 1 if
-/// `hit` and one of them is active, else `w` (the write is then scratch). No branch.
-inline CandidatePair* writePair(const Meta& a, const Meta& b, bool hit, CandidatePair* w) {
-  const bool a_first = a.uid < b.uid;
-  *w = {a_first ? a.index : b.index, a_first ? b.index : a.index};
-  return w + static_cast<std::size_t>(hit & ((a.active | b.active) != 0));
+/// `keep` (1; 0 leaves the write as scratch). No branch: the order is chosen by a mask, not by
+/// `?:`, which compilers turn into a branch on the uids, unpredictable where uid order is not
+/// space order. Whether an inactive pair is kept is the caller's part (pairCounts()).
+inline CandidatePair* writePair(const Meta& a, const Meta& b, std::uint32_t keep,
+                                CandidatePair* w) {
+  const std::uint32_t b_first = 0u - static_cast<std::uint32_t>(b.uid < a.uid);
+  const std::uint32_t flip =
+      (static_cast<std::uint32_t>(a.index) ^ static_cast<std::uint32_t>(b.index)) & b_first;
+  w->i = static_cast<std::int32_t>(static_cast<std::uint32_t>(a.index) ^ flip);
+  w->j = static_cast<std::int32_t>(static_cast<std::uint32_t>(b.index) ^ flip);
+  return w + keep;
+}
+
+/// 1 if a pair of `a` and `b` counts (one of them active), else 0.
+inline std::uint32_t pairCounts(const Meta& a, const Meta& b) {
+  return static_cast<std::uint32_t>((a.active | b.active) != 0);
+}
+
+inline void PairWriter::resolve(std::size_t from, const Meta* meta_i, const Meta* meta_j) {
+  CandidatePair* w = out_.data() + from;
+  const CandidatePair* const end = out_.data() + count_;
+  // In place: the write at w never passes the pair being read.
+  for (const CandidatePair* p = w; p != end; ++p) {
+    const Meta& a = meta_i[p->i];
+    const Meta& b = meta_j[p->j];
+    w = writePair(a, b, pairCounts(a, b), w);
+  }
+  keep(w);
 }
 
 struct CellKey {
@@ -110,7 +152,7 @@ class CellGrid {
  public:
   struct Cell {
     CellKey key;
-    std::int32_t begin, end;  // range in items() / meta()
+    std::int32_t begin, end;  // range in coords() / meta()
   };
 
   /// Puts `members` (indices into `spheres`) into cells of edge >= `reach`, the largest distance
@@ -121,8 +163,10 @@ class CellGrid {
              const SceneBounds& bounds, bool lookup);
 
   double edge() const { return edge_; }
-  std::span<const Item> items() const { return items_; }
-  std::span<const Meta> meta() const { return meta_; }
+  /// Members in cell order: coordinates (padded, see Coords) and what pairs need.
+  Coords coords() const { return {x_.data(), y_.data(), z_.data(), r_.data()}; }
+  std::span<const Meta> meta() const { return {meta_.data(), size_}; }
+  std::size_t size() const { return size_; }
   std::span<const Cell> cells() const { return cells_; }
   /// Largest and smallest radius among the members (0 for an empty grid).
   double maxRadius() const { return max_radius_; }
@@ -190,9 +234,10 @@ class CellGrid {
   // The scene's box of cells, padded by one cell on each side, for the packed sort key.
   std::int64_t nx_ = 0, ny_ = 0, nz_ = 0;
   double box_cells_ = 0.0;
-  int key_bits_ = 0;  // 0: the box is too large to pack; sort by comparing keys instead
-  std::vector<Item> items_;
-  std::vector<Meta> meta_;
+  int key_bits_ = 0;      // 0: the box is too large to pack; sort by comparing keys instead
+  std::size_t size_ = 0;  // members
+  std::vector<double> x_, y_, z_, r_;  // size_ + kPad each
+  std::vector<Meta> meta_;             // size_ + kPad
   std::vector<Cell> cells_;
   bool dense_ = false;               // table_ is indexed by packed(key), else by hash slot
   std::vector<std::int32_t> table_;  // -> cell, -1 empty

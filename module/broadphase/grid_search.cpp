@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <bit>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "polydem/broadphase/overlap.h"
 
@@ -9,15 +12,45 @@ namespace polydem::broadphase::detail {
 
 namespace {
 
-inline bool near(const Item& a, const Item& b, double margin) {
-  return withinReach(a.x, a.y, a.z, a.r, b.x, b.y, b.z, b.r, margin);
+// A member of one grid held as the fixed side of a run of tests.
+struct Probe {
+  double x, y, z, r;
+};
+
+inline Probe probeOf(const Coords& c, std::int32_t k) {
+  return {c.x[k], c.y[k], c.z[k], c.r[k]};
 }
 
-// Tests item a against the contiguous items [begin, end) of the same arrays or others and writes
-// the pairs found. Two ways, the same pairs in the same order:
-//  - kWritePerTest: every test writes its pair and the end advances by the outcome, with no
-//    branch at all: best where a fair share of the tests hit (the multi-level grids, whose cells
-//    fit their members: about one test in four);
+inline bool near(const Probe& a, const Coords& b, std::int32_t k, double margin) {
+  return withinReach(a.x, a.y, a.z, a.r, b.x[k], b.y[k], b.z[k], b.r[k], margin);
+}
+
+// near() for members k and k + 1 of `b` at once: bit 0 for k, bit 1 for k + 1. The same IEEE
+// operations in the same order as withinReach() ((dx^2 + dy^2) + dz^2 against
+// ((r_a + r_b) + margin)^2, no FMA), lane by lane, so the same outcomes bit for bit; with SSE2
+// (every x86-64) one vector instruction does each operation for both.
+inline std::uint32_t near2(const Probe& a, const Coords& b, std::int32_t k, double margin) {
+#if defined(__SSE2__)
+  const __m128d dx = _mm_sub_pd(_mm_set1_pd(a.x), _mm_loadu_pd(b.x + k));
+  const __m128d dy = _mm_sub_pd(_mm_set1_pd(a.y), _mm_loadu_pd(b.y + k));
+  const __m128d dz = _mm_sub_pd(_mm_set1_pd(a.z), _mm_loadu_pd(b.z + k));
+  const __m128d reach =
+      _mm_add_pd(_mm_add_pd(_mm_set1_pd(a.r), _mm_loadu_pd(b.r + k)), _mm_set1_pd(margin));
+  const __m128d d2 =
+      _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
+  return static_cast<std::uint32_t>(_mm_movemask_pd(_mm_cmple_pd(d2, _mm_mul_pd(reach, reach))));
+#else
+  return static_cast<std::uint32_t>(near(a, b, k, margin)) |
+         static_cast<std::uint32_t>(near(a, b, k + 1, margin)) << 1;
+#endif
+}
+
+// Tests member a (at position a_pos of its grid) against the contiguous members [begin, end)
+// of the same grid or another one and writes the positions (a_pos, k) of the pairs found, to be
+// resolved later (PairWriter::resolve). Two ways, the same pairs in the same order:
+//  - kWritePerTest: two members at a time (near2()); each writes its pair and the end advances
+//    by the outcome, with no branch at all: best where a fair share of the tests hit (the
+//    multi-level grids, whose cells fit their members: about one test in six);
 //  - kMaskPerBlock: each block of 64 is tested into a bit mask, then only the hits are written:
 //    best where hits are rare (NBS cells sized for the largest member: one test in fifty).
 // A mispredicted branch on a test's outcome (hard to predict: a third hit among neighbours of one
@@ -25,23 +58,32 @@ inline bool near(const Item& a, const Item& b, double margin) {
 enum class Emit { kWritePerTest, kMaskPerBlock };
 
 template <Emit kEmit>
-inline void testRange(const Item& a, const Meta& a_meta, const Item* items, const Meta* meta,
-                      std::int32_t begin, std::int32_t end, double margin, PairWriter& out) {
+inline void testRange(const Probe& a, std::int32_t a_pos, const Coords& b, std::int32_t begin,
+                      std::int32_t end, double margin, PairWriter& out) {
   if (begin >= end) return;
-  CandidatePair* w = out.room(static_cast<std::size_t>(end - begin));
+  CandidatePair* w = out.room(static_cast<std::size_t>(end - begin) + 1);
   if constexpr (kEmit == Emit::kWritePerTest) {
-    for (std::int32_t k = begin; k < end; ++k) {
-      w = writePair(a_meta, meta[k], near(a, items[k], margin), w);
+    std::uint32_t last = 0;
+    for (std::int32_t k = begin; k < end; k += 2) {
+      const std::uint32_t hits = near2(a, b, k, margin);
+      *w = {a_pos, k};
+      w += hits & 1u;
+      *w = {a_pos, k + 1};
+      last = hits >> 1;
+      w += last;
     }
+    // For an odd count the last lane lay past the range (next cell or padding): drop its pair,
+    // the last one written.
+    w -= last & static_cast<std::uint32_t>(end - begin);
   } else {
     for (std::int32_t block = begin; block < end; block += 64) {
       const std::int32_t n = std::min<std::int32_t>(64, end - block);
       std::uint64_t hits = 0;
       for (std::int32_t k = 0; k < n; ++k) {
-        hits |= static_cast<std::uint64_t>(near(a, items[block + k], margin)) << k;
+        hits |= static_cast<std::uint64_t>(near(a, b, block + k, margin)) << k;
       }
       for (; hits != 0; hits &= hits - 1) {
-        w = writePair(a_meta, meta[block + std::countr_zero(hits)], true, w);
+        *w++ = {a_pos, block + std::countr_zero(hits)};
       }
     }
   }
@@ -51,7 +93,7 @@ inline void testRange(const Item& a, const Meta& a_meta, const Item* items, cons
 // Whether a sphere (centre t, radius t.r) can be within reach of any sphere of radius <= r_max
 // centred in the box [lo, hi]. Never false when withinReach() would be true for such a sphere:
 // each term below is, in floating point, at most the corresponding term of withinReach().
-inline bool boxWithinReach(const Item& t, const Vec3& lo, const Vec3& hi, double r_max,
+inline bool boxWithinReach(const Probe& t, const Vec3& lo, const Vec3& hi, double r_max,
                            double margin) {
   // Distance to the box along each axis (0 inside); max() compiles to branch-free maxsd.
   const double dx = std::max(std::max(lo.x() - t.x, t.x - hi.x()), 0.0);
@@ -82,20 +124,21 @@ constexpr std::int64_t kForwardRows[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
 
 template <Emit kEmit>
 void searchWithinCells(const CellGrid& grid, double margin, PairWriter& out) {
-  const Item* items = grid.items().data();
+  const Coords coords = grid.coords();
   const Meta* meta = grid.meta().data();
   const auto cells = grid.cells();
   std::size_t cursor[4] = {0, 0, 0, 0};
   for (std::size_t c = 0; c < cells.size(); ++c) {
     const CellGrid::Cell& cell = cells[c];
     const CellKey& key = cell.key;
+    const std::size_t first_pair = out.mark();
     // Own cell, and the +x neighbour, which is the next cell if it exists: one contiguous block.
     std::int32_t block_end = cell.end;
     if (c + 1 < cells.size() && cells[c + 1].key == CellKey{key.x + 1, key.y, key.z}) {
       block_end = cells[c + 1].end;
     }
     for (std::int32_t a = cell.begin; a < cell.end; ++a) {
-      testRange<kEmit>(items[a], meta[a], items, meta, a + 1, block_end, margin, out);
+      testRange<kEmit>(probeOf(coords, a), a, coords, a + 1, block_end, margin, out);
     }
     for (std::size_t r = 0; r < 4; ++r) {
       const CellKey from{key.x - 1, key.y + kForwardRows[r][0], key.z + kForwardRows[r][1]};
@@ -103,9 +146,10 @@ void searchWithinCells(const CellGrid& grid, double margin, PairWriter& out) {
       if (end == cursor[r]) continue;
       const std::int32_t begin = cells[cursor[r]].begin, stop = cells[end - 1].end;
       for (std::int32_t a = cell.begin; a < cell.end; ++a) {
-        testRange<kEmit>(items[a], meta[a], items, meta, begin, stop, margin, out);
+        testRange<kEmit>(probeOf(coords, a), a, coords, begin, stop, margin, out);
       }
     }
+    out.resolve(first_pair, meta, meta);  // while this cell's members are in the cache
   }
 }
 
@@ -123,24 +167,38 @@ void searchAcross(const CellGrid& target, const CellGrid& queries, double margin
                   AcrossScratch& scratch) {
   std::vector<std::int32_t>& found = scratch.found;
   std::vector<std::int32_t>& survivors = scratch.survivors;
-  const Item* titems = target.items().data();
+  const Coords tcoords = target.coords();
   const Meta* tmeta = target.meta().data();
   const auto tcells = target.cells();
-  const Item* qitems = queries.items().data();
+  const Coords qcoords = queries.coords();
   const Meta* qmeta = queries.meta().data();
   const double reach_to_target = target.maxRadius() + margin;
 
-  CellKey last_lo{1, 1, 1}, last_hi{0, 0, 0};  // an empty box: no query cell matches it
+  // Query cells are taken in runs of cells of one row (contiguous in memory) at most `span`
+  // cells wide, so that one box test per target member serves several small cells. A run spans
+  // at most half a target cell, so its box lets through at most about 1.5 times the target
+  // members a single cell's would per query (the reach, about a target cell, grows by half).
+  const double cells_per_half_target = 0.5 * target.edge() / queries.edge();
+  const auto span = static_cast<std::int64_t>(std::clamp(cells_per_half_target, 1.0, 1e6));
+  const auto qcells = queries.cells();
+  CellKey last_lo{1, 1, 1}, last_hi{0, 0, 0};  // an empty box: no query run matches it
   found.clear();
-  for (const CellGrid::Cell& qcell : queries.cells()) {
-    // The box of the query centres of this cell and their largest radius.
-    Vec3 lo(qitems[qcell.begin].x, qitems[qcell.begin].y, qitems[qcell.begin].z), hi = lo;
+  for (std::size_t run = 0, run_end = 0; run < qcells.size(); run = run_end) {
+    const CellKey& first = qcells[run].key;
+    for (run_end = run + 1; run_end < qcells.size(); ++run_end) {
+      const CellKey& key = qcells[run_end].key;
+      if (key.z != first.z || key.y != first.y || key.x - first.x >= span) break;
+    }
+    const std::int32_t qbegin = qcells[run].begin, qend = qcells[run_end - 1].end;
+    const std::size_t first_pair = out.mark();
+    // The box of the run's query centres and their largest radius.
+    Vec3 lo(qcoords.x[qbegin], qcoords.y[qbegin], qcoords.z[qbegin]), hi = lo;
     double r_max = 0.0;
-    for (std::int32_t q = qcell.begin; q < qcell.end; ++q) {
-      const Item& item = qitems[q];
-      lo = lo.cwiseMin(Vec3(item.x, item.y, item.z));
-      hi = hi.cwiseMax(Vec3(item.x, item.y, item.z));
-      r_max = std::max(r_max, item.r);
+    for (std::int32_t q = qbegin; q < qend; ++q) {
+      const Vec3 centre(qcoords.x[q], qcoords.y[q], qcoords.z[q]);
+      lo = lo.cwiseMin(centre);
+      hi = hi.cwiseMax(centre);
+      r_max = std::max(r_max, qcoords.r[q]);
     }
     CellKey klo, khi;
     target.keysAround(lo, hi, r_max + reach_to_target, klo, khi);
@@ -160,35 +218,39 @@ void searchAcross(const CellGrid& target, const CellGrid& queries, double margin
       last_hi = khi;
       survivors.resize(found.size());
     }
-    // Members that can reach the cell's box, kept without a branch on the outcome.
+    // Members that can reach the run's box, kept without a branch on the outcome.
     std::size_t kept = 0;
     for (const std::int32_t t : found) {
       survivors[kept] = t;
-      kept += static_cast<std::size_t>(boxWithinReach(titems[t], lo, hi, r_max, margin));
+      kept += static_cast<std::size_t>(boxWithinReach(probeOf(tcoords, t), lo, hi, r_max, margin));
     }
     for (std::size_t k = 0; k < kept; ++k) {
       const std::int32_t t = survivors[k];
-      testRange<Emit::kWritePerTest>(titems[t], tmeta[t], qitems, qmeta, qcell.begin, qcell.end,
-                                     margin, out);
+      testRange<Emit::kWritePerTest>(probeOf(tcoords, t), t, qcoords, qbegin, qend, margin, out);
     }
+    out.resolve(first_pair, tmeta, qmeta);
   }
 }
 
 void searchWithinDirect(const CellGrid& grid, double margin, PairWriter& out) {
-  const auto n = static_cast<std::int32_t>(grid.items().size());
+  const auto n = static_cast<std::int32_t>(grid.size());
+  const Coords coords = grid.coords();
+  const std::size_t first_pair = out.mark();
   for (std::int32_t a = 0; a < n; ++a) {
-    testRange<Emit::kWritePerTest>(grid.items()[a], grid.meta()[a], grid.items().data(),
-                                   grid.meta().data(), a + 1, n, margin, out);
+    testRange<Emit::kWritePerTest>(probeOf(coords, a), a, coords, a + 1, n, margin, out);
   }
+  out.resolve(first_pair, grid.meta().data(), grid.meta().data());
 }
 
 void searchAcrossDirect(const CellGrid& target, const CellGrid& queries, double margin,
                         PairWriter& out) {
-  const auto n = static_cast<std::int32_t>(queries.items().size());
-  for (std::size_t t = 0; t < target.items().size(); ++t) {
-    testRange<Emit::kWritePerTest>(target.items()[t], target.meta()[t], queries.items().data(),
-                                   queries.meta().data(), 0, n, margin, out);
+  const auto n = static_cast<std::int32_t>(queries.size());
+  const Coords tcoords = target.coords();
+  const std::size_t first_pair = out.mark();
+  for (std::int32_t t = 0; t < static_cast<std::int32_t>(target.size()); ++t) {
+    testRange<Emit::kWritePerTest>(probeOf(tcoords, t), t, queries.coords(), 0, n, margin, out);
   }
+  out.resolve(first_pair, target.meta().data(), queries.meta().data());
 }
 
 }  // namespace polydem::broadphase::detail

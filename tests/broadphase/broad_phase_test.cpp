@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 
 #include "broadphase/scenes.h"
@@ -211,6 +212,47 @@ TEST(BroadPhase, TwoSizeLatticeTouchingAcrossLevels) {
     EXPECT_EQ(run(name, {}, s, 0.0).size(), faces + 25) << name;
   }
   expectSameAsReference(s, 0.0, "two-size lattice");
+}
+
+TEST(BroadPhase, PocketsOfSmallAmongBigMatchReference) {
+  // Zhao's P-BROADPHASE shape: big spheres on a jittered lattice, some slots filled instead with
+  // a pocket of small ones 10x smaller, packed. The small level's cells are then a tenth of the
+  // big level's, so the cross-level search takes runs of several small cells per box test (odd
+  // and even run lengths, runs cut by rows and by the span); some of both sizes are ghosts.
+  Scene s;
+  int pockets = 0;
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+  std::uniform_int_distribution<int> ghost(0, 4);
+  for (int z = 0; z < 2; ++z) {
+    for (int y = 0; y < 4; ++y) {
+      for (int x = 0; x < 4; ++x) {
+        const Vec3 slot(x, y, z);
+        if ((x + 2 * y + 3 * z) % 3 != 0) {
+          s.add(slot + Vec3(jitter(rng), jitter(rng), jitter(rng)), 0.55, ghost(rng) != 0);
+          continue;
+        }
+        ++pockets;
+        for (int k = 0; k < 9 * 9 * 9; ++k) {
+          const Vec3 cell(k % 9, (k / 9) % 9, k / 81);
+          const Vec3 c = slot + 0.1 * (cell - Vec3::Constant(4.0));
+          s.add(c + Vec3(jitter(rng), jitter(rng), jitter(rng)), 0.06, ghost(rng) != 0);
+        }
+      }
+    }
+  }
+  s.finish(22);
+  for (const double margin : {0.0, 0.01}) {
+    expectSameAsReference(s, margin, "pockets");
+    // Face neighbours in a pocket are at most 0.1 + 2 * 0.01 apart, within 2 * 0.06: all pair
+    // (unless both are ghosts); a pocket's outer small spheres reach the big ones next to it.
+    const auto pairs = run("multilevel", {}, s, margin);
+    const auto across = std::count_if(pairs.begin(), pairs.end(), [&](const CandidatePair& p) {
+      return s.radii[p.i] != s.radii[p.j];
+    });
+    EXPECT_GT(pairs.size(), static_cast<std::size_t>(pockets * 3 * 9 * 9 * 8) * 9 / 10);
+    EXPECT_GT(across, 100);
+  }
 }
 
 TEST(BroadPhase, CoincidentCentresAndPointParticles) {

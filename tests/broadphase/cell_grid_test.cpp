@@ -99,8 +99,8 @@ void expectSortedByCell(const CellGrid& grid, const testing::Scene& s,
       const detail::Meta& meta = grid.meta()[k];
       const Vec3& centre = s.centers[meta.index];
       EXPECT_EQ(grid.keyOf(centre.x(), centre.y(), centre.z()), cell.key);
-      EXPECT_EQ(grid.items()[k].x, centre.x());
-      EXPECT_EQ(grid.items()[k].r, s.radii[meta.index]);
+      EXPECT_EQ(grid.coords().x[k], centre.x());
+      EXPECT_EQ(grid.coords().r[k], s.radii[meta.index]);
       EXPECT_EQ(meta.uid, s.uids[meta.index]);
       EXPECT_EQ(meta.active, s.active[meta.index]);
       if (k > cell.begin) {
