@@ -51,7 +51,8 @@ inline std::uint32_t near2(const Probe& a, const Coords& b, std::int32_t k, doub
 //  - kWritePerTest: two members at a time (near2()); each writes its pair and the end advances
 //    by the outcome, with no branch at all: best where a fair share of the tests hit (the
 //    multi-level grids, whose cells fit their members: about one test in six);
-//  - kMaskPerBlock: each block of 64 is tested into a bit mask, then only the hits are written:
+//  - kMaskPerBlock: each block of 64 is tested (two at a time) into a bit mask, then only the
+//    hits are written:
 //    best where hits are rare (NBS cells sized for the largest member: one test in fifty).
 // A mispredicted branch on a test's outcome (hard to predict: a third hit among neighbours of one
 // size) costs more than either.
@@ -79,9 +80,11 @@ inline void testRange(const Probe& a, std::int32_t a_pos, const Coords& b, std::
     for (std::int32_t block = begin; block < end; block += 64) {
       const std::int32_t n = std::min<std::int32_t>(64, end - block);
       std::uint64_t hits = 0;
-      for (std::int32_t k = 0; k < n; ++k) {
-        hits |= static_cast<std::uint64_t>(near(a, b, block + k, margin)) << k;
+      for (std::int32_t k = 0; k < n; k += 2) {
+        hits |= static_cast<std::uint64_t>(near2(a, b, block + k, margin)) << k;
       }
+      // For an odd n the last lane lay past the block: drop its bit.
+      hits &= n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1;
       for (; hits != 0; hits &= hits - 1) {
         *w++ = {a_pos, block + std::countr_zero(hits)};
       }
