@@ -100,54 +100,113 @@ void CellGrid::buildLookup() {
 
 void CellGrid::sortMembers(const SphereSet& spheres, std::span<const std::int32_t> members) {
   const std::size_t n = members.size();
-  order_.assign(members.begin(), members.end());  // sphere indices, sorted below
+  const bool same_members = last_sorted_ && n == size_ &&
+                            std::equal(members.begin(), members.end(), last_members_.begin());
   size_ = n;
   for (auto* coord : {&x_, &y_, &z_, &r_}) {
     coord->resize(n + kPad);
     std::fill(coord->begin() + static_cast<std::ptrdiff_t>(n), coord->end(), 0.0);
   }
-  meta_.resize(n + kPad);
+  if (!same_members) meta_.resize(n + kPad);  // else meta_ holds the last order, read below
   std::fill(meta_.begin() + static_cast<std::ptrdiff_t>(n), meta_.end(), Meta{0, 0, 0});
   cells_.clear();
   cells_.reserve(n);  // at most one cell per member: no growth below
-  auto add = [&](std::size_t p, const CellKey& key) {
-    const std::int32_t m = order_[p];
-    const Vec3& c = spheres.centers[m];
-    x_[p] = c.x();
-    y_[p] = c.y();
-    z_[p] = c.z();
-    r_[p] = spheres.radii[m];
-    meta_[p] = {spheres.uids[m], m, spheres.active[m]};
-    if (p == 0 || !(cells_.back().key == key)) {
+  last_sorted_ = false;
+  if (key_bits_ > 0) {
+    if (!(same_members && sortFromLastOrder(spheres))) sortByRadix(spheres, members);
+    cellsFromKeys();
+    last_members_.assign(members.begin(), members.end());
+    last_sorted_ = true;
+    return;
+  }
+  sortByComparison(spheres, members);
+}
+
+void CellGrid::gather(const SphereSet& spheres, std::size_t p, std::int32_t m) {
+  const Vec3& c = spheres.centers[m];
+  x_[p] = c.x();
+  y_[p] = c.y();
+  z_[p] = c.z();
+  r_[p] = spheres.radii[m];
+  meta_[p] = {spheres.uids[m], m, spheres.active[m]};
+}
+
+void CellGrid::sortByRadix(const SphereSet& spheres, std::span<const std::int32_t> members) {
+  const std::size_t n = members.size();
+  order_.assign(members.begin(), members.end());  // sphere indices, sorted below
+  // The cell's index in the padded box of cells: (z, y, x) order, one integer.
+  keys_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3& c = spheres.centers[order_[k]];
+    keys_[k] = static_cast<std::uint64_t>(packed(keyOf(c.x(), c.y(), c.z())));
+  }
+  radixSort(keys_, order_, keys_tmp_, order_tmp_, key_bits_);
+  for (std::size_t p = 0; p < n; ++p) gather(spheres, p, order_[p]);
+}
+
+bool CellGrid::sortFromLastOrder(const SphereSet& spheres) {
+  // Members in the last call's cell order (meta_'s indices), with their new keys. Particles
+  // move a fraction of a cell per step, so this order is almost the new one: only members that
+  // crossed a cell face are out of place, by a few places.
+  const std::size_t n = size_;
+  keys_.resize(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    gather(spheres, p, meta_[p].index);
+    const Vec3& c = spheres.centers[meta_[p].index];
+    keys_[p] = static_cast<std::uint64_t>(packed(keyOf(c.x(), c.y(), c.z())));
+  }
+  // Insertion sort by (key, index): the order the stable radix sort of the members (ascending
+  // indices) gives, so the result does not depend on the history. Gives up, for the radix
+  // sort, once it has moved more than a few places per member (a scene rebuilt or shuffled).
+  auto before = [&](std::uint64_t key, std::int32_t index, std::size_t q) {
+    return key < keys_[q] || (key == keys_[q] && index < meta_[q].index);
+  };
+  std::size_t moves = 0;
+  const std::size_t max_moves = 4 * n + 64;
+  for (std::size_t p = 1; p < n; ++p) {
+    if (!before(keys_[p], meta_[p].index, p - 1)) continue;
+    const std::uint64_t key = keys_[p];
+    const double x = x_[p], y = y_[p], z = z_[p], r = r_[p];
+    const Meta meta = meta_[p];
+    std::size_t q = p;
+    for (; q > 0 && before(key, meta.index, q - 1); --q) {
+      if (++moves > max_moves) return false;
+      keys_[q] = keys_[q - 1];
+      x_[q] = x_[q - 1];
+      y_[q] = y_[q - 1];
+      z_[q] = z_[q - 1];
+      r_[q] = r_[q - 1];
+      meta_[q] = meta_[q - 1];
+    }
+    keys_[q] = key;
+    x_[q] = x;
+    y_[q] = y;
+    z_[q] = z;
+    r_[q] = r;
+    meta_[q] = meta;
+  }
+  return true;
+}
+
+void CellGrid::cellsFromKeys() {
+  CellKey key{0, 0, 0};
+  for (std::size_t p = 0; p < size_; ++p) {
+    if (p == 0 || keys_[p] != keys_[p - 1]) {  // a new cell: decode its key
+      const auto linear = static_cast<std::int64_t>(keys_[p]);
+      key = {linear % nx_ - 1, (linear / nx_) % ny_ - 1, linear / (nx_ * ny_) - 1};
       cells_.push_back({key, static_cast<std::int32_t>(p), static_cast<std::int32_t>(p + 1)});
     } else {
       cells_.back().end = static_cast<std::int32_t>(p + 1);
     }
-  };
-
-  if (key_bits_ > 0) {
-    // The cell's index in the padded box of cells: (z, y, x) order, one integer.
-    keys_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const Vec3& c = spheres.centers[order_[k]];
-      const CellKey key = keyOf(c.x(), c.y(), c.z());
-      keys_[k] = static_cast<std::uint64_t>(packed(key));
-    }
-    radixSort(keys_, order_, keys_tmp_, order_tmp_, key_bits_);
-    CellKey key{0, 0, 0};
-    for (std::size_t p = 0; p < n; ++p) {
-      if (p == 0 || keys_[p] != keys_[p - 1]) {  // decode only where a new cell starts
-        const auto linear = static_cast<std::int64_t>(keys_[p]);
-        key = {linear % nx_ - 1, (linear / nx_) % ny_ - 1, linear / (nx_ * ny_) - 1};
-      }
-      add(p, key);
-    }
-    return;
   }
+}
+
+void CellGrid::sortByComparison(const SphereSet& spheres, std::span<const std::int32_t> members) {
   // A box of more than 2^62 cells (a scene spanning 1e18 cell sizes): compare keys instead.
+  const std::size_t n = members.size();
   cell_keys_.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
-    const Vec3& c = spheres.centers[order_[k]];
+    const Vec3& c = spheres.centers[members[k]];
     cell_keys_[k] = keyOf(c.x(), c.y(), c.z());
   }
   order_tmp_.resize(n);
@@ -157,8 +216,15 @@ void CellGrid::sortMembers(const SphereSet& spheres, std::span<const std::int32_
     const CellKey& kb = cell_keys_[b];
     return cellBefore(ka, kb) || (ka == kb && a < b);
   });
-  for (std::size_t p = 0; p < n; ++p) order_[p] = members[order_tmp_[p]];
-  for (std::size_t p = 0; p < n; ++p) add(p, cell_keys_[order_tmp_[p]]);
+  for (std::size_t p = 0; p < n; ++p) {
+    gather(spheres, p, members[order_tmp_[p]]);
+    const CellKey& key = cell_keys_[order_tmp_[p]];
+    if (p == 0 || !(cells_.back().key == key)) {
+      cells_.push_back({key, static_cast<std::int32_t>(p), static_cast<std::int32_t>(p + 1)});
+    } else {
+      cells_.back().end = static_cast<std::int32_t>(p + 1);
+    }
+  }
 }
 
 }  // namespace polydem::broadphase::detail

@@ -4,7 +4,9 @@
 // floor() from the lowest centre of the scene instead of Fortran's 1 + int(x + 0.5) (the same
 // mapping shifted by half a cell). Only occupied cells are stored: the members are sorted by
 // cell in (z, y, x) order (a stable radix sort on the cell's index in the scene's box of cells,
-// 11 bits per pass, as many passes as that index needs), and a cell is a run of equal keys. So a
+// 11 bits per pass, as many passes as that index needs), and a cell is a run of equal keys. When
+// a grid is rebuilt for the same members (the next time step), the sort starts from their last
+// order instead and an insertion sort moves the few that changed cells, to the same order. So a
 // scene spread over a huge, mostly empty region (millimetre grains at 1e6 m, a far ghost) costs
 // memory and time in proportion to the particles, never to the volume, and the members of
 // neighbouring cells of a row lie next to each other in memory. Within a grid, neighbour cells
@@ -223,6 +225,11 @@ class CellGrid {
     return (key.x + 1) + nx_ * ((key.y + 1) + ny_ * (key.z + 1));
   }
   void sortMembers(const SphereSet& spheres, std::span<const std::int32_t> members);
+  void gather(const SphereSet& spheres, std::size_t p, std::int32_t m);
+  void sortByRadix(const SphereSet& spheres, std::span<const std::int32_t> members);
+  bool sortFromLastOrder(const SphereSet& spheres);
+  void cellsFromKeys();
+  void sortByComparison(const SphereSet& spheres, std::span<const std::int32_t> members);
   void buildLookup();
 
   Vec3 origin_ = Vec3::Zero();
@@ -246,6 +253,10 @@ class CellGrid {
   std::vector<std::uint64_t> keys_, keys_tmp_;
   std::vector<std::int32_t> order_, order_tmp_;
   std::vector<CellKey> cell_keys_;
+  // The members of the last build, sorted by packed keys (last_sorted_): when the next build has
+  // the same members, their last order (meta_'s indices) is the starting point of the sort.
+  std::vector<std::int32_t> last_members_;
+  bool last_sorted_ = false;
 };
 
 }  // namespace polydem::broadphase::detail

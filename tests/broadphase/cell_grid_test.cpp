@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
+#include <string>
 
 #include "broadphase/scenes.h"
 #include "polydem/broadphase/overlap.h"
@@ -150,6 +152,60 @@ TEST(CellGrid, ClustersFarApart) {
   EXPECT_FALSE(grid.denseLookup());
   expectSortedByCell(grid, s, all, true);
   EXPECT_EQ(grid.find({5000, 5000, 5000}), -1);
+}
+
+// The grid and a fresh one built for the same scene hold the same cells, members and coordinates.
+void expectSameGrid(const CellGrid& reused, const CellGrid& fresh, const std::string& what) {
+  ASSERT_EQ(reused.cells().size(), fresh.cells().size()) << what;
+  for (std::size_t c = 0; c < fresh.cells().size(); ++c) {
+    EXPECT_EQ(reused.cells()[c].key, fresh.cells()[c].key) << what;
+    EXPECT_EQ(reused.cells()[c].begin, fresh.cells()[c].begin) << what;
+    EXPECT_EQ(reused.cells()[c].end, fresh.cells()[c].end) << what;
+  }
+  ASSERT_EQ(reused.size(), fresh.size()) << what;
+  for (std::size_t k = 0; k < fresh.size(); ++k) {
+    EXPECT_EQ(reused.meta()[k].index, fresh.meta()[k].index) << what;
+    EXPECT_EQ(reused.meta()[k].uid, fresh.meta()[k].uid) << what;
+    EXPECT_EQ(reused.coords().x[k], fresh.coords().x[k]) << what;
+    EXPECT_EQ(reused.coords().r[k], fresh.coords().r[k]) << what;
+  }
+}
+
+// Rebuilt for the same members after they moved, a grid starts its sort from their last order;
+// whether few of them changed cells (insertion sort), many did (it gives up for the radix sort)
+// or the members changed (radix sort), it ends in the order a fresh grid has.
+TEST(CellGrid, RebuildAfterMovesMatchesAFreshGrid) {
+  testing::Scene s = testing::randomScene(
+      {.n = 4000, .size_ratio = 3.0, .solid_fraction = 0.3, .inactive_fraction = 0.2, .seed = 12});
+  // Cells of about 10 (the scene is about 80 across): a few members per cell, so that where a
+  // member lands within its new cell matters.
+  constexpr double kReach = 10.0;
+  std::vector<std::int32_t> members;
+  for (std::int32_t i = 0; i < 4000; i += 3) members.push_back(i);
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  CellGrid reused;
+  reused.build(s.view(), members, kReach, boundsOf(s), true);
+  // Steps of 2 % of a cell (a few members cross a face), then 50 % (many do), then every centre
+  // swapped with a random other (nothing of the last order is left).
+  for (const double step : {0.2, 0.2, 5.0, -1.0}) {
+    if (step > 0) {
+      for (Vec3& c : s.centers) c += step * Vec3(unit(rng), unit(rng), unit(rng));
+    } else {
+      std::shuffle(s.centers.begin(), s.centers.end(), rng);
+    }
+    reused.build(s.view(), members, kReach, boundsOf(s), true);
+    CellGrid fresh;
+    fresh.build(s.view(), members, kReach, boundsOf(s), true);
+    expectSameGrid(reused, fresh, "step " + std::to_string(step));
+    expectSortedByCell(reused, s, members, true);
+  }
+  // Other members: the last order does not apply.
+  members.pop_back();
+  reused.build(s.view(), members, kReach, boundsOf(s), true);
+  CellGrid fresh;
+  fresh.build(s.view(), members, kReach, boundsOf(s), true);
+  expectSameGrid(reused, fresh, "one member fewer");
 }
 
 // A scene spanning more than 2^62 cells is sorted by comparing keys instead of packing them.
