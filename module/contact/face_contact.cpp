@@ -17,13 +17,14 @@ const double kSinFacing = std::sin(kFacingAngleDeg * std::numbers::pi / 180.0);
 
 // Among the faces around vertex `support`, the one whose world outward normal is closest to
 // `direction` and within the facing angle of it; -1 if none. Ties go to the first in the vertex's
-// face order, which depends only on the shape.
-int facingFace(const Body& body, const Vec3& direction, int support) {
+// face order, which depends only on the shape. `normal` gets the chosen face's world normal.
+int facingFace(const Body& body, const Vec3& direction, int support, Vec3& normal) {
   int best = -1;
   double best_cos = kCosFacing;
   for (int f : body.shape->vertexFaces()[support]) {
-    const double c = body.faceNormal(f).dot(direction);
-    if (c > best_cos) best = f, best_cos = c;
+    const Vec3 nf = body.faceNormal(f);
+    const double c = nf.dot(direction);
+    if (c > best_cos) best = f, best_cos = c, normal = nf;
   }
   return best;
 }
@@ -50,13 +51,20 @@ double along(const Vec2& x, const Vec2& p0, const Vec2& p1) {
 
 }  // namespace
 
-void FaceContactBuilder::project(const Body& body, int face, std::vector<Vec2>& corners,
-                                 std::vector<int>& vertex, std::vector<int>& edge) const {
+FaceContactBuilder::Facing FaceContactBuilder::facingSide(const Body& body, const Vec3& direction,
+                                                          int support) {
+  Facing f;
+  f.face = facingFace(body, direction, support, f.normal);
+  if (f.face >= 0) f.base = &body.vertices[body.shape->faces()[f.face].vertices[0]];
+  return f;
+}
+
+LabelledPolygon FaceContactBuilder::project(const Body& body, int face, std::vector<Vec2>& corners,
+                                            std::vector<int>& vertex,
+                                            std::vector<int>& edge) const {
   const auto& f = body.shape->faces()[face];
   const int m = static_cast<int>(f.vertices.size());
   corners.resize(m);
-  vertex.resize(m);
-  edge.resize(m);
   double twice_area = 0.0;
   for (int i = 0; i < m; ++i) {
     const Vec3 d = body.vertices[f.vertices[i]] - frame_.origin;
@@ -64,37 +72,39 @@ void FaceContactBuilder::project(const Body& body, int face, std::vector<Vec2>& 
   }
   for (int i = 0; i < m; ++i)
     twice_area += geometry::cross2(corners[i], corners[i + 1 < m ? i + 1 : 0]);
-  if (twice_area >= 0.0) {  // counter-clockwise seen from +n already (B's face)
-    for (int i = 0; i < m; ++i) vertex[i] = f.vertices[i], edge[i] = f.edges[i];
-    return;
+  if (twice_area >= 0.0) {  // counter-clockwise seen from +n already (B's face): the face's lists
+    return {corners, f.vertices, f.edges, face};
   }
   // A face seen from its back (A's face looks along -n): reverse it. Edge i of the reversed
   // polygon joins reversed corners i and i + 1, i.e. the original edge m - 2 - i (mod m).
   std::reverse(corners.begin(), corners.end());
+  vertex.resize(m);
+  edge.resize(m);
   for (int i = 0; i < m; ++i) {
     vertex[i] = f.vertices[m - 1 - i];
     edge[i] = f.edges[m - 2 - i >= 0 ? m - 2 - i : m - 1];  // i = m - 1: edge m - 1
   }
+  return {corners, vertex, edge, face};
 }
 
-SubContact FaceContactBuilder::fromCorner(const Body& a, const Body& b, const LabelledCorner& k,
-                                          const Vec3& n) const {
-  SubContact s;
+void FaceContactBuilder::fromCorner(const Body& a, const Body& b, const LabelledCorner& k,
+                                    const Vec3& n, double weight, SubContact& s) const {
+  s.weight = weight;
   s.feature = featureKey(k.a, k.b);
   const FeatureType ta = featureType(k.a), tb = featureType(k.b);
+  // A vertex of one body lies inside the other's face, which is that body's facing face (the
+  // only face the clip labels): its normal and first vertex were kept by build().
   if (ta == FeatureType::kVertex) {  // A's vertex inside B's face: pushed out along B's normal
-    const auto& face = b.shape->faces()[featureIndex(k.b)];
-    const Vec3 nb = b.faceNormal(featureIndex(k.b));
+    const Vec3& nb = facing_b_.normal;
     const Vec3& x = a.vertices[featureIndex(k.a)];
     s.normal = nb;
-    s.gap = nb.dot(b.vertices[face.vertices[0]] - x);
+    s.gap = nb.dot(*facing_b_.base - x);
     s.point = x + (0.5 * s.gap) * nb;
   } else if (tb == FeatureType::kVertex) {  // B's vertex inside A's face
-    const auto& face = a.shape->faces()[featureIndex(k.a)];
-    const Vec3 na = a.faceNormal(featureIndex(k.a));
+    const Vec3& na = facing_a_.normal;
     const Vec3& x = b.vertices[featureIndex(k.b)];
     s.normal = -na;
-    s.gap = na.dot(a.vertices[face.vertices[0]] - x);
+    s.gap = na.dot(*facing_a_.base - x);
     s.point = x + (0.5 * s.gap) * na;
   } else {  // crossing edges: the points of each edge above and below the projected crossing
     const auto& ea = a.shape->edges()[featureIndex(k.a)];
@@ -113,14 +123,13 @@ SubContact FaceContactBuilder::fromCorner(const Body& a, const Body& b, const La
     s.gap = n.dot(pb - pa);
     s.point = 0.5 * (pa + pb);
   }
-  return s;
 }
 
-bool FaceContactBuilder::faceFace(const Body& a, const Body& b, int fa, int fb, const Contact& c) {
-  project(a, fa, corners_a_, vertex_a_, edge_a_);
-  project(b, fb, corners_b_, vertex_b_, edge_b_);
-  clipper_.polygons({corners_a_, vertex_a_, edge_a_, fa}, {corners_b_, vertex_b_, edge_b_, fb},
-                    RelTol::kPoint * scale_, overlap_);
+bool FaceContactBuilder::faceFace(const Body& a, const Body& b, const Contact& c) {
+  const int fa = facing_a_.face, fb = facing_b_.face;
+  clipper_.polygons(project(a, fa, corners_a_, vertex_a_, edge_a_),
+                    project(b, fb, corners_b_, vertex_b_, edge_b_), RelTol::kPoint * scale_,
+                    overlap_);
   const int m = static_cast<int>(overlap_.size());
   if (m < 3) return false;
   // Each corner's share of the area: half of the two fan triangles (middle, corner, neighbour)
@@ -131,77 +140,79 @@ bool FaceContactBuilder::faceFace(const Body& a, const Body& b, int fa, int fb, 
   Vec2 middle = Vec2::Zero();
   for (const auto& k : overlap_) middle += k.p;
   middle /= static_cast<double>(m);
-  double twice_area = 0.0, extent = 0.0;
+  double twice_area = 0.0, extent2 = 0.0;
   shares_.resize(m);
   for (int i = 0; i < m; ++i) {
     const Vec2& p = overlap_[i].p;
     const Vec2& q = overlap_[i + 1 < m ? i + 1 : 0].p;
     shares_[i] = std::max(0.5 * geometry::cross2(p - middle, q - middle), 0.0);
     twice_area += 2.0 * shares_[i];
-    extent = std::max(extent, (p - q).norm());
+    extent2 = std::max(extent2, (p - q).squaredNorm());
   }
+  // The longest side. One square root of the largest square is the largest of the roots: the
+  // root is monotonic and correctly rounded.
+  const double extent = std::sqrt(extent2);
   if (!(twice_area > 2.0 * RelTol::kIteration * scale_ * extent)) return false;
-  subs_.clear();
+  pending_.resize(m);
   for (int i = 0; i < m; ++i) {
-    SubContact s = fromCorner(a, b, overlap_[i], c.normal);
-    s.weight = 0.5 * (shares_[i] + shares_[i > 0 ? i - 1 : m - 1]) / (0.5 * twice_area);
-    subs_.push_back(s);
+    const double weight = 0.5 * (shares_[i] + shares_[i > 0 ? i - 1 : m - 1]) / (0.5 * twice_area);
+    pending_[i] = {featureKey(overlap_[i].a, overlap_[i].b), weight, i};
   }
   area_ = 0.5 * twice_area;
+  finish(a, b, c.normal);
   return true;
 }
 
-bool FaceContactBuilder::edgeFace(const Body& edge_body, const Body& face_body, int edge, int face,
+bool FaceContactBuilder::edgeFace(const Body& edge_body, const Body& face_body, int edge,
                                   bool edge_is_a, const Contact& c) {
-  project(face_body, face, corners_b_, vertex_b_, edge_b_);
+  const int face = edge_is_a ? facing_b_.face : facing_a_.face;
+  const LabelledPolygon polygon = project(face_body, face, corners_b_, vertex_b_, edge_b_);
   const auto& e = edge_body.shape->edges()[edge];
   auto flat = [&](int v) {
     const Vec3 d = edge_body.vertices[v] - frame_.origin;
     return Vec2(frame_.u.dot(d), frame_.v.dot(d));
   };
   const Vec2 s0 = flat(e.v0), s1 = flat(e.v1);
-  clipper_.segment(s0, s1, e.v0, e.v1, edge, edge_is_a, {corners_b_, vertex_b_, edge_b_, face},
-                   overlap_);
+  clipper_.segment(s0, s1, e.v0, e.v1, edge, edge_is_a, polygon, overlap_);
   if (overlap_.size() != 2) return false;
   if (!((overlap_[1].p - overlap_[0].p).norm() > RelTol::kPoint * scale_)) return false;
-  const Body& a = edge_is_a ? edge_body : face_body;
-  const Body& b = edge_is_a ? face_body : edge_body;
-  subs_.clear();
-  for (const auto& k : overlap_) {
-    SubContact s = fromCorner(a, b, k, c.normal);
-    s.weight = 0.5;
-    subs_.push_back(s);
-  }
+  pending_.resize(2);
+  for (int i = 0; i < 2; ++i) pending_[i] = {featureKey(overlap_[i].a, overlap_[i].b), 0.5, i};
+  finish(edge_is_a ? edge_body : face_body, edge_is_a ? face_body : edge_body, c.normal);
   return true;
 }
 
-void FaceContactBuilder::finish() {
+void FaceContactBuilder::finish(const Body& a, const Body& b, const Vec3& n) {
   // Canonical order, and one sub-contact per feature pair: a degenerate clip (a corner exactly on
-  // an edge line) can meet the same pair of features twice; their weights are merged.
+  // an edge line) can meet the same pair of features twice; their weights are merged, and only
+  // the first of them becomes a sub-contact. The corners are sorted as small (feature, weight,
+  // corner) entries before any sub-contact is made from them.
   // A pair has a handful of corners: a stable insertion sort, the order std::sort gives to
-  // ranges this short (it insertion-sorts up to 16 elements), without the call.
-  const auto before = [](const SubContact& x, const SubContact& y) {
-    return x.feature < y.feature;
-  };
-  if (subs_.size() > 16) {
-    std::sort(subs_.begin(), subs_.end(), before);
+  // ranges this short (it insertion-sorts up to 16 elements), without the call; longer ones go
+  // through std::sort, whose order depends only on the comparisons, as before.
+  const auto before = [](const Pending& x, const Pending& y) { return x.feature < y.feature; };
+  if (pending_.size() > 16) {
+    std::sort(pending_.begin(), pending_.end(), before);
   } else {
-    for (std::size_t i = 1; i < subs_.size(); ++i) {
-      const SubContact s = subs_[i];
+    for (std::size_t i = 1; i < pending_.size(); ++i) {
+      const Pending p = pending_[i];
       std::size_t j = i;
-      for (; j > 0 && before(s, subs_[j - 1]); --j) subs_[j] = subs_[j - 1];
-      subs_[j] = s;
+      for (; j > 0 && before(p, pending_[j - 1]); --j) pending_[j] = pending_[j - 1];
+      pending_[j] = p;
     }
   }
   std::size_t kept = 0;
-  for (std::size_t i = 0; i < subs_.size(); ++i) {
-    if (kept > 0 && subs_[kept - 1].feature == subs_[i].feature) {
-      subs_[kept - 1].weight += subs_[i].weight;
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    if (kept > 0 && pending_[kept - 1].feature == pending_[i].feature) {
+      pending_[kept - 1].weight += pending_[i].weight;
     } else {
-      subs_[kept++] = subs_[i];
+      pending_[kept++] = pending_[i];
     }
   }
   subs_.resize(kept);
+  for (std::size_t i = 0; i < kept; ++i) {
+    fromCorner(a, b, overlap_[pending_[i].corner], n, pending_[i].weight, subs_[i]);
+  }
 }
 
 FaceContact FaceContactBuilder::build(const Body& a, const Body& b, const Contact& c) {
@@ -211,19 +222,19 @@ FaceContact FaceContactBuilder::build(const Body& a, const Body& b, const Contac
   const Vec3 u = (std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
   frame_ = {c.point, u, n.cross(u)};
   const int ia = supportIndex(a, -n), ib = supportIndex(b, n);
-  const int fa = facingFace(a, -n, ia), fb = facingFace(b, n, ib);
+  facing_a_ = facingSide(a, -n, ia);
+  facing_b_ = facingSide(b, n, ib);
   ContactArea kind = ContactArea::kPoint;
-  if (fa >= 0 && fb >= 0) {
-    if (faceFace(a, b, fa, fb, c)) kind = ContactArea::kFace;
-  } else if (fb >= 0) {
+  if (facing_a_.face >= 0 && facing_b_.face >= 0) {
+    if (faceFace(a, b, c)) kind = ContactArea::kFace;
+  } else if (facing_b_.face >= 0) {
     const int ea = flatEdge(a, n, ia);
-    if (ea >= 0 && edgeFace(a, b, ea, fb, true, c)) kind = ContactArea::kLine;
-  } else if (fa >= 0) {
+    if (ea >= 0 && edgeFace(a, b, ea, true, c)) kind = ContactArea::kLine;
+  } else if (facing_a_.face >= 0) {
     const int eb = flatEdge(b, n, ib);
-    if (eb >= 0 && edgeFace(b, a, eb, fa, false, c)) kind = ContactArea::kLine;
+    if (eb >= 0 && edgeFace(b, a, eb, false, c)) kind = ContactArea::kLine;
   }
   if (kind != ContactArea::kPoint) {
-    finish();
     // A penetrating pair whose chosen features are all apart (a corner of one body in the
     // other's edge region): the kernel's point is the better answer.
     const bool any =

@@ -77,23 +77,45 @@ class FaceContactBuilder {
   FaceContact build(const Body& a, const Body& b, const Contact& c);
 
  private:
-  bool faceFace(const Body& a, const Body& b, int fa, int fb, const Contact& c);
-  bool edgeFace(const Body& edge_body, const Body& face_body, int edge, int face, bool edge_is_a,
+  /// A body's face that faces the other body: its world normal and first vertex, kept from the
+  /// search so that every corner on it reuses them (the same values as recomputing them).
+  struct Facing {
+    int face = -1;
+    Vec3 normal = Vec3::Zero();
+    const Vec3* base = nullptr;  // world position of the face's first vertex
+  };
+  /// A corner of the overlap before it becomes a sub-contact: sorted and merged by feature first,
+  /// so that only the corners kept are turned into sub-contacts.
+  struct Pending {
+    FeatureKey feature;
+    double weight;
+    int corner;  // index into overlap_
+  };
+
+  static Facing facingSide(const Body& body, const Vec3& direction, int support);
+  bool faceFace(const Body& a, const Body& b, const Contact& c);
+  bool edgeFace(const Body& edge_body, const Body& face_body, int edge, bool edge_is_a,
                 const Contact& c);
-  void project(const Body& body, int face, std::vector<Vec2>& corners, std::vector<int>& vertex,
-               std::vector<int>& edge) const;
-  SubContact fromCorner(const Body& a, const Body& b, const LabelledCorner& k, const Vec3& n) const;
-  void finish();
+  /// The face projected onto the contact plane, counter-clockwise seen from +n; `corners` and,
+  /// for a face seen from its back, `vertex` and `edge` hold the reversed lists.
+  LabelledPolygon project(const Body& body, int face, std::vector<Vec2>& corners,
+                          std::vector<int>& vertex, std::vector<int>& edge) const;
+  /// Fills `s` (every member) with the sub-contact of corner `k` of weight `weight`.
+  void fromCorner(const Body& a, const Body& b, const LabelledCorner& k, const Vec3& n,
+                  double weight, SubContact& s) const;
+  void finish(const Body& a, const Body& b, const Vec3& n);
 
   struct Frame {
     Vec3 origin, u, v;
   } frame_;
   double scale_ = 0.0;  // the pair's length scale
   double area_ = 0.0;
+  Facing facing_a_, facing_b_;
   std::vector<Vec2> corners_a_, corners_b_;
   std::vector<int> vertex_a_, vertex_b_, edge_a_, edge_b_;
   std::vector<LabelledCorner> overlap_;
   std::vector<double> shares_;
+  std::vector<Pending> pending_;
   std::vector<SubContact> subs_;
   LabelledClipper clipper_;
 };

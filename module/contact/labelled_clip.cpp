@@ -20,47 +20,61 @@ int sharedVertex(const LabelledPolygon& b, int previous, int k) {
   return b.vertex[k];
 }
 
+// Makes `buffer` hold at least `size` elements; it never shrinks, so once warm this allocates
+// nothing.
+template <typename T>
+void grow(std::vector<T>& buffer, std::size_t size) {
+  if (buffer.size() < size) buffer.resize(size);
+}
+
 }  // namespace
 
 void LabelledClipper::polygons(const LabelledPolygon& a, const LabelledPolygon& b, double merge,
                                std::vector<LabelledCorner>& out) {
   out.clear();
-  poly_.clear();
   const int na = static_cast<int>(a.corners.size()), nb = static_cast<int>(b.corners.size());
+  // The working polygons live in buffers that only grow, indexed directly: a pass over n corners
+  // writes at most 2 n (every edge keeps its start and adds at most one crossing), so each pass
+  // makes room for that first and then writes without a capacity check per corner.
+  grow(poly_, static_cast<std::size_t>(na));
   for (int i = 0; i < na; ++i) {
-    poly_.push_back({{a.corners[i], feature(FeatureType::kVertex, a.vertex[i]),
-                      feature(FeatureType::kFace, b.face)},
-                     a.edge[i]});
+    poly_[i] = {{a.corners[i], feature(FeatureType::kVertex, a.vertex[i]),
+                 feature(FeatureType::kFace, b.face)},
+                a.edge[i]};
   }
-  for (int k = 0; k < nb && !poly_.empty(); ++k) {
+  std::size_t n = static_cast<std::size_t>(na);
+  for (int k = 0; k < nb && n > 0; ++k) {
     const Vec2& q0 = b.corners[k];
-    const Vec2 d = b.corners[(k + 1) % nb] - q0;
+    const Vec2 d = b.corners[k + 1 < nb ? k + 1 : 0] - q0;
     if (d.squaredNorm() == 0.0) continue;  // a repeated corner carries no line
-    const std::size_t n = poly_.size();
-    h_.resize(n);
+    grow(h_, n);
+    const Working* poly = poly_.data();
+    double* h = h_.data();
     bool any_out = false, any_in = false;
     for (std::size_t i = 0; i < n; ++i) {
-      h_[i] = cross2(d, poly_[i].corner.p - q0);  // >= 0: left of the edge, inside B
-      (h_[i] < 0.0 ? any_out : any_in) = true;
+      h[i] = cross2(d, poly[i].corner.p - q0);  // >= 0: left of the edge, inside B
+      (h[i] < 0.0 ? any_out : any_in) = true;
     }
     if (!any_out) continue;
     if (!any_in) {
-      poly_.clear();
+      n = 0;
       break;
     }
-    next_.clear();
+    grow(next_, 2 * n);
+    Working* next = next_.data();
+    std::size_t kept_count = 0;
     for (std::size_t i = 0; i < n; ++i) {
       const std::size_t j = i + 1 == n ? 0 : i + 1;
-      const double hi = h_[i], hj = h_[j];
-      const Working& wi = poly_[i];
+      const double hi = h[i], hj = h[j];
+      const Working& wi = poly[i];
       if (hi >= 0.0) {
-        Working kept = wi;
+        Working& kept = next[kept_count++];
+        kept = wi;
         if (hi == 0.0 && hj < 0.0) kept.carrier = -1 - k;  // leaves along the clip line
-        next_.push_back(kept);
       }
       if (!((hi > 0.0 && hj < 0.0) || (hi < 0.0 && hj > 0.0))) continue;
-      Working x;
-      x.corner.p = wi.corner.p + (hi / (hi - hj)) * (poly_[j].corner.p - wi.corner.p);
+      Working& x = next[kept_count++];
+      x.corner.p = wi.corner.p + (hi / (hi - hj)) * (poly[j].corner.p - wi.corner.p);
       if (wi.carrier >= 0) {  // an edge of A crosses B's edge k
         x.corner.a = feature(FeatureType::kEdge, wi.carrier);
         x.corner.b = feature(FeatureType::kEdge, b.edge[k]);
@@ -70,14 +84,15 @@ void LabelledClipper::polygons(const LabelledPolygon& a, const LabelledPolygon& 
       }
       // Entering, the polygon goes on along the crossed edge; leaving, along the clip line.
       x.carrier = hi < 0.0 ? wi.carrier : -1 - k;
-      next_.push_back(x);
     }
     std::swap(poly_, next_);
+    n = kept_count;
   }
   const double merge2 = merge * merge;
-  for (const Working& w : poly_) {
-    if (!out.empty() && (w.corner.p - out.back().p).squaredNorm() <= merge2) continue;
-    out.push_back(w.corner);
+  for (std::size_t i = 0; i < n; ++i) {
+    const LabelledCorner& c = poly_[i].corner;
+    if (!out.empty() && (c.p - out.back().p).squaredNorm() <= merge2) continue;
+    out.push_back(c);
   }
   if (out.size() > 1 && (out.front().p - out.back().p).squaredNorm() <= merge2) out.pop_back();
 }

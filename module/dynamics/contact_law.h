@@ -93,7 +93,22 @@ void resetShear(particles::PairHistory& history);
 /// The result is projected onto the plane normal to n_new (so that round-off does not accumulate a
 /// normal component over many steps). Pre: n_old and n_new are unit vectors; shear is tangent to
 /// n_old. Post: |result| == |shear| and result . n_new == 0, both to round-off.
-Vec3 rotateShear(const Vec3& shear, const Vec3& n_old, const Vec3& n_new);
+/// Inline: the sub-contact law calls it for every sub-contact of every pair.
+inline Vec3 rotateShear(const Vec3& shear, const Vec3& n_old, const Vec3& n_new) {
+  // The smallest rotation taking n_old to n_new is H(n_new) H(m), the product of the reflections
+  // through the planes normal to the bisector m = s / |s|, s = n_old + n_new, and to n_new. H(m)
+  // maps the plane normal to n_old onto the plane normal to n_new, where H(n_new) is the identity;
+  // so on a tangent vector the rotation is the single reflection H(m) = I - 2 s s^T / (s . s).
+  // s . s = 2 (1 + cos angle) is computed from s itself, accurate close to the half turn.
+  const Vec3 s = n_old + n_new;
+  const double ss = s.squaredNorm();
+  // Opposite normals to within 1e-10 rad (s . s ~ angle^2): no unique smallest rotation; the half
+  // turn about the shear's own direction keeps the shear unchanged.
+  constexpr double kOpposite = 1e-20;
+  Vec3 rotated = shear;
+  if (ss > kOpposite) rotated -= (2.0 * shear.dot(s) / ss) * s;
+  return rotated - rotated.dot(n_new) * n_new;
+}
 
 /// Velocity of A's material point at `point` relative to B's (Zhao eq. 31).
 inline Vec3 relativeVelocity(const Vec3& point, const Vec3& xa, const Vec3& va, const Vec3& wa,

@@ -14,41 +14,41 @@ double pairStiffness(double per_pair, double per_area, const contact::FaceContac
 }
 
 // The shear the vanished sub-contacts stored (their springs' forces, summed), and the total weight
-// of the sub-contacts in compression that had no history: one merge walk over the two sorted lists.
+// of the sub-contacts in compression that had no history, both summed in key order.
 struct Handover {
   Vec3 shear = Vec3::Zero();
   double newcomer_weight = 0.0;
 };
 
-Handover handover(std::span<const contact::SubContact> subs,
-                  std::span<const particles::SubKey> old_keys,
-                  std::span<const particles::SubHistory> old) {
-  Handover h;
-  std::size_t j = 0;
-  for (const auto& s : subs) {
-    while (j < old_keys.size() && old_keys[j].feature < s.feature) h.shear += old[j++].shear_force;
-    if (j < old_keys.size() && old_keys[j].feature == s.feature) {
-      ++j;
-    } else if (s.gap > 0.0) {
-      h.newcomer_weight += s.weight;
-    }
-  }
-  for (; j < old_keys.size(); ++j) h.shear += old[j].shear_force;
-  return h;
+// Where the shear a sub-contact brings into the step comes from.
+enum Origin : std::uint8_t {
+  kOpen,      // apart (gap <= 0): no force, its spring is released
+  kFresh,     // a history without a normal: no shear yet
+  kCarried,   // its own spring of the last step, turned onto the new plane
+  kNewcomer,  // no history: its share of the vanished sub-contacts' shear
+};
+
+template <typename T>
+void grow(std::vector<T>& buffer, std::size_t size) {
+  if (buffer.size() < size) buffer.resize(size);
 }
 
 }  // namespace
-
-Vec3 spinShear(const Vec3& shear, const Vec3& n, double t) {
-  const double tt = t * t;
-  return ((1.0 - tt) * shear + (2.0 * t) * n.cross(shear)) / (1.0 + tt);
-}
 
 PairForce subContactForces(const contact::FaceContact& fc,
                            std::span<const particles::SubKey> old_keys,
                            std::span<const particles::SubHistory> old, const PairKinematics& kin,
                            double m_eff, double dt, const LawCoefficients& k,
                            std::vector<SubState>& kept) {
+  SubContactScratch scratch;
+  return subContactForces(fc, old_keys, old, kin, m_eff, dt, k, kept, scratch);
+}
+
+PairForce subContactForces(const contact::FaceContact& fc,
+                           std::span<const particles::SubKey> old_keys,
+                           std::span<const particles::SubHistory> old, const PairKinematics& kin,
+                           double m_eff, double dt, const LawCoefficients& k,
+                           std::vector<SubState>& kept, SubContactScratch& scratch) {
   PairForce out;
   kept.clear();
   const double kn = pairStiffness(k.kn, k.jkn, fc);
@@ -58,16 +58,44 @@ PairForce subContactForces(const contact::FaceContact& fc,
   const double dashpot =
       k.damping_ratio > 0.0 && kn > 0.0 ? 2.0 * k.damping_ratio * std::sqrt(m_eff * kn) : 0.0;
   const Vec3 spin = 0.5 * (kin.wa + kin.wb);
-  const Handover given = handover(fc.subs, old_keys, old);
+  const std::size_t m = fc.subs.size();
+  grow(scratch.carried, m);
+  grow(scratch.origin, m);
+  Vec3* carried = scratch.carried.data();
+  std::uint8_t* origin = scratch.origin.data();
 
-  Vec3 centre_sum = Vec3::Zero(), shear_sum = Vec3::Zero(), point_sum = Vec3::Zero();
+  // Pass 1, one merge walk over the new and the old sub-contacts: each one's history, the shear
+  // it carries over (two divisions each, independent from one sub-contact to the next, so that
+  // they overlap instead of waiting for each other) and the handover.
+  Handover given;
   std::size_t j = 0;
-  for (const auto& s : fc.subs) {
+  for (std::size_t i = 0; i < m; ++i) {
+    const auto& s = fc.subs[i];
+    while (j < old_keys.size() && old_keys[j].feature < s.feature)
+      given.shear += old[j++].shear_force;
+    const particles::SubHistory* previous = nullptr;
+    if (j < old_keys.size() && old_keys[j].feature == s.feature) previous = &old[j++];
+    if (!(s.gap > 0.0)) {
+      origin[i] = kOpen;
+    } else if (previous && previous->normal.squaredNorm() > 0.0) {
+      const Vec3 rotated = rotateShear(previous->shear_force, previous->normal, s.normal);
+      carried[i] = spinShear(rotated, s.normal, 0.5 * dt * spin.dot(s.normal));
+      origin[i] = kCarried;
+    } else if (!previous) {
+      given.newcomer_weight += s.weight;
+      origin[i] = kNewcomer;
+    } else {
+      origin[i] = kFresh;
+    }
+  }
+  for (; j < old_keys.size(); ++j) given.shear += old[j].shear_force;
+
+  // Pass 2, in key order: the springs' forces and their sums.
+  Vec3 centre_sum = Vec3::Zero(), shear_sum = Vec3::Zero(), point_sum = Vec3::Zero();
+  for (std::size_t i = 0; i < m; ++i) {
+    const auto& s = fc.subs[i];
     point_sum += s.point;
-    while (j < old_keys.size() && old_keys[j].feature < s.feature) ++j;
-    const particles::SubHistory* previous =
-        j < old_keys.size() && old_keys[j].feature == s.feature ? &old[j] : nullptr;
-    if (!(s.gap > 0.0)) continue;  // an open corner: no force, its spring is released
+    if (origin[i] == kOpen) continue;
 
     const Vec3& n = s.normal;
     const double w = s.weight;
@@ -77,10 +105,9 @@ PairForce subContactForces(const contact::FaceContact& fc,
     const double f_normal = std::max(f_elastic - w * dashpot * v_normal, 0.0);
 
     Vec3 shear = Vec3::Zero();
-    if (previous && previous->normal.squaredNorm() > 0.0) {
-      shear = rotateShear(previous->shear_force, previous->normal, n);
-      shear = spinShear(shear, n, 0.5 * dt * spin.dot(n));
-    } else if (!previous && given.newcomer_weight > 0.0) {
+    if (origin[i] == kCarried) {
+      shear = carried[i];
+    } else if (origin[i] == kNewcomer && given.newcomer_weight > 0.0) {
       shear = (w / given.newcomer_weight) * given.shear;
       shear -= shear.dot(n) * n;
     }

@@ -28,6 +28,7 @@
 // labels.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -57,9 +58,13 @@ struct PairForce {
 };
 
 /// One sub-contact's history as it leaves the step.
-struct SubState {
-  std::uint64_t feature = 0;
-  particles::SubHistory history;
+using SubState = particles::SubEntry;
+
+/// Working space of subContactForces, one entry per sub-contact, kept by the caller between
+/// pairs so that the law allocates nothing once warm.
+struct SubContactScratch {
+  std::vector<Vec3> carried;         // the shear a sub-contact brings into the step
+  std::vector<std::uint8_t> origin;  // where that shear comes from (sub_contact_law.cpp)
 };
 
 /// Advances the sub-contacts `fc` of one touching pair by one step. `old_keys`/`old` are the
@@ -70,11 +75,21 @@ PairForce subContactForces(const contact::FaceContact& fc,
                            std::span<const particles::SubKey> old_keys,
                            std::span<const particles::SubHistory> old, const PairKinematics& kin,
                            double m_eff, double dt, const LawCoefficients& k,
+                           std::vector<SubState>& kept, SubContactScratch& scratch);
+
+/// The same with working space of its own (allocates; for a single pair).
+PairForce subContactForces(const contact::FaceContact& fc,
+                           std::span<const particles::SubKey> old_keys,
+                           std::span<const particles::SubHistory> old, const PairKinematics& kin,
+                           double m_eff, double dt, const LawCoefficients& k,
                            std::vector<SubState>& kept);
 
 /// `shear` (tangent to n) turned about the unit normal n by the angle 2 atan(t): the Cayley
 /// form ((1 - t^2) s + 2 t n x s) / (1 + t^2), exactly a rotation without trigonometry; for the
-/// small angles of one step, t = angle / 2 to third order.
-Vec3 spinShear(const Vec3& shear, const Vec3& n, double t);
+/// small angles of one step, t = angle / 2 to third order. Inline: called for every sub-contact.
+inline Vec3 spinShear(const Vec3& shear, const Vec3& n, double t) {
+  const double tt = t * t;
+  return ((1.0 - tt) * shear + (2.0 * t) * n.cross(shear)) / (1.0 + tt);
+}
 
 }  // namespace polydem::dynamics

@@ -87,6 +87,19 @@ void ContactHistory::appendSub(const SubKey& key, const SubHistory& h) {
   sub_entries_.push_back(h);
 }
 
+void ContactHistory::appendSubs(const PairKey& pair, std::span<const SubEntry> subs) {
+  if (subs.empty()) return;
+  bool increasing = sub_keys_.empty() || sub_keys_.back() < SubKey{pair, subs.front().feature};
+  for (std::size_t i = 1; i < subs.size(); ++i) {
+    increasing = increasing && subs[i - 1].feature < subs[i].feature;
+  }
+  if (!increasing) throw Error("ContactHistory::appendSubs: keys must be strictly increasing");
+  for (const SubEntry& s : subs) {
+    sub_keys_.push_back({pair, s.feature});
+    sub_entries_.push_back(s.history);
+  }
+}
+
 void ContactHistory::merge(std::span<const PairKey> keys, std::span<const PairHistory> entries) {
   mergeTable(keys_, entries_, keys, entries);
 }

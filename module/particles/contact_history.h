@@ -55,6 +55,12 @@ struct SubHistory {
   Vec3 normal = Vec3::Zero();       // the sub-contact's normal at the last step
 };
 
+/// A sub-contact's feature and history as its pair's contact law leaves them (the pair implied).
+struct SubEntry {
+  std::uint64_t feature = 0;
+  SubHistory history;
+};
+
 void pack(SendBuffer& out, const PairKey& key, const PairHistory& h);
 void unpack(RecvBuffer& in, PairKey& key, PairHistory& h);
 void pack(SendBuffer& out, const SubKey& key, const SubHistory& h);
@@ -89,6 +95,9 @@ class ContactHistory {
   void appendSorted(const PairKey& key, const PairHistory& h);
   /// Appends a sub-contact whose key is larger than every sub-contact key so far.
   void appendSub(const SubKey& key, const SubHistory& h);
+  /// Appends the sub-contacts of pair `pair` (features strictly increasing), all larger than every
+  /// sub-contact key so far: one order check against the table per pair.
+  void appendSubs(const PairKey& pair, std::span<const SubEntry> subs);
 
   /// Adds entries in any order (e.g. received from other ranks); sorts, and keeps one copy of
   /// keys present twice (copies of the same pair from two ranks are identical by construction).

@@ -16,12 +16,13 @@ PairLawResult PairLaw::apply(const particles::PairKey& key, const ModelledContac
     const auto fc = face_.build(a, b, contact);
     const dynamics::PairKinematics kin{ma.position, ma.velocity_half, ma.angular_velocity,
                                        mb.position, mb.velocity_half, mb.angular_velocity};
-    const auto f = dynamics::subContactForces(fc, old_keys, old, kin, m_eff, dt, law, kept_);
+    const auto f =
+        dynamics::subContactForces(fc, old_keys, old, kin, m_eff, dt, law, kept_, scratch_);
     h.shear_force.setZero();
     h.normal = contact.normal;
     h.touching = 1;
     next.appendSorted(key, h);
-    for (const auto& s : kept_) next.appendSub({key, s.feature}, s.history);
+    next.appendSubs(key, kept_);
     r.touching = true;
     r.split = true;
     r.point = f.centre;

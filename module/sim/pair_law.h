@@ -48,6 +48,7 @@ class PairLaw {
  private:
   contact::FaceContactBuilder face_;
   std::vector<dynamics::SubState> kept_;
+  dynamics::SubContactScratch scratch_;
 };
 
 }  // namespace polydem::sim

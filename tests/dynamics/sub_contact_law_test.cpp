@@ -182,6 +182,55 @@ TEST(SubContactLaw, ShearOfVanishedCornersGoesToNewOnes) {
   EXPECT_NEAR(kept[5].history.shear_force.y(), 6.0, 1e-12);
 }
 
+// PairLaw keeps one working space for every pair: what a larger pair left in it must not reach
+// the next pair. The same pair (corners with and without history, an open one, a vanished one)
+// after a six-corner pair with other histories gives the bits of a fresh working space.
+TEST(SubContactLaw, ReusedWorkingSpaceGivesTheSameBits) {
+  auto subs = square(1e-4, 3e-4);  // the corners at y = -0.5 are open
+  std::vector<particles::SubKey> keys;
+  std::vector<particles::SubHistory> old;
+  keys.push_back({{1, 2}, 0});  // gone now
+  old.push_back({Vec3(0, 4, 0), Vec3::UnitZ()});
+  keys.push_back({{1, 2}, subs[3].feature});
+  old.push_back({Vec3(3, -1, 0), Vec3(0.01, 0, 1).normalized()});
+  PairKinematics kin = still();
+  kin.va = Vec3(0.01, -0.02, -0.003);
+  kin.wa = Vec3(0.1, 0.2, 0.3);
+
+  SubContactScratch fresh, reused;
+  std::vector<SubState> kept_fresh, kept_reused;
+  const auto expected =
+      subContactForces(face(subs), keys, old, kin, kMass, kDt, law(), kept_fresh, fresh);
+
+  auto big = square(2e-4);  // a larger pair first, every corner carried over
+  big.push_back({7, Vec3(0.6, 0, 0), Vec3::UnitZ(), 2e-4, 0.0});
+  big.push_back({8, Vec3(0.6, 0.1, 0), Vec3::UnitZ(), 2e-4, 0.0});
+  std::vector<particles::SubKey> big_keys;
+  std::vector<particles::SubHistory> big_old;
+  for (const auto& s : big) {
+    big_keys.push_back({{3, 4}, s.feature});
+    big_old.push_back({Vec3(50, 50, 0), Vec3::UnitZ()});
+  }
+  subContactForces(face(big), big_keys, big_old, kin, kMass, kDt, law(), kept_reused, reused);
+  const auto f =
+      subContactForces(face(subs), keys, old, kin, kMass, kDt, law(), kept_reused, reused);
+
+  EXPECT_EQ(f.force, expected.force);
+  EXPECT_EQ(f.torque_a, expected.torque_a);
+  EXPECT_EQ(f.torque_b, expected.torque_b);
+  EXPECT_EQ(f.energy, expected.energy);
+  ASSERT_EQ(kept_reused.size(), kept_fresh.size());
+  ASSERT_EQ(kept_fresh.size(), 2u);  // the two closed corners
+  for (std::size_t i = 0; i < kept_fresh.size(); ++i) {
+    EXPECT_EQ(kept_reused[i].feature, kept_fresh[i].feature);
+    EXPECT_EQ(kept_reused[i].history.shear_force, kept_fresh[i].history.shear_force);
+    EXPECT_EQ(kept_reused[i].history.normal, kept_fresh[i].history.normal);
+  }
+  // The newcomer (no history) got the vanished corner's shear, the carried one its own.
+  EXPECT_GT(kept_fresh[0].history.shear_force.y(), 3.0);
+  EXPECT_GT(kept_fresh[1].history.shear_force.x(), 2.0);
+}
+
 // A joint stiffness per area scales with the face overlap; line and point contacts keep kn.
 TEST(SubContactLaw, JointStiffnessScalesWithTheArea) {
   auto k = law();
