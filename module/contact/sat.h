@@ -45,7 +45,16 @@ struct AxisTest {
 /// separates the bodies, it is returned at once. Face axes are preferred to edge axes whose
 /// overlap is smaller by at most `tolerance` (a length): where an edge axis coincides with a face
 /// axis (two aligned cubes) round-off must not turn a face contact into an edge contact.
+/// Two parallelepipeds test their nine edge axes exactly only where a cheaper bound leaves it open
+/// (sat_box.cpp); the answer is separatingAxisTestReference()'s, bit for bit.
 AxisTest separatingAxisTest(const Body& a, const Body& b, const Vec3* warm, double tolerance);
+
+/// The same test with every axis evaluated exactly, in order: the definition of the answer, and
+/// the one that separatingAxisTest() falls back to (and is checked against by ctest contact_sat).
+/// Where the bodies are apart, only `separated` and `normal` are the answer; the other fields hold
+/// the minimum over the axes tested before the separating one (the warm axis: the defaults).
+AxisTest separatingAxisTestReference(const Body& a, const Body& b, const Vec3* warm,
+                                     double tolerance);
 
 /// For an answer on an edge-edge axis: the middle of the closest points of the two edges that
 /// make it (A's at lowest_a, B's at highest_b, parallel to feature_a and feature_b), which is

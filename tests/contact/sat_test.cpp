@@ -2,8 +2,11 @@
 // test helpers on random pairs of small shapes; the warm axis; and gjk-epa-ipm, which uses it.
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cstdint>
 #include <cstdio>
 #include <random>
+#include <string>
 
 #include "contact_test_util.h"
 #include "polydem/contact/contact_cases.h"
@@ -164,6 +167,105 @@ TEST(Sat, AlignedCubesGiveFaceAxes) {
     EXPECT_EQ(c.depth, sat.depth);
     EXPECT_EQ(state.warm_direction, sat.normal);
   }
+}
+
+// Two parallelepipeds screen their edge axes by a bound (sat_box.cpp) and test only a few exactly:
+// the answer must be the full test's, every field bit for bit. Random pairs at three scales and
+// positions far from the origin, and the degenerate cases of a dense pack: aligned and nearly
+// aligned boxes (relative rotations of 1e-9 to 1e-3 rad) overlapping by a hair, touching or just
+// apart on a face, an edge or a corner, boxes of different sizes, with and without a warm axis.
+std::string differences(const AxisTest& fast, const AxisTest& full) {
+  const auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  std::string out;
+  if (fast.separated != full.separated) out += " separated";
+  for (int c = 0; c < 3; ++c) {
+    if (bits(fast.normal[c]) != bits(full.normal[c])) out += " normal[" + std::to_string(c) + "]";
+  }
+  if (bits(fast.depth) != bits(full.depth)) out += " depth";
+  if (fast.axis != full.axis) out += " axis";
+  if (fast.feature_a != full.feature_a || fast.feature_b != full.feature_b) out += " features";
+  if (fast.lowest_a != full.lowest_a || fast.highest_b != full.highest_b) out += " extremes";
+  return out;
+}
+
+geometry::ConvexPolyhedron boxShape(double sx, double sy, double sz) {
+  return geometry::ConvexPolyhedron::fromPoints(shapes::box(Vec3::Zero(), Vec3(sx, sy, sz)));
+}
+
+Mat3 turn(const Vec3& axis, double angle) {
+  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+}
+
+TEST(Sat, BoxScreenGivesTheFullTestBitForBit) {
+  std::mt19937_64 rng(15);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int pairs = 0, apart = 0, on_edges = 0, on_faces = 0;
+  const auto check = [&](const Placed& a, const Placed& b, const Vec3* warm, const char* what) {
+    const double tolerance = 1e-12 * (a.body().circumradius() + b.body().circumradius());
+    const AxisTest fast = separatingAxisTest(a.body(), b.body(), warm, tolerance);
+    const AxisTest full = separatingAxisTestReference(a.body(), b.body(), warm, tolerance);
+    ++pairs;
+    apart += fast.separated;
+    on_edges += !fast.separated && fast.axis == AxisTest::Axis::kEdges;
+    on_faces += !fast.separated && fast.axis != AxisTest::Axis::kEdges;
+    EXPECT_EQ(differences(fast, full), "") << what << " pair " << pairs;
+  };
+  const double scales[] = {1e-3, 1.0, 1e3};
+  // Random pairs: random turns, from deep to apart, far from the origin at every scale.
+  for (int i = 0; i < 6000; ++i) {
+    const double sa = scales[i % 3], sb = scales[(i / 3) % 3] * (0.5 + unit(rng));
+    const Placed b(boxShape(sb, sb * (0.3 + unit(rng)), sb),
+                   1e3 * sa * Vec3(unit(rng), unit(rng), 0), randomRotation(rng));
+    const Placed probe(boxShape(sa, sa, sa * (0.3 + unit(rng))), Vec3::Zero(), Mat3::Identity());
+    const double reach = probe.body().circumradius() + b.body().circumradius();
+    const Vec3 at = b.body().position + 1.1 * reach * std::pow(unit(rng), 0.5) * randomUnit(rng);
+    const Placed a(boxShape(sa, sa, sa), at, randomRotation(rng));
+    const Vec3 warm = randomUnit(rng);
+    check(a, b, i % 2 == 0 ? nullptr : &warm, "random");
+    // Where the minimum is an edge axis, A moved out along it to graze B within round-off: the
+    // edge axes that barely separate or barely overlap.
+    const AxisTest first = separatingAxisTestReference(a.body(), b.body(), nullptr, 0.0);
+    if (first.separated || first.axis != AxisTest::Axis::kEdges) continue;
+    const double ulp = 1e-16 * (at.norm() + sa + sb);
+    for (double hair : {-30.0, -3.0, -1.0, 0.0, 1.0, 3.0, 30.0}) {
+      const Placed moved(boxShape(sa, sa, sa), at + (first.depth + hair * ulp) * first.normal,
+                         a.body().rotation);
+      check(moved, b, nullptr, "grazing edges");
+    }
+  }
+  // A dense pack's neighbours: cubes aligned or turned by a hair, overlapping by 1e-3 to 1e-12 of
+  // their size, touching or apart by as much, across a face, an edge or a corner.
+  const Vec3 across[] = {Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1, 1, 1), Vec3(0, 1, 0.3),
+                         Vec3(1, 0.5, 0.2)};
+  const double turns[] = {0.0, 1e-9, 1e-7, 1e-5, 1e-3};
+  const double gaps[] = {-1e-3, -1e-9, -1e-12, 0.0, 1e-12, 1e-9, 1e-3};
+  for (double scale : scales) {
+    for (double size_ratio : {1.0, 0.5, 3.0}) {
+      const auto cube_b = geometry::ConvexPolyhedron::fromPoints(shapes::cube(scale * size_ratio));
+      const Vec3 origin = 37.0 * scale * Vec3(1, 2, 3);
+      for (const Vec3& direction : across) {
+        for (double angle : turns) {
+          for (double gap : gaps) {
+            const Placed b(cube_b, origin, Mat3::Identity());
+            // A's centre so that along the unit components of `direction` the cubes overlap
+            // by -gap (the half sizes add up to `reach`); the others shift A sideways.
+            const double reach = 0.5 * scale * (1.0 + size_ratio) + gap * scale;
+            const Vec3 offset = reach * direction;
+            const Placed a(geometry::ConvexPolyhedron::fromPoints(shapes::cube(scale)),
+                           origin + offset, turn(randomUnit(rng), angle));
+            check(a, b, nullptr, "pack");
+            const AxisTest first = separatingAxisTest(a.body(), b.body(), nullptr, 1e-12);
+            check(a, b, &first.normal, "pack, warm");
+          }
+        }
+      }
+    }
+  }
+  std::printf("box screen: %d pairs, %d apart, %d on a face axis, %d on an edge axis\n", pairs,
+              apart, on_faces, on_edges);
+  EXPECT_GT(apart, 1000);
+  EXPECT_GT(on_edges, 500);
+  EXPECT_GT(on_faces, 1000);
 }
 
 // KernelParams::separating_axes = false: both kernels give GJK + EPA's answer, bit for bit.
