@@ -61,15 +61,14 @@ namespace {
 // if one is not at vertex 0 (fromPoints sorts edges by vertex: the three at vertex 0 come first,
 // one of each parallel family, so a parallelepiped's axis edges are those).
 bool cloudEdgeOf(const Body& body, int (&k)[3]) {
-  const auto& axes = body.shape->axisEdges();
+  const auto& shape = *body.shape;
+  const auto& axes = shape.axisEdges();
   if (axes.size() != 3) return false;
-  const auto& next = body.shape->vertexNeighbours()[0];
+  const int* next = shape.vertexNeighbours()[0].data();
   for (int i = 0; i < 3; ++i) {
-    const auto& edge = body.shape->edges()[axes[i]];
-    k[i] = -1;
-    for (int m = 0; m < 3; ++m) {
-      if (edge.v0 == 0 && edge.v1 == next[m]) k[i] = m;
-    }
+    const auto& edge = shape.edges()[axes[i]];
+    const int to = edge.v1;
+    k[i] = edge.v0 != 0 ? -1 : to == next[0] ? 0 : to == next[1] ? 1 : to == next[2] ? 2 : -1;
     if (k[i] < 0) return false;
   }
   return true;
