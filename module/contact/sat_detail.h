@@ -104,6 +104,20 @@ inline bool edgeAxisExists(double uu, double ee, double ff) {
 
 enum class BoxEdges { kDone, kSeparated, kNotApplicable };
 
+/// Estimates of the overlap (1) of the nine edge axes of two parallelepipeds from shared products,
+/// each within `bound` of the overlap that Search::test computes (sat_box.cpp), in the full test's
+/// order: A's axis edge ii with B's jj at 3 ii + jj, as e[k[ii]] x f[l[jj]] of the clouds' edges.
+struct EdgeEstimates {
+  double overlap[9], bound[9];
+  unsigned exists;  // bit 3 ii + jj: that axis exists (edgeAxisExists)
+  int k[3], l[3];
+};
+
+/// false where the estimates do not apply (the axis edges are not the clouds' edges, or lengths
+/// outside 1e-50..1e50); otherwise fills `out`.
+bool estimateBoxEdges(const Body& a, const Body& b, const Cloud& ca, const Cloud& cb,
+                      EdgeEstimates& out);
+
 /// The edge axes of two parallelepipeds (sat_box.cpp), after the face axes: each screened by a
 /// bound on its overlap from shared products and tested exactly by `search` only where it could
 /// separate the bodies or be the minimum, so that `search` ends as if it had tested all nine.

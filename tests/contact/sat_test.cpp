@@ -12,6 +12,7 @@
 #include "polydem/contact/contact_cases.h"
 #include "polydem/contact/gjk_epa.h"
 #include "polydem/contact/sat.h"
+#include "polydem/contact/sat_detail.h"
 #include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {
@@ -266,6 +267,42 @@ TEST(Sat, BoxScreenGivesTheFullTestBitForBit) {
   EXPECT_GT(apart, 1000);
   EXPECT_GT(on_edges, 500);
   EXPECT_GT(on_faces, 1000);
+}
+
+// The bound of sat_box.cpp holds: on every edge axis of the pairs above, the estimate lies within
+// it of the overlap that the exact test computes (extent() along u.normalized()), and not by a
+// wide margin (the screen is worth its cost only if the bound is near the round-off it covers).
+TEST(Sat, BoxEdgeEstimatesAreWithinTheirBound) {
+  std::mt19937_64 rng(16);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double worst = 0.0;  // largest |estimate - overlap| / bound
+  int axes = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double scale = std::pow(10.0, -3.0 + 6.0 * unit(rng));
+    const double far = std::pow(10.0, 3.0 * unit(rng));  // distance from the origin, in sizes
+    const Vec3 where = far * scale * randomUnit(rng);
+    const double angle = i % 2 == 0 ? std::pow(10.0, -10.0 + 10.0 * unit(rng)) : 3.0;
+    const Placed b(boxShape(scale, scale * (0.2 + unit(rng)), scale), where, randomRotation(rng));
+    const Placed a(boxShape(scale * (0.1 + 3 * unit(rng)), scale, scale),
+                   where + 2.0 * scale * unit(rng) * randomUnit(rng),
+                   turn(randomUnit(rng), angle) * b.body().rotation);
+    const sat_detail::Cloud ca(a.body()), cb(b.body());
+    sat_detail::EdgeEstimates estimates;
+    ASSERT_TRUE(sat_detail::estimateBoxEdges(a.body(), b.body(), ca, cb, estimates));
+    for (int axis = 0; axis < 9; ++axis) {
+      if (!(estimates.exists & (1u << axis))) continue;
+      const Vec3 u = ca.e[estimates.k[axis / 3]].cross(cb.e[estimates.l[axis % 3]]).normalized();
+      const auto ea = sat_detail::extent(ca, u), eb = sat_detail::extent(cb, u);
+      const double overlap = std::min(eb.hi - ea.lo, ea.hi - eb.lo);
+      const double error = std::abs(estimates.overlap[axis] - overlap);
+      ASSERT_LE(error, estimates.bound[axis]) << "pair " << i << " axis " << axis;
+      worst = std::max(worst, error / estimates.bound[axis]);
+      ++axes;
+    }
+  }
+  std::printf("box edge estimates: %d axes, largest error %.3f of the bound\n", axes, worst);
+  EXPECT_GT(axes, 100000);
+  EXPECT_GT(worst, 1e-3);  // the bound is not loose by orders of magnitude
 }
 
 // KernelParams::separating_axes = false: both kernels give GJK + EPA's answer, bit for bit.
