@@ -137,21 +137,25 @@ bool estimateBoxEdges(const Body& a, const Body& b, const Cloud& ca, const Cloud
 
 BoxEdges boxEdgeAxes(const Body& a, const Body& b, const Cloud& ca, const Cloud& cb,
                      Search& search) {
-  EdgeEstimates estimates;
-  if (!estimate(a, b, ca, cb, estimates)) return BoxEdges::kNotApplicable;
-  const EdgeEstimates& s = estimates;
+  EdgeEstimates s;
+  if (!estimate(a, b, ca, cb, s)) return BoxEdges::kNotApplicable;
+  // One pass finds the least upper bound and the axes that (a) or (b) may keep: lower <= 0 or
+  // lower < bar. Usually none (a face contact), and the second pass has nothing to do.
+  const double bar = search.bar(AxisTest::Axis::kEdges);
   double upper_min = std::numeric_limits<double>::infinity();
+  unsigned open = 0;
   for (int axis = 0; axis < 9; ++axis) {
     if (!(s.exists & (1u << axis))) continue;
     const double upper = s.overlap[axis] + s.bound[axis];
+    const double lower = s.overlap[axis] - s.bound[axis];
     upper_min = upper < upper_min ? upper : upper_min;
+    if (!(lower > 0.0) || !(lower >= bar)) open |= 1u << axis;
   }
-  // The exact tests of the axes (a) and (b) above.
-  const double bar = search.bar(AxisTest::Axis::kEdges);
+  // The exact tests of the axes (a) and (b) above, in order.
   const auto& axis_a = a.shape->axisEdges();
   const auto& axis_b = b.shape->axisEdges();
-  for (int axis = 0; axis < 9; ++axis) {
-    if (!(s.exists & (1u << axis))) continue;
+  for (int axis = 0; open != 0; ++axis, open >>= 1) {
+    if (!(open & 1u)) continue;
     const double lower = s.overlap[axis] - s.bound[axis];
     const bool may_separate = !(lower > 0.0);
     const bool may_win = !(lower > upper_min) && !(lower >= bar);
