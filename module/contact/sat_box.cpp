@@ -9,8 +9,7 @@
 // h_A = sum_m |U . e_m| / 2, h_B = sum_m |U . f_m| / 2. In exact arithmetic U . e_k = 0 and, for
 // m != k, |U . e_m| = |f_l . (e_m x e_k)| = |f_l . E_n| with E_n = e_{n+1} x e_{n+2} the face
 // normals of the cloud (n the third index), so
-//     h_A = (|E_{k+1} . f_l| + |E_{k+2} . f_l|) / 2,   h_B = (|F_{l+1} . e_k| + |F_{l+2} . e_k|) /
-//     2
+//     h_A = (|E_{k+1} . f_l| + |E_{k+2} . f_l|) / 2,  h_B = (|F_{l+1} . e_k| + |F_{l+2} . e_k|) / 2
 // from the 2 x 9 products E . f and F . e (indices mod 3): one dot product an axis (U . t) where
 // the exact test takes a normalisation and eight.
 //
@@ -18,14 +17,15 @@
 // n = |U|, and L = |t| + 3(a + b) / 2 (the overlap is L-Lipschitz in the axis). Standard
 // round-off bounds (Higham 2002, sec. 3.1: a dot product of 3 terms within gamma_3 |x||y|, a cross
 // product within 3u |x||y|) give, for the estimate d~ = (h_A + h_B - |U . t|) / n computed here
-// and the overlap d that Search::test computes from u = U.normalized() and extent():
+// and the overlap d that Search::test computes from U.normalized() and extent():
 //   - the estimate against the exact overlap along U / n: E . f and F . e within 6.1u a^2 b and
 //     6.1u a b^2, the rounded U against e_k x f_l within 3u ab, so h_A + h_B within
-//     13.6u ab(a + b); U . t within 4.1u n|t|; the division and n within 4u L;
-//   - the exact test against the same: u within 4u of U / n (4u L), and its extents within
-//     5.1u C + 12.1u (a + b);
-// in all |d~ - d| <= u (19.1 C + 25.6 (a + b) + 13.6 ab(a + b) / n), the evaluation of the bound
-// and of d~ -+ bound included. The bound used, 32u (C + (a + b)(1 + ab / n)), covers it with a
+//     12.6u ab(a + b); U . t within 4.1u n|t|; their difference within u (1.5 ab(a + b) + n|t|);
+//     the division and n within 4u L;
+//   - the exact test against the same: U.normalized() within 4u of U / n (4u L), its extents
+//     within 5.1u C + 12.1u (a + b);
+// in all |d~ - d| <= u (20 C + 26 (a + b) + 15 ab(a + b) / n), the evaluation of the bound and of
+// d~ -+ bound included. The bound used, 32u (C + (a + b)(1 + ab / n)), covers it with a
 // margin. It assumes no underflow or overflow: edges between 1e-50 and C + a + b below 1e50.
 //
 // Which axes are tested, and why the answer is the same. The full test takes the axes in order
