@@ -189,8 +189,16 @@ std::string differences(const AxisTest& fast, const AxisTest& full) {
   return out;
 }
 
-geometry::ConvexPolyhedron boxShape(double sx, double sy, double sz) {
-  return geometry::ConvexPolyhedron::fromPoints(shapes::box(Vec3::Zero(), Vec3(sx, sy, sz)));
+// A box of sides sx, sy, sz, sheared by `shear` (0: a rectangular box; else a parallelepiped whose
+// edges are not orthogonal, which the screen treats the same way).
+geometry::ConvexPolyhedron boxShape(double sx, double sy, double sz, double shear = 0.0) {
+  if (shear == 0.0) {
+    return geometry::ConvexPolyhedron::fromPoints(shapes::box(Vec3::Zero(), Vec3(sx, sy, sz)));
+  }
+  const Vec3 a(sx, 0, 0), b(shear * sx, sy, 0), c(shear * sx, -shear * sy, sz);
+  std::vector<Vec3> corners;
+  for (int i = 0; i < 8; ++i) corners.push_back((i & 1) * a + (i >> 1 & 1) * b + (i >> 2) * c);
+  return geometry::ConvexPolyhedron::fromPoints(corners);
 }
 
 Mat3 turn(const Vec3& axis, double angle) {
@@ -215,7 +223,8 @@ TEST(Sat, BoxScreenGivesTheFullTestBitForBit) {
   // Random pairs: random turns, from deep to apart, far from the origin at every scale.
   for (int i = 0; i < 6000; ++i) {
     const double sa = scales[i % 3], sb = scales[(i / 3) % 3] * (0.5 + unit(rng));
-    const Placed b(boxShape(sb, sb * (0.3 + unit(rng)), sb),
+    const double shear = i % 4 == 1 ? 0.5 * unit(rng) : 0.0;  // every fourth B a parallelepiped
+    const Placed b(boxShape(sb, sb * (0.3 + unit(rng)), sb, shear),
                    1e3 * sa * Vec3(unit(rng), unit(rng), 0), randomRotation(rng));
     const Placed probe(boxShape(sa, sa, sa * (0.3 + unit(rng))), Vec3::Zero(), Mat3::Identity());
     const double reach = probe.body().circumradius() + b.body().circumradius();
@@ -269,9 +278,10 @@ TEST(Sat, BoxScreenGivesTheFullTestBitForBit) {
   EXPECT_GT(on_faces, 1000);
 }
 
-// The bound of sat_box.cpp holds: on every edge axis of the pairs above, the estimate lies within
-// it of the overlap that the exact test computes (extent() along u.normalized()), and not by a
-// wide margin (the screen is worth its cost only if the bound is near the round-off it covers).
+// The bound of sat_box.cpp holds: on every edge axis of random pairs of boxes and parallelepipeds,
+// the estimate lies within it of the overlap that the exact test computes (extent() along
+// u.normalized()), and not by a wide margin (the screen is worth its cost only if the bound is near
+// the round-off it covers).
 TEST(Sat, BoxEdgeEstimatesAreWithinTheirBound) {
   std::mt19937_64 rng(16);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -282,8 +292,10 @@ TEST(Sat, BoxEdgeEstimatesAreWithinTheirBound) {
     const double far = std::pow(10.0, 3.0 * unit(rng));  // distance from the origin, in sizes
     const Vec3 where = far * scale * randomUnit(rng);
     const double angle = i % 2 == 0 ? std::pow(10.0, -10.0 + 10.0 * unit(rng)) : 3.0;
-    const Placed b(boxShape(scale, scale * (0.2 + unit(rng)), scale), where, randomRotation(rng));
-    const Placed a(boxShape(scale * (0.1 + 3 * unit(rng)), scale, scale),
+    const double shear = i % 3 == 0 ? unit(rng) : 0.0;  // every third pair parallelepipeds
+    const Placed b(boxShape(scale, scale * (0.2 + unit(rng)), scale, shear), where,
+                   randomRotation(rng));
+    const Placed a(boxShape(scale * (0.1 + 3 * unit(rng)), scale, scale, 0.5 * shear),
                    where + 2.0 * scale * unit(rng) * randomUnit(rng),
                    turn(randomUnit(rng), angle) * b.body().rotation);
     const sat_detail::Cloud ca(a.body()), cb(b.body());
