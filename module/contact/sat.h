@@ -15,7 +15,7 @@
 //
 // The cost is (face axes + edge axes of A x edge axes of B) projections of both bodies: 15 axes
 // for two cubes. Two parallelepipeds bound their nine edge axes' overlaps from shared products
-// and project only the few that could decide the answer (sat_box.cpp): about 2,470 instructions a
+// and project only the few that could decide the answer (sat_box.cpp): about 2,390 instructions a
 // call on a dense pack of cubes (2,900 with every axis projected) against GJK + EPA's 9,250
 // (docs/performance.md). Shapes with more axes keep GJK + EPA (satApplies).
 #pragma once
