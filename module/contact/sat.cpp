@@ -4,120 +4,56 @@
 #include <cmath>
 #include <utility>
 
+#include "polydem/contact/sat_detail.h"
 #include "polydem/contact/support.h"
 
 namespace polydem::contact {
 
-namespace {
+namespace sat_detail {
 
-/// A body's world vertices as structure of arrays, so that the projections onto an axis are
-/// one loop of independent multiplies and min/max without index bookkeeping (the vertices
-/// extreme on the chosen axis are found once at the end). A parallelepiped (8 vertices, faces
-/// parallel in pairs: a cube, a box) is projected in closed form instead: its centre c and edge
-/// vectors e_k span it as c + sum s_k e_k / 2 with s_k = +-1, so along u its extent is
-/// c . u -+ sum |e_k . u| / 2 (Gottschalk et al. 1996), the same numbers as the vertices' up to
-/// round-off, with three dot products instead of eight.
-struct Cloud {
-  static constexpr int kMax = kScanSupportVertices;
-  alignas(16) double x[kMax], y[kMax], z[kMax];
-  int n;
-  bool box;
-  Vec3 centre, e0, e1, e2;
-
-  explicit Cloud(const Body& body) : n(static_cast<int>(body.vertices.size())) {
-    const auto& v = body.vertices;
-    box = n == 8 && body.shape->axisFaces().size() == 3;
-    if (box) {
-      const auto& next = body.shape->vertexNeighbours()[0];  // three: a corner of the box
-      e0 = v[next[0]] - v[0], e1 = v[next[1]] - v[0], e2 = v[next[2]] - v[0];
-      centre = v[0] + 0.5 * (e0 + e1 + e2);
-    }
-    for (int i = 0; i < n; ++i) x[i] = v[i].x(), y[i] = v[i].y(), z[i] = v[i].z();
+Cloud::Cloud(const Body& body)
+    : v(body.vertices.data()), n(static_cast<int>(body.vertices.size())) {
+  box = n == 8 && body.shape->axisFaces().size() == 3;
+  if (box) {
+    const auto& next = body.shape->vertexNeighbours()[0];  // three: a corner of the box
+    e[0] = v[next[0]] - v[0], e[1] = v[next[1]] - v[0], e[2] = v[next[2]] - v[0];
+    centre = v[0] + 0.5 * (e[0] + e[1] + e[2]);
+    return;  // extent() and lowest() need no copy
   }
-};
-
-struct Extent {
-  double lo, hi;
-};
-
-[[gnu::always_inline]] inline Extent extent(const Cloud& c, const Vec3& u) {
-  if (c.box) {
-    const double middle = u.dot(c.centre);
-    const double half =
-        0.5 * (std::abs(u.dot(c.e0)) + std::abs(u.dot(c.e1)) + std::abs(u.dot(c.e2)));
-    return {middle - half, middle + half};
-  }
-  const double ux = u.x(), uy = u.y(), uz = u.z();
-  double lo = ux * c.x[0] + uy * c.y[0] + uz * c.z[0], hi = lo;
-  for (int i = 1; i < c.n; ++i) {
-    const double d = ux * c.x[i] + uy * c.y[i] + uz * c.z[i];
-    lo = d < lo ? d : lo;
-    hi = d > hi ? d : hi;
-  }
-  return {lo, hi};
+  for (int i = 0; i < n; ++i) x[i] = v[i].x(), y[i] = v[i].y(), z[i] = v[i].z();
 }
+
+namespace {
 
 /// The first vertex lowest along u (the dot products of extent()'s vertex loop).
 int lowest(const Cloud& c, const Vec3& u) {
   int best = 0;
-  double value = u.x() * c.x[0] + u.y() * c.y[0] + u.z() * c.z[0];
+  double value = u.x() * c.v[0].x() + u.y() * c.v[0].y() + u.z() * c.v[0].z();
   for (int i = 1; i < c.n; ++i) {
-    const double d = u.x() * c.x[i] + u.y() * c.y[i] + u.z() * c.z[i];
+    const double d = u.x() * c.v[i].x() + u.y() * c.v[i].y() + u.z() * c.v[i].z();
     if (d < value) value = d, best = i;
   }
   return best;
 }
 
-/// The running minimum of (1) over the axes seen so far.
-class Search {
- public:
-  Search(const Cloud& a, const Cloud& b, double tolerance) : a_(a), b_(b), tolerance_(tolerance) {}
+}  // namespace
 
-  /// Tests the unit axis u in both signs; false if it separates the bodies (the result then
-  /// holds the separating direction).
-  bool test(const Vec3& u, AxisTest::Axis axis, int fa, int fb) {
-    const Extent ea = extent(a_, u), eb = extent(b_, u);
-    const double plus = eb.hi - ea.lo;   // A moves along +u
-    const double minus = ea.hi - eb.lo;  // A moves along -u
-    if (!(plus > 0.0) || !(minus > 0.0)) {
-      best_.separated = true;
-      best_.normal = plus > 0.0 ? Vec3(-u) : u;
-      return false;
-    }
-    const bool along = plus <= minus;
-    const double d = along ? plus : minus;
-    // An edge axis must beat a face axis by more than the tolerance (see sat.h).
-    const bool face_held = best_.axis != AxisTest::Axis::kEdges;
-    const double bar = (axis == AxisTest::Axis::kEdges && face_held && have_)
-                           ? best_.depth - tolerance_
-                           : best_.depth;
-    if (!have_ || d < bar) {
-      have_ = true;
-      best_.normal = along ? u : Vec3(-u);
-      best_.depth = d;
-      best_.axis = axis;
-      best_.feature_a = fa;
-      best_.feature_b = fb;
-    }
-    return true;
+const AxisTest& Search::result() {
+  if (!best_.separated) {
+    best_.lowest_a = lowest(a_, best_.normal);
+    best_.highest_b = lowest(b_, -best_.normal);
   }
+  return best_;
+}
 
-  /// The result, with the extreme vertices along the chosen normal.
-  const AxisTest& result() {
-    if (!best_.separated) {
-      best_.lowest_a = lowest(a_, best_.normal);
-      best_.highest_b = lowest(b_, -best_.normal);
-    }
-    return best_;
-  }
+}  // namespace sat_detail
 
- private:
-  const Cloud& a_;
-  const Cloud& b_;
-  double tolerance_;
-  bool have_ = false;
-  AxisTest best_;
-};
+namespace {
+
+using sat_detail::Cloud;
+using sat_detail::edgeAxisExists;
+using sat_detail::extent;
+using sat_detail::Search;
 
 int projections(const Body& a, const Body& b) {
   const auto& sa = *a.shape;
@@ -134,25 +70,34 @@ bool satApplies(const Body& a, const Body& b) {
          projections(a, b) <= kSatMaxProjections;
 }
 
-AxisTest separatingAxisTest(const Body& a, const Body& b, const Vec3* warm, double tolerance) {
-  const Cloud ca(a), cb(b);
-  if (warm != nullptr && warm->squaredNorm() > 0.0) {
-    // A separating axis of the last step usually still separates: one projection decides.
-    const double gap = extent(ca, *warm).lo - extent(cb, *warm).hi;
-    if (gap >= 0.0) {
-      AxisTest r;
-      r.separated = true;
-      r.normal = *warm;
-      return r;
-    }
-  }
-  Search search(ca, cb, tolerance);
+namespace {
+
+// The warm axis of the last step, if it still separates the bodies: one projection decides.
+bool warmSeparates(const Cloud& ca, const Cloud& cb, const Vec3* warm) {
+  return warm != nullptr && warm->squaredNorm() > 0.0 &&
+         extent(ca, *warm).lo - extent(cb, *warm).hi >= 0.0;
+}
+
+AxisTest separatedAlong(const Vec3& axis) {
+  AxisTest r;
+  r.separated = true;
+  r.normal = axis;
+  return r;
+}
+
+// The face axes of A, then of B, in order; false if one separates the bodies.
+bool faceAxes(const Body& a, const Body& b, Search& search) {
   for (int f : a.shape->axisFaces()) {
-    if (!search.test(a.faceNormal(f), AxisTest::Axis::kFaceA, f, -1)) return search.result();
+    if (!search.test(a.faceNormal(f), AxisTest::Axis::kFaceA, f, -1)) return false;
   }
   for (int f : b.shape->axisFaces()) {
-    if (!search.test(b.faceNormal(f), AxisTest::Axis::kFaceB, -1, f)) return search.result();
+    if (!search.test(b.faceNormal(f), AxisTest::Axis::kFaceB, -1, f)) return false;
   }
+  return true;
+}
+
+// Every edge axis, each tested exactly, in order; false if one separates the bodies.
+bool edgeAxes(const Body& a, const Body& b, Search& search) {
   const auto& edges_a = a.shape->edges();
   const auto& edges_b = b.shape->edges();
   for (int i : a.shape->axisEdges()) {
@@ -161,11 +106,41 @@ AxisTest separatingAxisTest(const Body& a, const Body& b, const Vec3* warm, doub
       const Vec3 eb = b.vertices[edges_b[j].v1] - b.vertices[edges_b[j].v0];
       const Vec3 u = ea.cross(eb);
       // Parallel edges: no axis of their own (sat.h).
-      const double limit = geometry::ConvexPolyhedron::kParallelAxes;
-      if (!(u.squaredNorm() > limit * limit * ea.squaredNorm() * eb.squaredNorm())) continue;
-      if (!search.test(u.normalized(), AxisTest::Axis::kEdges, i, j)) return search.result();
+      if (!edgeAxisExists(u.squaredNorm(), ea.squaredNorm(), eb.squaredNorm())) continue;
+      if (!search.test(u.normalized(), AxisTest::Axis::kEdges, i, j)) return false;
     }
   }
+  return true;
+}
+
+}  // namespace
+
+AxisTest separatingAxisTestReference(const Body& a, const Body& b, const Vec3* warm,
+                                     double tolerance) {
+  const Cloud ca(a), cb(b);
+  if (warmSeparates(ca, cb, warm)) return separatedAlong(*warm);
+  Search search(ca, cb, tolerance);
+  if (!faceAxes(a, b, search)) return search.result();
+  edgeAxes(a, b, search);
+  return search.result();
+}
+
+AxisTest separatingAxisTest(const Body& a, const Body& b, const Vec3* warm, double tolerance) {
+  const Cloud ca(a), cb(b);
+  if (warmSeparates(ca, cb, warm)) return separatedAlong(*warm);
+  Search search(ca, cb, tolerance);
+  if (!faceAxes(a, b, search)) return search.result();
+  if (ca.box && cb.box) {
+    switch (sat_detail::boxEdgeAxes(a, b, ca, cb, search)) {
+      case sat_detail::BoxEdges::kDone:
+        return search.result();
+      case sat_detail::BoxEdges::kSeparated:  // rare: a pair apart that no face axis separates
+        return separatingAxisTestReference(a, b, warm, tolerance);
+      case sat_detail::BoxEdges::kNotApplicable:
+        break;
+    }
+  }
+  edgeAxes(a, b, search);
   return search.result();
 }
 

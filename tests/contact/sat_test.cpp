@@ -2,13 +2,17 @@
 // test helpers on random pairs of small shapes; the warm axis; and gjk-epa-ipm, which uses it.
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cstdint>
 #include <cstdio>
 #include <random>
+#include <string>
 
 #include "contact_test_util.h"
 #include "polydem/contact/contact_cases.h"
 #include "polydem/contact/gjk_epa.h"
 #include "polydem/contact/sat.h"
+#include "polydem/contact/sat_detail.h"
 #include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {
@@ -164,6 +168,153 @@ TEST(Sat, AlignedCubesGiveFaceAxes) {
     EXPECT_EQ(c.depth, sat.depth);
     EXPECT_EQ(state.warm_direction, sat.normal);
   }
+}
+
+// Two parallelepipeds screen their edge axes by a bound (sat_box.cpp) and test only a few exactly:
+// the answer must be the full test's, every field bit for bit. Random pairs at three scales and
+// positions far from the origin, and the degenerate cases of a dense pack: aligned and nearly
+// aligned boxes (relative rotations of 1e-9 to 1e-3 rad) overlapping by a hair, touching or just
+// apart on a face, an edge or a corner, boxes of different sizes, with and without a warm axis.
+std::string differences(const AxisTest& fast, const AxisTest& full) {
+  const auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  std::string out;
+  if (fast.separated != full.separated) out += " separated";
+  for (int c = 0; c < 3; ++c) {
+    if (bits(fast.normal[c]) != bits(full.normal[c])) out += " normal[" + std::to_string(c) + "]";
+  }
+  if (bits(fast.depth) != bits(full.depth)) out += " depth";
+  if (fast.axis != full.axis) out += " axis";
+  if (fast.feature_a != full.feature_a || fast.feature_b != full.feature_b) out += " features";
+  if (fast.lowest_a != full.lowest_a || fast.highest_b != full.highest_b) out += " extremes";
+  return out;
+}
+
+// A box of sides sx, sy, sz, sheared by `shear` (0: a rectangular box; else a parallelepiped whose
+// edges are not orthogonal, which the screen treats the same way).
+geometry::ConvexPolyhedron boxShape(double sx, double sy, double sz, double shear = 0.0) {
+  if (shear == 0.0) {
+    return geometry::ConvexPolyhedron::fromPoints(shapes::box(Vec3::Zero(), Vec3(sx, sy, sz)));
+  }
+  const Vec3 a(sx, 0, 0), b(shear * sx, sy, 0), c(shear * sx, -shear * sy, sz);
+  std::vector<Vec3> corners;
+  for (int i = 0; i < 8; ++i) corners.push_back((i & 1) * a + (i >> 1 & 1) * b + (i >> 2) * c);
+  return geometry::ConvexPolyhedron::fromPoints(corners);
+}
+
+Mat3 turn(const Vec3& axis, double angle) {
+  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+}
+
+TEST(Sat, BoxScreenGivesTheFullTestBitForBit) {
+  std::mt19937_64 rng(15);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int pairs = 0, apart = 0, on_edges = 0, on_faces = 0;
+  const auto check = [&](const Placed& a, const Placed& b, const Vec3* warm, const char* what) {
+    const double tolerance = 1e-12 * (a.body().circumradius() + b.body().circumradius());
+    const AxisTest fast = separatingAxisTest(a.body(), b.body(), warm, tolerance);
+    const AxisTest full = separatingAxisTestReference(a.body(), b.body(), warm, tolerance);
+    ++pairs;
+    apart += fast.separated;
+    on_edges += !fast.separated && fast.axis == AxisTest::Axis::kEdges;
+    on_faces += !fast.separated && fast.axis != AxisTest::Axis::kEdges;
+    EXPECT_EQ(differences(fast, full), "") << what << " pair " << pairs;
+  };
+  const double scales[] = {1e-3, 1.0, 1e3};
+  // Random pairs: random turns, from deep to apart, far from the origin at every scale.
+  for (int i = 0; i < 6000; ++i) {
+    const double sa = scales[i % 3], sb = scales[(i / 3) % 3] * (0.5 + unit(rng));
+    const double shear = i % 4 == 1 ? 0.5 * unit(rng) : 0.0;  // every fourth B a parallelepiped
+    const Placed b(boxShape(sb, sb * (0.3 + unit(rng)), sb, shear),
+                   1e3 * sa * Vec3(unit(rng), unit(rng), 0), randomRotation(rng));
+    const Placed probe(boxShape(sa, sa, sa * (0.3 + unit(rng))), Vec3::Zero(), Mat3::Identity());
+    const double reach = probe.body().circumradius() + b.body().circumradius();
+    const Vec3 at = b.body().position + 1.1 * reach * std::pow(unit(rng), 0.5) * randomUnit(rng);
+    const Placed a(boxShape(sa, sa, sa), at, randomRotation(rng));
+    const Vec3 warm = randomUnit(rng);
+    check(a, b, i % 2 == 0 ? nullptr : &warm, "random");
+    // Where the minimum is an edge axis, A moved out along it to graze B within round-off: the
+    // edge axes that barely separate or barely overlap.
+    const AxisTest first = separatingAxisTestReference(a.body(), b.body(), nullptr, 0.0);
+    if (first.separated || first.axis != AxisTest::Axis::kEdges) continue;
+    const double ulp = 1e-16 * (at.norm() + sa + sb);
+    for (double hair : {-30.0, -3.0, -1.0, 0.0, 1.0, 3.0, 30.0}) {
+      const Placed moved(boxShape(sa, sa, sa), at + (first.depth + hair * ulp) * first.normal,
+                         a.body().rotation);
+      check(moved, b, nullptr, "grazing edges");
+    }
+  }
+  // A dense pack's neighbours: cubes aligned or turned by a hair, overlapping by 1e-3 to 1e-12 of
+  // their size, touching or apart by as much, across a face, an edge or a corner.
+  const Vec3 across[] = {Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(1, 1, 1), Vec3(0, 1, 0.3),
+                         Vec3(1, 0.5, 0.2)};
+  const double turns[] = {0.0, 1e-9, 1e-7, 1e-5, 1e-3};
+  const double gaps[] = {-1e-3, -1e-9, -1e-12, 0.0, 1e-12, 1e-9, 1e-3};
+  for (double scale : scales) {
+    for (double size_ratio : {1.0, 0.5, 3.0}) {
+      const auto cube_b = geometry::ConvexPolyhedron::fromPoints(shapes::cube(scale * size_ratio));
+      const Vec3 origin = 37.0 * scale * Vec3(1, 2, 3);
+      for (const Vec3& direction : across) {
+        for (double angle : turns) {
+          for (double gap : gaps) {
+            const Placed b(cube_b, origin, Mat3::Identity());
+            // A's centre so that along the unit components of `direction` the cubes overlap
+            // by -gap (the half sizes add up to `reach`); the others shift A sideways.
+            const double reach = 0.5 * scale * (1.0 + size_ratio) + gap * scale;
+            const Vec3 offset = reach * direction;
+            const Placed a(geometry::ConvexPolyhedron::fromPoints(shapes::cube(scale)),
+                           origin + offset, turn(randomUnit(rng), angle));
+            check(a, b, nullptr, "pack");
+            const AxisTest first = separatingAxisTest(a.body(), b.body(), nullptr, 1e-12);
+            check(a, b, &first.normal, "pack, warm");
+          }
+        }
+      }
+    }
+  }
+  std::printf("box screen: %d pairs, %d apart, %d on a face axis, %d on an edge axis\n", pairs,
+              apart, on_faces, on_edges);
+  EXPECT_GT(apart, 1000);
+  EXPECT_GT(on_edges, 500);
+  EXPECT_GT(on_faces, 1000);
+}
+
+// The bound of sat_box.cpp holds: on every edge axis of random pairs of boxes and parallelepipeds,
+// the estimate lies within it of the overlap that the exact test computes (extent() along
+// u.normalized()), and not by a wide margin (the screen is worth its cost only if the bound is near
+// the round-off it covers).
+TEST(Sat, BoxEdgeEstimatesAreWithinTheirBound) {
+  std::mt19937_64 rng(16);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double worst = 0.0;  // largest |estimate - overlap| / bound
+  int axes = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double scale = std::pow(10.0, -3.0 + 6.0 * unit(rng));
+    const double far = std::pow(10.0, 3.0 * unit(rng));  // distance from the origin, in sizes
+    const Vec3 where = far * scale * randomUnit(rng);
+    const double angle = i % 2 == 0 ? std::pow(10.0, -10.0 + 10.0 * unit(rng)) : 3.0;
+    const double shear = i % 3 == 0 ? unit(rng) : 0.0;  // every third pair parallelepipeds
+    const Placed b(boxShape(scale, scale * (0.2 + unit(rng)), scale, shear), where,
+                   randomRotation(rng));
+    const Placed a(boxShape(scale * (0.1 + 3 * unit(rng)), scale, scale, 0.5 * shear),
+                   where + 2.0 * scale * unit(rng) * randomUnit(rng),
+                   turn(randomUnit(rng), angle) * b.body().rotation);
+    const sat_detail::Cloud ca(a.body()), cb(b.body());
+    sat_detail::EdgeEstimates estimates;
+    ASSERT_TRUE(sat_detail::estimateBoxEdges(a.body(), b.body(), ca, cb, estimates));
+    for (int axis = 0; axis < 9; ++axis) {
+      if (!(estimates.exists & (1u << axis))) continue;
+      const Vec3 u = ca.e[estimates.k[axis / 3]].cross(cb.e[estimates.l[axis % 3]]).normalized();
+      const auto ea = sat_detail::extent(ca, u), eb = sat_detail::extent(cb, u);
+      const double overlap = std::min(eb.hi - ea.lo, ea.hi - eb.lo);
+      const double error = std::abs(estimates.overlap[axis] - overlap);
+      ASSERT_LE(error, estimates.bound[axis]) << "pair " << i << " axis " << axis;
+      worst = std::max(worst, error / estimates.bound[axis]);
+      ++axes;
+    }
+  }
+  std::printf("box edge estimates: %d axes, largest error %.3f of the bound\n", axes, worst);
+  EXPECT_GT(axes, 100000);
+  EXPECT_GT(worst, 1e-3);  // the bound is not loose by orders of magnitude
 }
 
 // KernelParams::separating_axes = false: both kernels give GJK + EPA's answer, bit for bit.
