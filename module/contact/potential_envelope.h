@@ -89,6 +89,13 @@ class EnvelopeIntegrator {
 
   std::vector<int> candidates_, queue_;
   std::vector<double> region_values_;
+  // The bisectors that may cut the region being built: term_k - term_label = g.y + c.
+  struct Cut {
+    Vec2 g = Vec2::Zero();
+    double c = 0.0;
+    int label = 0;
+  };
+  std::vector<Cut> cuts_;
   // The region being built: poly_[0 .. poly_n_), labels_[i] the plane that made edge i -> i + 1.
   std::vector<Vec2> poly_, next_;
   std::vector<int> labels_, next_labels_;
