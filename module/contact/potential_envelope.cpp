@@ -1,7 +1,6 @@
 #include "polydem/contact/potential_envelope.h"
 
 #include <algorithm>
-#include <cmath>
 
 namespace polydem::contact::potential {
 
@@ -39,8 +38,9 @@ void integrateLinear(std::span<const Vec2> corners, std::span<const double> valu
   }
 }
 
-const EnvelopeIntegrator::Term& EnvelopeIntegrator::makeTerm(int l) {
+const EnvelopeIntegrator::Term& EnvelopeIntegrator::term(int l) {
   Term& t = terms_[l];
+  if (stamp_[l] == piece_) return t;
   stamp_[l] = piece_;
   // term_l(x) = (offset - n.x) s with x = origin + u e1 + v e2.
   const CellPlane& p = cell_->planes[l];
@@ -58,16 +58,6 @@ void EnvelopeIntegrator::reserve(std::size_t n) {
   next_labels_.resize(size);
   h_.resize(size);
   region_values_.resize(size);
-  cuts_.resize(size);
-}
-
-bool EnvelopeIntegrator::keepsPiece(const Vec2& g, double c) const {
-  // Every polygon clipped from the piece lies in its box |u| <= half_.x, |v| <= half_.y (up to
-  // the round-off of the cut points), where g.y + c <= c + bound. The margin, 1e-9 of the terms'
-  // size, covers that round-off and the rounding of clip()'s own sum many times over, so clip()
-  // would find no corner outside: skipping it leaves every bit as it was.
-  const double bound = std::abs(g.x()) * half_.x() + std::abs(g.y()) * half_.y();
-  return c + bound < -1e-9 * (bound - c);
 }
 
 bool EnvelopeIntegrator::clip(const Vec2& g, double c, int label) {
@@ -75,11 +65,9 @@ bool EnvelopeIntegrator::clip(const Vec2& g, double c, int label) {
   const std::size_t n = poly_n_;
   double* h = h_.data();
   const Vec2* poly = poly_.data();
-  // g copied: the stores to h might alias it, which would reload it at every corner.
-  const double gx = g.x(), gy = g.y();
   std::size_t n_out = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    h[i] = gx * poly[i].x() + gy * poly[i].y() + c;
+    h[i] = g.x() * poly[i].x() + g.y() * poly[i].y() + c;
     n_out += h[i] > 0.0;
   }
   if (n_out == 0) return true;
@@ -121,21 +109,12 @@ bool EnvelopeIntegrator::buildRegion(int k, std::span<const int> others) {
   std::copy(corners_.begin(), corners_.end(), poly_.begin());
   std::fill_n(labels_.begin(), n, -1);
   poly_n_ = n;
-  // Zhao eq. 8: region k is where term_k - term_l <= 0 for its neighbours l. First the list of
-  // the bisectors that may cut the piece, kept without a branch (whether one does is data, and a
-  // branch on it would be mispredicted half the time); the clips follow in the same order.
   const Term tk = term(k);
-  std::size_t m = 0;
   for (int l : others) {
+    if (l == k) continue;
+    // Zhao eq. 8: term_k - term_l <= 0 (a plane below term_k at no corner leaves it whole).
     const Term& tl = term(l);
-    Cut& cut = cuts_[m];
-    cut.g = tk.g - tl.g;
-    cut.c = tk.a - tl.a;
-    cut.label = l;
-    m += static_cast<std::size_t>((l != k) & !keepsPiece(cut.g, cut.c));
-  }
-  for (std::size_t i = 0; i < m; ++i) {
-    if (!clip(cuts_[i].g, cuts_[i].c, cuts_[i].label)) return false;
+    if (!clip(tk.g - tl.g, tk.a - tl.a, l)) return false;
   }
   return poly_n_ >= 3;
 }
@@ -181,11 +160,7 @@ void EnvelopeIntegrator::integrate(std::span<const Vec2> corners, const PieceFra
     terms_.resize(m);
   }
   Vec2 mean = Vec2::Zero();
-  half_ = Vec2::Zero();
-  for (const Vec2& y : corners) {
-    mean += y;
-    half_ = half_.cwiseMax(y.cwiseAbs());
-  }
+  for (const Vec2& y : corners) mean += y;
   mean /= static_cast<double>(corners.size());
   // Start at the plane smallest at the piece's centre (`planes` holds every plane that is the
   // smallest somewhere in the overlap).

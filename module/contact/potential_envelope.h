@@ -58,9 +58,8 @@ class EnvelopeIntegrator {
     double a = 0.0;
     Vec2 g = Vec2::Zero();
   };
-  // Term l on this piece, made on first use (the look-up inline: it runs once per clip).
-  const Term& term(int l) { return stamp_[l] == piece_ ? terms_[l] : makeTerm(l); }
-  const Term& makeTerm(int l);
+  // Term l on this piece, made on first use.
+  const Term& term(int l);
   // Region k on the piece: the piece clipped by term_k <= term_l for the planes l in `others`.
   // Returns false when nothing is left.
   bool buildRegion(int k, std::span<const int> others);
@@ -71,15 +70,11 @@ class EnvelopeIntegrator {
   double walk(std::size_t from, PieceIntegrals& out);
   // Grows the polygon buffers to hold n corners (they never shrink).
   void reserve(std::size_t n);
-  // Whether g.y + c <= 0 holds at every point of the piece's box with room for round-off, so
-  // that clipping any polygon inside the piece by it is a no-op.
-  bool keepsPiece(const Vec2& g, double c) const;
   // Keeps the part of poly_ where g.y + c <= 0; the new edge is labelled `label`.
   bool clip(const Vec2& g, double c, int label);
 
-  // The piece being integrated, and the half-sizes of its box about the frame's origin.
+  // The piece being integrated.
   std::span<const Vec2> corners_;
-  Vec2 half_ = Vec2::Zero();
   const PieceFrame* frame_ = nullptr;
   const Cell* cell_ = nullptr;
 
@@ -89,13 +84,6 @@ class EnvelopeIntegrator {
 
   std::vector<int> candidates_, queue_;
   std::vector<double> region_values_;
-  // The bisectors that may cut the region being built: term_k - term_label = g.y + c.
-  struct Cut {
-    Vec2 g = Vec2::Zero();
-    double c = 0.0;
-    int label = 0;
-  };
-  std::vector<Cut> cuts_;
   // The region being built: poly_[0 .. poly_n_), labels_[i] the plane that made edge i -> i + 1.
   std::vector<Vec2> poly_, next_;
   std::vector<int> labels_, next_labels_;
