@@ -69,10 +69,27 @@ void buildCell(const Body& body, const Vec3& origin, CellBuffers& out) {
   for (std::size_t i = 0; i < body.vertices.size(); ++i) out.corners[i] = body.vertices[i] - origin;
 }
 
+// Whether the point x (in the cells' frame) is at least r (1 - 1e-12) from every plane of `own`
+// and lies inside every plane of `other` by 1e-9 of the bodies' size: then (x, t = r) is a
+// feasible point of innerDomainReached's LP, whose optimum is at least that.
+bool innerPointInside(const potential::Cell& own, double inradius, const potential::Cell& other,
+                      const Vec3& x, double size) {
+  for (const auto& p : own.planes) {
+    if (p.offset - p.normal.dot(x) < inradius * (1.0 - 1e-12)) return false;
+  }
+  for (const auto& p : other.planes) {
+    if (p.normal.dot(x) - p.offset > -1e-9 * size) return false;
+  }
+  return true;
+}
+
 // Whether the overlap contains a point of `own`'s inner domain (distance >= r from all its faces):
-// maximise t subject to x in `other` and d_i(x) >= t for own's planes (a 4-unknown LP).
-bool innerDomainReached(const potential::Cell& own, double inradius, const potential::Cell& other,
-                        Scratch& s) {
+// maximise t subject to x in `other` and d_i(x) >= t for own's planes (a 4-unknown LP). The
+// shape's in-centre `incentre` (in the cells' frame) is such a point; when it lies inside `other`
+// the answer is yes without the LP (the LP's optimum is t = r there: the same answer).
+bool innerDomainReached(const potential::Cell& own, double inradius, const Vec3& incentre,
+                        const potential::Cell& other, double size, Scratch& s) {
+  if (innerPointInside(own, inradius, other, incentre, size)) return true;
   s.rows.clear();
   s.rhs.clear();
   for (const auto& p : other.planes) {
@@ -117,9 +134,14 @@ potential::PotentialResult DistancePotentialKernel::evaluate(const Body& a, cons
   if (!result.contact.touching || result.contact.status != Status::kOk) return result;
   // phi <= bound < 1 on the overlap proves the inner domain is not reached; otherwise ask the LP.
   constexpr double kNearOne = 1.0 - 1e-9;
+  const double size = a.circumradius() + b.circumradius();
   const bool reached =
-      (info.bound_a >= kNearOne && innerDomainReached(cell_a, a.shape->inradius(), cell_b, s)) ||
-      (info.bound_b >= kNearOne && innerDomainReached(cell_b, b.shape->inradius(), cell_a, s));
+      (info.bound_a >= kNearOne &&
+       innerDomainReached(cell_a, a.shape->inradius(), a.toWorld(a.shape->incenter()) - origin,
+                          cell_b, size, s)) ||
+      (info.bound_b >= kNearOne &&
+       innerDomainReached(cell_b, b.shape->inradius(), b.toWorld(b.shape->incenter()) - origin,
+                          cell_a, size, s));
   if (reached) result.contact.status = Status::kInnerDomainReached;
   return result;
 }
