@@ -5,6 +5,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/dynamics/integrator.h"
+#include "polydem/run/contact_sums.h"
 
 namespace polydem::sim {
 
@@ -100,21 +101,7 @@ void RunOutput::writeSnapshot(const Simulation& sim) {
   last_snapshot_ = labelOf(sim);
   const auto& storage = sim.particles();
   const bool root = mpi::rank(sim.comm()) == 0;
-  // Touching contacts and resultant contact force of each local free particle, from the last
-  // contact phase's records (in key order, so the sum does not depend on the rank count).
-  contact_count_.assign(storage.localCount(), 0);
-  contact_force_.assign(storage.localCount(), Vec3::Zero());
-  for (const auto& r : sim.contacts().records()) {
-    if (!r.touching) continue;
-    if (r.a >= 0) {
-      ++contact_count_[r.a];
-      contact_force_[r.a] += r.force;
-    }
-    if (r.b >= 0) {
-      ++contact_count_[r.b];
-      contact_force_[r.b] -= r.force;
-    }
-  }
+  sumContactsByParticle(sim, contact_count_, contact_force_);
   batch_.clear();
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
     const auto& p = storage[i];

@@ -15,7 +15,10 @@ Runs tests/apps/snapshot_scene.toml on 1 and on 2 ranks and checks, for each run
   Debian's python3-vtk9 has no XDMF reader);
 - snapshot_format = "vtk" writes the VTK files and no HDF5 ones;
 - `--picture` renders RUN/frames.png (a PNG) on the 1-rank run;
-- an unknown field in the scene stops the run with the file, the line and the known fields.
+- an unknown field in the scene stops the run with the file, the line and the known fields;
+- snapshot_migration_scene.toml (a dense pack whose particles cross rank borders in the steps
+  before its snapshots) on 1 and 4 ranks: the particle tables, contact_count and force included,
+  are the same bit for bit, and each particle's contact_count is that of its rows in /contacts.
 
 Usage: snapshot_xdmf_test.py POLYDEM MPIEXEC SCENE WORKDIR
 """
@@ -233,6 +236,47 @@ def check_vtk_format(polydem, scene, work):
            f"VTK format with --picture: {result.stderr}")
 
 
+def particle_tables(out):
+    """Every snapshot's /faces tables but rank, by file name, and its contact pairs."""
+    tables = {}
+    for name in sorted(os.listdir(os.path.join(out, "snapshots"))):
+        with h5py.File(os.path.join(out, "snapshots", name), "r") as h:
+            faces = {k: h["faces"][k][()] for k in h["faces"] if k != "rank"}
+            pairs = np.stack([h["contacts"]["uid_a"][()], h["contacts"]["uid_b"][()]], axis=1)
+            tables[name] = (faces, pairs)
+    return tables
+
+
+def check_migration(polydem, mpiexec, scene, work):
+    """Snapshots taken after particles changed rank equal a 1-rank run's (see the docstring)."""
+    runs = {}
+    for ranks in (1, 4):
+        out = os.path.join(work, f"migration{ranks}")
+        shutil.rmtree(out, ignore_errors=True)
+        command = [polydem, "run", scene, "--out", out, "--quiet"]
+        if ranks > 1:
+            command = [mpiexec, "-n", str(ranks), "--oversubscribe"] + command
+        result = subprocess.run(command, capture_output=True, text=True)
+        expect(result.returncode == 0, f"{ranks}-rank migration run failed:\n{result.stderr[-3000:]}")
+        runs[ranks] = particle_tables(out)
+    expect(sorted(runs[1]) == sorted(runs[4]) and len(runs[1]) == 3,
+           f"migration scene: snapshot files {sorted(runs[1])} vs {sorted(runs[4])}")
+    for name, (faces, pairs) in runs[1].items():
+        other, _ = runs[4][name]
+        for key, values in faces.items():
+            expect(np.array_equal(values, other[key]), f"{name}: /faces/{key} differs, 1 vs 4 ranks")
+        # contact_count per face row (one row per face) against the contact rows (the plate, uid 1,
+        # is not counted).
+        counts = {}
+        for a, b in pairs:
+            counts[a] = counts.get(a, 0) + 1
+            counts[b] = counts.get(b, 0) + 1
+        uid, count = faces["uid"], faces["contact_count"]
+        expect(all(count[k] == counts.get(uid[k], 0) for k in range(len(uid)) if uid[k] != 1),
+               f"{name}: contact_count disagrees with the contact rows")
+        expect(count.max() >= 10, f"{name}: the dense pack has no dense contacts: a weak test")
+
+
 def main():
     if len(sys.argv) != 5:
         fail("usage: snapshot_xdmf_test.py POLYDEM MPIEXEC SCENE WORKDIR")
@@ -259,6 +303,8 @@ def main():
                    {"speed_max": last["speed_max"], "contacts": len(last["contacts"])})
     check_unknown_field(polydem, scene, work)
     check_vtk_format(polydem, scene, work)
+    check_migration(polydem, mpiexec,
+                    os.path.join(os.path.dirname(scene), "snapshot_migration_scene.toml"), work)
     print(f"snapshot_xdmf_test: OK ({len(STEPS)} snapshots on 1 and 2 ranks)")
 
 
