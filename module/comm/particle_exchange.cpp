@@ -172,6 +172,37 @@ void addCost(ExchangeStats& stats, const ExchangeCost& cost) {
 
 ParticleExchange::ParticleExchange(MPI_Comm comm) : comm_(comm), rank_(mpi::rank(comm)) {}
 
+bool ParticleExchange::Placement::matches(const domain::BlockForest& forest, double r) const {
+  const auto& d = forest.domain();
+  return valid && range == r && counts == forest.counts() && periodic == forest.periodic() &&
+         lo == d.lo && hi == d.hi && rank_map == forest.rankMap();
+}
+
+// Every local particle now stands in this rank's blocks of `forest`: the next exchange may talk to
+// the neighbours alone. A particle goes from here to the rank owning its new centroid and to the
+// ranks within its ghost radius of it; that radius (own circumradius + range) is at most 2 range,
+// so the neighbours within 3 range take it as long as it moved at most `range` in the step.
+void ParticleExchange::placed(const domain::BlockForest& forest, double range) {
+  const auto& d = forest.domain();
+  placement_ = {true, range, forest.counts(), forest.periodic(), d.lo, d.hi, forest.rankMap()};
+  neighbours_.clear();
+  if (forest.numRanks() > 1) neighbours_ = forest.ranksWithin(rank_, kNeighbourReach * range);
+}
+
+int ParticleExchange::destination(int rank, const Particle& p, std::int64_t step,
+                                  bool neighbours_only) const {
+  if (!neighbours_only || rank == rank_ ||
+      std::binary_search(neighbours_.begin(), neighbours_.end(), rank)) {
+    return rank;
+  }
+  throw SimulationError(cat("particle ", p.uid, " at (", p.position.x(), ", ", p.position.y(), ", ",
+                            p.position.z(), ") at step ", step, " must go from rank ", rank_,
+                            " to rank ", rank, ", which owns no block within ",
+                            kNeighbourReach * placement_.range, " of rank ", rank_,
+                            "'s blocks: it moved more than the ghost range (", placement_.range,
+                            ") in one step; reduce dt"));
+}
+
 ExchangeStats ParticleExchange::migrate(const domain::BlockForest& forest,
                                         particles::ParticleStorage& storage,
                                         ContactHistory& history, std::int64_t step) {
@@ -199,6 +230,7 @@ ExchangeStats ParticleExchange::migrate(const domain::BlockForest& forest,
   addCost(stats, cost);
   std::vector<std::pair<Particle, Vec3>> no_ghosts;
   unpackRecords(messages, forest, storage, history, no_ghosts, stats);
+  if (placement_.valid) placed(forest, placement_.range);  // range: the exchange's own
   stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return stats;
 }
@@ -244,6 +276,9 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
   const auto t0 = Clock::now();
   ExchangeStats stats;
   storage.dropGhosts();
+  // The neighbours alone, unless the particles were placed by another forest (a rebalance, the
+  // first exchange): then any rank may receive.
+  const bool neighbours_only = placement_.matches(forest, range);
   std::map<int, SendBuffer> outgoing;
   std::unordered_map<Uid, int> leaving;           // uid -> destination rank
   std::vector<std::pair<Particle, Vec3>> ghosts;  // those kept here first, then the received ones
@@ -256,7 +291,7 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
       ++i;
       continue;
     }
-    const int owner = ownerAfterWrap(forest, p, step);
+    const int owner = destination(ownerAfterWrap(forest, p, step), p, step, neighbours_only);
     if (alone) {
       ++i;
       continue;
@@ -270,7 +305,7 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
       if (hit.rank == rank_) {
         ghosts.emplace_back(p, hit.shift);
       } else {
-        packGhost(outgoing[hit.rank], p, hit.image);
+        packGhost(outgoing[destination(hit.rank, p, step, neighbours_only)], p, hit.image);
         ++stats.particles_sent;
       }
     }
@@ -282,10 +317,13 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
   }
   packHistories(history, leaving, outgoing, stats);
   ExchangeCost cost;
-  const auto messages = sparseExchange(outgoing, comm_, kExchangeTag, &cost);
+  const auto messages = neighbours_only
+                            ? neighbourExchange(outgoing, neighbours_, comm_, kExchangeTag, &cost)
+                            : sparseExchange(outgoing, comm_, kExchangeTag, &cost);
   addCost(stats, cost);
   unpackRecords(messages, forest, storage, history, ghosts, stats);
   for (const auto& [p, shift] : ghosts) storage.addGhost(p, shift);
+  if (!neighbours_only) placed(forest, range);
   stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return stats;
 }

@@ -11,6 +11,12 @@
 //    migrates needs no second round.
 // migrate() and refreshGhosts() do the two halves separately (restart, rebalancing, tests); they
 // give the same particles, ghosts and histories.
+// The message of exchange() goes to the neighbour ranks only (those owning a block within three
+// ghost ranges of this rank's blocks, domain::BlockForest::ranksWithin), each of which gets one
+// even if it is empty, so that no collective is needed to agree on the message sizes; a particle
+// that would have to go further (it moved more than the ghost range in one step) stops the run
+// with a SimulationError. The first exchange, and one after the forest changed, use a collective
+// sparse exchange instead.
 // Fixed and driven particles are replicated on all ranks and never move between them.
 // A pair whose two particles live on two ranks is evaluated on both, from identical inputs, so
 // no force is sent back; the ghost radius above guarantees each owner sees all its partners.
@@ -75,9 +81,30 @@ class ParticleExchange {
                               const particles::ShapeTable& shapes, double range);
 
  private:
+  /// The neighbours are the ranks within this many ghost ranges (see above).
+  static constexpr double kNeighbourReach = 3.0;
+
+  /// The forest (and ghost range) that the local particles were last placed by: while the
+  /// exchange is given the same, each particle can only go to a neighbour.
+  struct Placement {
+    bool valid = false;
+    double range = 0.0;
+    domain::Index3 counts{};
+    domain::Periodic periodic{};
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+    std::vector<int> rank_map;
+    bool matches(const domain::BlockForest& forest, double range) const;
+  };
+  void placed(const domain::BlockForest& forest, double range);
+  /// `rank`, checked to be a neighbour when only neighbours are talked to.
+  int destination(int rank, const particles::Particle& p, std::int64_t step,
+                  bool neighbours_only) const;
+
   MPI_Comm comm_;
   int rank_ = 0;
   std::vector<domain::RankHit> hits_;  // reused between calls
+  Placement placement_;
+  std::vector<int> neighbours_;  // sorted
 };
 
 }  // namespace polydem::comm

@@ -309,6 +309,30 @@ std::vector<int> BlockForest::neighbourRanks(int r) const {
   return out;
 }
 
+std::vector<int> BlockForest::ranksWithin(int r, double distance) const {
+  // A block k blocks away along an axis is at least (k - 1) block sizes away along it; the
+  // factor 1 + 1e-9 covers edges that differ from the nominal size by rounding.
+  Index3 reach{};
+  for (int a = 0; a < 3; ++a) {
+    const double cells = std::floor(std::max(distance, 0.0) * inv_block_size_[a] * (1.0 + 1e-9));
+    reach[a] = static_cast<int>(std::min<double>(cells + 1.0, counts_[a]));
+  }
+  std::vector<int> out;
+  for (int b : blocksOfRank(r)) {
+    for (int k = -reach[2]; k <= reach[2]; ++k) {
+      for (int j = -reach[1]; j <= reach[1]; ++j) {
+        for (int i = -reach[0]; i <= reach[0]; ++i) {
+          const int nb = neighbourIndex(b, {i, j, k});
+          if (nb >= 0 && rank_of_block_[nb] != r) out.push_back(rank_of_block_[nb]);
+        }
+      }
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 Index3 chooseBlockCounts(const Aabb& domain, int ranks, int blocks_per_rank_hint,
                          double min_block_edge) {
   if (ranks < 1) throw DomainError(cat("chooseBlockCounts: ", ranks, " ranks"));

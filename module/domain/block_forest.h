@@ -123,6 +123,11 @@ class BlockForest {
   /// Ranks other than `r` that own a neighbour (neighbours()) of one of r's blocks, sorted. These
   /// are all ghost partners of `r` as long as the interaction range is at most the block size.
   std::vector<int> neighbourRanks(int r) const;
+  /// Ranks other than `r` owning a block whose box may lie within `distance` of one of r's blocks
+  /// (across periodic faces too), sorted: every block up to floor(distance / block size) + 1
+  /// blocks away along each axis, a superset of the exact answer. Symmetric: s is in
+  /// ranksWithin(r, d) exactly when r is in ranksWithin(s, d), because block offsets are.
+  std::vector<int> ranksWithin(int r, double distance) const;
 
  private:
   /// Block coordinate along `axis` of a coordinate already inside [edges[0], edges[n]].
