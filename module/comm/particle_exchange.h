@@ -16,7 +16,8 @@
 // even if it is empty, so that no collective is needed to agree on the message sizes; a particle
 // that would have to go further (it moved more than the ghost range in one step) stops the run
 // with a SimulationError. The first exchange, and one after the forest changed, use a collective
-// sparse exchange instead.
+// sparse exchange instead. A ghost that stays a ghost on the same rank travels as a state update
+// (ghost_channels.h).
 // Fixed and driven particles are replicated on all ranks and never move between them.
 // A pair whose two particles live on two ranks is evaluated on both, from identical inputs, so
 // no force is sent back; the ghost radius above guarantees each owner sees all its partners.
@@ -27,6 +28,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "polydem/comm/ghost_channels.h"
 #include "polydem/comm/sparse_exchange.h"
 #include "polydem/domain/block_forest.h"
 #include "polydem/particles/contact_history.h"
@@ -35,7 +37,8 @@
 namespace polydem::comm {
 
 struct ExchangeStats {
-  std::int64_t particles_sent = 0, particles_received = 0;
+  std::int64_t particles_sent = 0, particles_received = 0;          // ghosts included
+  std::int64_t ghost_updates_sent = 0, ghost_updates_received = 0;  // of those: state updates
   std::int64_t histories_sent = 0, histories_received = 0;
   std::int64_t history_conflicts = 0;  // received copies that differ from ours: must stay 0
   std::int64_t bytes_sent = 0;
@@ -47,6 +50,8 @@ struct ExchangeStats {
   ExchangeStats& operator+=(const ExchangeStats& o) {
     particles_sent += o.particles_sent;
     particles_received += o.particles_received;
+    ghost_updates_sent += o.ghost_updates_sent;
+    ghost_updates_received += o.ghost_updates_received;
     histories_sent += o.histories_sent;
     histories_received += o.histories_received;
     history_conflicts += o.history_conflicts;
@@ -73,6 +78,10 @@ class ParticleExchange {
   ExchangeStats exchange(const domain::BlockForest& forest, particles::ParticleStorage& storage,
                          particles::ContactHistory& history, const particles::ShapeTable& shapes,
                          double range, std::int64_t step);
+
+  /// False: every ghost travels whole at every exchange (the same ghosts, more bytes); for
+  /// comparisons. Collective in effect: set it alike on every rank.
+  void setCompactGhosts(bool on) { channels_.setCompact(on); }
 
   /// Replaces all ghosts by fresh copies. `range` is added to each particle's own circumradius
   /// to get its ghost radius (the largest free circumradius plus the contact margin). Collective.
@@ -103,6 +112,7 @@ class ParticleExchange {
   MPI_Comm comm_;
   int rank_ = 0;
   std::vector<domain::RankHit> hits_;  // reused between calls
+  GhostChannels channels_;
   Placement placement_;
   std::vector<int> neighbours_;  // sorted
 };
