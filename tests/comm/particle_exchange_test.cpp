@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <set>
 
 #include "polydem/comm/state_hash.h"
+#include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 #include "polydem/geometry/body_shape.h"
@@ -327,6 +329,37 @@ TEST(ParticleExchange, PersistingGhostsTravelAsUpdatesWithTheSameBits) {
 
 TEST(ParticleExchange, PersistingPeriodicGhostsTravelAsUpdatesWithTheSameBits) {
   checkUpdatesMatchWholeRecords({true, false, true});
+}
+
+// A particle that would have to go to a rank that is not a neighbour (it jumped further than the
+// ghost range in one step) stops the exchange with a clear error instead of a message nobody
+// waits for. On 4 ranks in a row of blocks, each rank's particle jumps two ranks on, so every rank
+// throws (one rank alone would leave the others waiting).
+TEST(ParticleExchange, AJumpPastTheNeighboursIsAClearError) {
+  if (mpi::size() != 4) GTEST_SKIP() << "needs 4 ranks";
+  const domain::Aabb box{Vec3(0, 0, 0), Vec3(8, 1, 1)};
+  domain::BlockForest f(box, {8, 1, 1});
+  f.setRankMap({0, 0, 1, 1, 2, 2, 3, 3}, 4);
+  const auto shapes = cubeTable();
+  particles::ParticleStorage storage;
+  Particle p;
+  p.uid = static_cast<Uid>(mpi::rank() + 1);
+  p.shape = 0;
+  p.material = 0;
+  p.position = Vec3(2.0 * mpi::rank() + 1.0, 0.5, 0.5);
+  storage.addLocal(p);
+  particles::ContactHistory history;
+  ParticleExchange exchange(MPI_COMM_WORLD);
+  const double range = 0.2;  // neighbours: the ranks within 0.6, i.e. the next rank on each side
+  exchange.exchange(f, storage, history, shapes, range, 0);
+  storage[0].position.x() = std::fmod(storage[0].position.x() + 4.0, 8.0);  // two ranks on
+  try {
+    exchange.exchange(f, storage, history, shapes, range, 1);
+    ADD_FAILURE() << "no error for a jump of 4 m with a ghost range of 0.2 m";
+  } catch (const SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("moved more than the ghost range"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(StateHash, IndependentOfDistributionAndSensitiveToOneBit) {
