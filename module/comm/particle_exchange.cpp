@@ -236,6 +236,7 @@ ExchangeStats ParticleExchange::refreshGhosts(const domain::BlockForest& forest,
     const Particle& p = storage[i];
     if (p.isGlobal()) continue;
     const double radius = shapes[p.shape].circumradius + range;
+    if (forest.sphereWithinRank(p.position, radius, rank_)) continue;  // no ghost anywhere
     forest.ranksIntersectingSphere(p.position, radius, hits_);
     for (const auto& hit : hits_) {
       const bool unshifted = hit.shift.isZero(0.0);
@@ -290,8 +291,14 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
     }
     // The ghosts of the particle where it now stands, sent by the rank that moved it: to every
     // hit but its owner's own unshifted copy. A hit on this rank is kept here: a periodic self
-    // image, or a ghost of a particle that just left for a neighbour.
-    forest.ranksIntersectingSphere(p.position, shapes[p.shape].circumradius + range, hits_);
+    // image, or a ghost of a particle that just left for a neighbour. Most particles' ghost
+    // spheres stay inside their owner's blocks: no hit to send, and no query to find that out.
+    const double radius = shapes[p.shape].circumradius + range;
+    if (forest.sphereWithinRank(p.position, radius, owner)) {
+      hits_.clear();
+    } else {
+      forest.ranksIntersectingSphere(p.position, radius, hits_);
+    }
     for (const auto& hit : hits_) {
       if (hit.rank == owner && hit.shift.isZero(0.0)) continue;
       if (hit.rank == rank_) {

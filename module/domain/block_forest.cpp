@@ -222,6 +222,34 @@ void BlockForest::forEachSphereHit(const Vec3& center, double radius, Visit&& vi
   }
 }
 
+// The cells of forEachSphereHit's candidate range that pass its per-axis test, with the same
+// arithmetic: every block it hits (without periodic images) lies in their product.
+bool BlockForest::sphereWithinRank(const Vec3& center, double radius, int rank) const {
+  if (periodic_[0] || periodic_[1] || periodic_[2]) return false;
+  if (!finite(center) || !std::isfinite(radius) || radius < 0) return false;
+  Index3 first, last;
+  for (int a = 0; a < 3; ++a) {
+    const double p = center[a];
+    first[a] = std::max(axisCellEstimate(a, p - radius) - 1, 0);
+    last[a] = std::min(axisCellEstimate(a, p + radius) + 1, counts_[a] - 1);
+    auto reaches = [&](int i) {
+      const double d = std::max({edges_[a][i] - p, 0.0, p - edges_[a][i + 1]});
+      return std::sqrt(d * d) <= radius;
+    };
+    while (first[a] <= last[a] && !reaches(first[a])) ++first[a];
+    while (last[a] >= first[a] && !reaches(last[a])) --last[a];
+  }
+  Index3 cell;
+  for (cell[2] = first[2]; cell[2] <= last[2]; ++cell[2]) {
+    for (cell[1] = first[1]; cell[1] <= last[1]; ++cell[1]) {
+      for (cell[0] = first[0]; cell[0] <= last[0]; ++cell[0]) {
+        if (rank_of_block_[blockIndex(cell)] != rank) return false;
+      }
+    }
+  }
+  return true;
+}
+
 void BlockForest::blocksIntersectingSphere(const Vec3& center, double radius,
                                            std::vector<BlockHit>& out) const {
   out.clear();

@@ -101,6 +101,13 @@ class BlockForest {
   void blocksIntersectingSphere(const Vec3& center, double radius,
                                 std::vector<BlockHit>& out) const;
 
+  /// True when the sphere can reach no block of another rank than `rank` and no periodic image:
+  /// every block that passes the sphere query's per-axis test belongs to `rank`, and no axis is
+  /// periodic. A cheap superset test (false when unsure): ranksIntersectingSphere would then
+  /// return (rank, zero image) alone, so a particle whose ghost sphere stays inside its owner's
+  /// blocks needs no query. Non-finite input: false.
+  bool sphereWithinRank(const Vec3& center, double radius, int rank) const;
+
   /// The distinct (rank, image) pairs over blocksIntersectingSphere, sorted by rank then image.
   /// For ghosts: a particle goes to every hit except (its owner, zero image); a hit on the owner
   /// with a nonzero image is a real periodic self-image.
