@@ -149,8 +149,11 @@ void printBalance(const std::vector<Measurement>& results) {
   std::printf(
       "(pairs: kernel calls, a pair across a rank border on both ranks; work: the load model;\n"
       " work eff: the work done once / (ranks x the busiest rank's work), the efficiency that the\n"
-      " balance and the duplicated border pairs allow; bytes, messages: mean per rank and step;\n"
-      " ghosts: mean per rank; exchange times: mean per rank and step, not deterministic)\n");
+      " balance and the duplicated border pairs allow; bytes, messages: mean per rank and step,\n"
+      " one message per neighbour rank (empty ones included), a ghost kept from the step before\n"
+      " as a 104-byte state update, a new one whole (134 bytes); ghosts: mean per rank;\n"
+      " exchange times: mean per rank and step, not deterministic; wait: until the neighbours'\n"
+      " messages arrived)\n");
 }
 
 }  // namespace

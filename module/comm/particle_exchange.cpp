@@ -18,10 +18,9 @@ constexpr int kMigrateTag = 7301;
 constexpr int kGhostTag = 7302;
 constexpr int kExchangeTag = 7305;
 
-// Record types of a message.
+// Record types of a message, after its ghost section (ghost_channels.h).
 constexpr std::uint8_t kParticleRecord = 0;  // a particle that now belongs to the receiver
 constexpr std::uint8_t kHistoryRecord = 1;   // a pair history travelling with it
-constexpr std::uint8_t kGhostRecord = 2;     // a ghost copy and its periodic image
 constexpr std::uint8_t kSubRecord = 3;       // a sub-contact history of a pair sent with it
 
 using particles::ContactHistory;
@@ -52,25 +51,6 @@ int ownerAfterWrap(const domain::BlockForest& forest, Particle& p, std::int64_t 
                               "]: enlarge [domain] min/max in the scene"));
   }
   return forest.rankOfBlock(block);
-}
-
-// A ghost travels with its periodic image number (6 bytes), not the 24-byte shift: the receiver
-// computes the same shift from its own copy of the forest.
-void packGhost(SendBuffer& out, const Particle& p, const domain::Index3& image) {
-  out << kGhostRecord;
-  pack(out, p);
-  for (int a = 0; a < 3; ++a) out << static_cast<std::int16_t>(image[a]);
-}
-
-Vec3 unpackGhost(RecvBuffer& in, const domain::BlockForest& forest, Particle& p) {
-  unpack(in, p);
-  domain::Index3 image{};
-  for (int a = 0; a < 3; ++a) {
-    std::int16_t i = 0;
-    in >> i;
-    image[a] = i;
-  }
-  return forest.imageShift(image);
 }
 
 // Packs local particle i for `owner`, the rank that owns it now, and removes it here (particle i
@@ -115,14 +95,16 @@ void packHistories(const ContactHistory& history, const std::unordered_map<Uid, 
   }
 }
 
-// Unpacks received records: particles become local at once, histories are merged, ghosts are
-// appended to `ghosts` (added to the storage by the caller once every local particle is in).
-void unpackRecords(const std::vector<Message>& messages, const domain::BlockForest& forest,
-                   particles::ParticleStorage& storage, ContactHistory& history,
-                   std::vector<std::pair<Particle, Vec3>>& ghosts, ExchangeStats& stats) {
+// Unpacks received messages: the ghost section into `channels`, then the records: particles
+// become local at once, histories are merged.
+void unpackMessages(const std::vector<Message>& messages, particles::ParticleStorage& storage,
+                    ContactHistory& history, GhostChannels& channels, ExchangeStats& stats) {
   particles::HistoryRecords received;
   for (const auto& m : messages) {
     RecvBuffer in(m.bytes.data(), m.bytes.size());
+    const GhostCounts ghosts = channels.unpack(m.rank, in);
+    stats.particles_received += ghosts.whole + ghosts.updates;
+    stats.ghost_updates_received += ghosts.updates;
     while (!in.atEnd()) {
       std::uint8_t type = 0;
       in >> type;
@@ -148,17 +130,23 @@ void unpackRecords(const std::vector<Message>& messages, const domain::BlockFore
         unpack(in, key, h);
         received.sub_keys.push_back(key);
         received.sub_entries.push_back(h);
-      } else if (type == kGhostRecord) {
-        Particle p;
-        const Vec3 shift = unpackGhost(in, forest, p);
-        ghosts.emplace_back(p, shift);
-        ++stats.particles_received;
       } else {
         throw Error(cat("message from rank ", m.rank, " has an unknown record type ", int{type}));
       }
     }
   }
   if (!received.empty()) history.merge(received);
+}
+
+// Ghosts into the storage once every local particle is in: those kept here first (periodic self
+// images, ghosts of particles that just left), then the received ones by source rank.
+void addGhosts(const std::vector<std::pair<Particle, Vec3>>& kept_here,
+               const GhostChannels& channels, const domain::BlockForest& forest,
+               particles::ParticleStorage& storage) {
+  for (const auto& [p, shift] : kept_here) storage.addGhost(p, shift);
+  channels.forEachHeld([&](const Particle& p, const domain::Index3& image) {
+    storage.addGhost(p, forest.imageShift(image));
+  });
 }
 
 void addCost(ExchangeStats& stats, const ExchangeCost& cost) {
@@ -172,13 +160,45 @@ void addCost(ExchangeStats& stats, const ExchangeCost& cost) {
 
 ParticleExchange::ParticleExchange(MPI_Comm comm) : comm_(comm), rank_(mpi::rank(comm)) {}
 
+bool ParticleExchange::Placement::matches(const domain::BlockForest& forest, double r) const {
+  const auto& d = forest.domain();
+  return valid && range == r && counts == forest.counts() && periodic == forest.periodic() &&
+         lo == d.lo && hi == d.hi && rank_map == forest.rankMap();
+}
+
+// Every local particle now stands in this rank's blocks of `forest`: the next exchange may talk to
+// the neighbours alone. A particle goes from here to the rank owning its new centroid and to the
+// ranks within its ghost radius of it; that radius (own circumradius + range) is at most 2 range,
+// so the neighbours within 3 range take it as long as it moved at most `range` in the step.
+void ParticleExchange::placed(const domain::BlockForest& forest, double range) {
+  const auto& d = forest.domain();
+  placement_ = {true, range, forest.counts(), forest.periodic(), d.lo, d.hi, forest.rankMap()};
+  neighbours_.clear();
+  if (forest.numRanks() > 1) neighbours_ = forest.ranksWithin(rank_, kNeighbourReach * range);
+}
+
+int ParticleExchange::destination(int rank, const Particle& p, std::int64_t step,
+                                  bool neighbours_only) const {
+  if (!neighbours_only || rank == rank_ ||
+      std::binary_search(neighbours_.begin(), neighbours_.end(), rank)) {
+    return rank;
+  }
+  throw SimulationError(cat("particle ", p.uid, " at (", p.position.x(), ", ", p.position.y(), ", ",
+                            p.position.z(), ") at step ", step, " must go from rank ", rank_,
+                            " to rank ", rank, ", which owns no block within ",
+                            kNeighbourReach * placement_.range, " of rank ", rank_,
+                            "'s blocks: it moved more than the ghost range (", placement_.range,
+                            ") in one step; reduce dt"));
+}
+
 ExchangeStats ParticleExchange::migrate(const domain::BlockForest& forest,
                                         particles::ParticleStorage& storage,
                                         ContactHistory& history, std::int64_t step) {
   const auto t0 = Clock::now();
   ExchangeStats stats;
   storage.dropGhosts();
-  std::map<int, SendBuffer> outgoing;
+  channels_.reset();
+  std::map<int, SendBuffer> records, outgoing;
   std::unordered_map<Uid, int> leaving;  // uid -> destination rank
   for (std::size_t i = 0; i < storage.size();) {
     Particle& p = storage[i];
@@ -191,14 +211,15 @@ ExchangeStats ParticleExchange::migrate(const domain::BlockForest& forest,
       ++i;
       continue;
     }
-    sendToOwner(storage, i, owner, outgoing, leaving, stats);
+    sendToOwner(storage, i, owner, records, leaving, stats);
   }
-  packHistories(history, leaving, outgoing, stats);
+  packHistories(history, leaving, records, stats);
+  channels_.pack(records, outgoing);
   ExchangeCost cost;
   const auto messages = sparseExchange(outgoing, comm_, kMigrateTag, &cost);
   addCost(stats, cost);
-  std::vector<std::pair<Particle, Vec3>> no_ghosts;
-  unpackRecords(messages, forest, storage, history, no_ghosts, stats);
+  unpackMessages(messages, storage, history, channels_, stats);
+  if (placement_.valid) placed(forest, placement_.range);  // range: the exchange's own
   stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return stats;
 }
@@ -209,29 +230,32 @@ ExchangeStats ParticleExchange::refreshGhosts(const domain::BlockForest& forest,
   const auto t0 = Clock::now();
   ExchangeStats stats;
   storage.dropGhosts();
-  std::map<int, SendBuffer> outgoing;
-  std::vector<std::pair<Particle, Vec3>> ghosts;  // self images first, then the received ones
+  channels_.reset();
+  std::vector<std::pair<Particle, Vec3>> kept_here;  // periodic self images
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
     const Particle& p = storage[i];
     if (p.isGlobal()) continue;
     const double radius = shapes[p.shape].circumradius + range;
+    if (forest.sphereWithinRank(p.position, radius, rank_)) continue;  // no ghost anywhere
     forest.ranksIntersectingSphere(p.position, radius, hits_);
     for (const auto& hit : hits_) {
       const bool unshifted = hit.shift.isZero(0.0);
       if (hit.rank == rank_) {
-        if (!unshifted) ghosts.emplace_back(p, hit.shift);
+        if (!unshifted) kept_here.emplace_back(p, hit.shift);
         continue;
       }
-      packGhost(outgoing[hit.rank], p, hit.image);
+      channels_.queue(hit.rank, p, hit.image);
       ++stats.particles_sent;
     }
   }
+  std::map<int, SendBuffer> outgoing;
+  channels_.pack({}, outgoing);
   ExchangeCost cost;
   const auto messages = sparseExchange(outgoing, comm_, kGhostTag, &cost);
   addCost(stats, cost);
   ContactHistory unused;
-  unpackRecords(messages, forest, storage, unused, ghosts, stats);
-  for (const auto& [p, shift] : ghosts) storage.addGhost(p, shift);
+  unpackMessages(messages, storage, unused, channels_, stats);
+  addGhosts(kept_here, channels_, forest, storage);
   stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return stats;
 }
@@ -244,9 +268,13 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
   const auto t0 = Clock::now();
   ExchangeStats stats;
   storage.dropGhosts();
-  std::map<int, SendBuffer> outgoing;
-  std::unordered_map<Uid, int> leaving;           // uid -> destination rank
-  std::vector<std::pair<Particle, Vec3>> ghosts;  // those kept here first, then the received ones
+  // The neighbours alone, unless the particles were placed by another forest (a rebalance, the
+  // first exchange): then any rank may receive, and every ghost travels whole.
+  const bool neighbours_only = placement_.matches(forest, range);
+  if (!neighbours_only) channels_.reset();
+  std::map<int, SendBuffer> records, outgoing;
+  std::unordered_map<Uid, int> leaving;              // uid -> destination rank
+  std::vector<std::pair<Particle, Vec3>> kept_here;  // ghosts kept on this rank
   // One rank and no periodic axis: no ghosts at all, and no sphere queries to find that out.
   const auto& periodic = forest.periodic();
   const bool alone = forest.numRanks() == 1 && !periodic[0] && !periodic[1] && !periodic[2];
@@ -256,21 +284,27 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
       ++i;
       continue;
     }
-    const int owner = ownerAfterWrap(forest, p, step);
+    const int owner = destination(ownerAfterWrap(forest, p, step), p, step, neighbours_only);
     if (alone) {
       ++i;
       continue;
     }
     // The ghosts of the particle where it now stands, sent by the rank that moved it: to every
     // hit but its owner's own unshifted copy. A hit on this rank is kept here: a periodic self
-    // image, or a ghost of a particle that just left for a neighbour.
-    forest.ranksIntersectingSphere(p.position, shapes[p.shape].circumradius + range, hits_);
+    // image, or a ghost of a particle that just left for a neighbour. Most particles' ghost
+    // spheres stay inside their owner's blocks: no hit to send, and no query to find that out.
+    const double radius = shapes[p.shape].circumradius + range;
+    if (forest.sphereWithinRank(p.position, radius, owner)) {
+      hits_.clear();
+    } else {
+      forest.ranksIntersectingSphere(p.position, radius, hits_);
+    }
     for (const auto& hit : hits_) {
       if (hit.rank == owner && hit.shift.isZero(0.0)) continue;
       if (hit.rank == rank_) {
-        ghosts.emplace_back(p, hit.shift);
+        kept_here.emplace_back(p, hit.shift);
       } else {
-        packGhost(outgoing[hit.rank], p, hit.image);
+        channels_.queue(destination(hit.rank, p, step, neighbours_only), p, hit.image);
         ++stats.particles_sent;
       }
     }
@@ -278,14 +312,18 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
       ++i;
       continue;
     }
-    sendToOwner(storage, i, owner, outgoing, leaving, stats);
+    sendToOwner(storage, i, owner, records, leaving, stats);
   }
-  packHistories(history, leaving, outgoing, stats);
+  packHistories(history, leaving, records, stats);
+  stats.ghost_updates_sent = channels_.pack(records, outgoing).updates;
   ExchangeCost cost;
-  const auto messages = sparseExchange(outgoing, comm_, kExchangeTag, &cost);
+  const auto messages = neighbours_only
+                            ? neighbourExchange(outgoing, neighbours_, comm_, kExchangeTag, &cost)
+                            : sparseExchange(outgoing, comm_, kExchangeTag, &cost);
   addCost(stats, cost);
-  unpackRecords(messages, forest, storage, history, ghosts, stats);
-  for (const auto& [p, shift] : ghosts) storage.addGhost(p, shift);
+  unpackMessages(messages, storage, history, channels_, stats);
+  addGhosts(kept_here, channels_, forest, storage);
+  if (!neighbours_only) placed(forest, range);
   stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return stats;
 }

@@ -11,6 +11,13 @@
 //    migrates needs no second round.
 // migrate() and refreshGhosts() do the two halves separately (restart, rebalancing, tests); they
 // give the same particles, ghosts and histories.
+// The message of exchange() goes to the neighbour ranks only (those owning a block within three
+// ghost ranges of this rank's blocks, domain::BlockForest::ranksWithin), each of which gets one
+// even if it is empty, so that no collective is needed to agree on the message sizes; a particle
+// that would have to go further (it moved more than the ghost range in one step) stops the run
+// with a SimulationError. The first exchange, and one after the forest changed, use a collective
+// sparse exchange instead. A ghost that stays a ghost on the same rank travels as a state update
+// (ghost_channels.h).
 // Fixed and driven particles are replicated on all ranks and never move between them.
 // A pair whose two particles live on two ranks is evaluated on both, from identical inputs, so
 // no force is sent back; the ghost radius above guarantees each owner sees all its partners.
@@ -21,6 +28,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "polydem/comm/ghost_channels.h"
 #include "polydem/comm/sparse_exchange.h"
 #include "polydem/domain/block_forest.h"
 #include "polydem/particles/contact_history.h"
@@ -29,7 +37,8 @@
 namespace polydem::comm {
 
 struct ExchangeStats {
-  std::int64_t particles_sent = 0, particles_received = 0;
+  std::int64_t particles_sent = 0, particles_received = 0;          // ghosts included
+  std::int64_t ghost_updates_sent = 0, ghost_updates_received = 0;  // of those: state updates
   std::int64_t histories_sent = 0, histories_received = 0;
   std::int64_t history_conflicts = 0;  // received copies that differ from ours: must stay 0
   std::int64_t bytes_sent = 0;
@@ -41,6 +50,8 @@ struct ExchangeStats {
   ExchangeStats& operator+=(const ExchangeStats& o) {
     particles_sent += o.particles_sent;
     particles_received += o.particles_received;
+    ghost_updates_sent += o.ghost_updates_sent;
+    ghost_updates_received += o.ghost_updates_received;
     histories_sent += o.histories_sent;
     histories_received += o.histories_received;
     history_conflicts += o.history_conflicts;
@@ -68,6 +79,10 @@ class ParticleExchange {
                          particles::ContactHistory& history, const particles::ShapeTable& shapes,
                          double range, std::int64_t step);
 
+  /// False: every ghost travels whole at every exchange (the same ghosts, more bytes); for
+  /// comparisons. Collective in effect: set it alike on every rank.
+  void setCompactGhosts(bool on) { channels_.setCompact(on); }
+
   /// Replaces all ghosts by fresh copies. `range` is added to each particle's own circumradius
   /// to get its ghost radius (the largest free circumradius plus the contact margin). Collective.
   ExchangeStats refreshGhosts(const domain::BlockForest& forest,
@@ -75,9 +90,31 @@ class ParticleExchange {
                               const particles::ShapeTable& shapes, double range);
 
  private:
+  /// The neighbours are the ranks within this many ghost ranges (see above).
+  static constexpr double kNeighbourReach = 3.0;
+
+  /// The forest (and ghost range) that the local particles were last placed by: while the
+  /// exchange is given the same, each particle can only go to a neighbour.
+  struct Placement {
+    bool valid = false;
+    double range = 0.0;
+    domain::Index3 counts{};
+    domain::Periodic periodic{};
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+    std::vector<int> rank_map;
+    bool matches(const domain::BlockForest& forest, double range) const;
+  };
+  void placed(const domain::BlockForest& forest, double range);
+  /// `rank`, checked to be a neighbour when only neighbours are talked to.
+  int destination(int rank, const particles::Particle& p, std::int64_t step,
+                  bool neighbours_only) const;
+
   MPI_Comm comm_;
   int rank_ = 0;
   std::vector<domain::RankHit> hits_;  // reused between calls
+  GhostChannels channels_;
+  Placement placement_;
+  std::vector<int> neighbours_;  // sorted
 };
 
 }  // namespace polydem::comm

@@ -1,5 +1,6 @@
 #include "polydem/comm/sparse_exchange.h"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 
@@ -9,9 +10,21 @@
 
 namespace polydem::comm {
 
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+void checkSize(const SendBuffer& buffer, int rank) {
+  if (buffer.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    throw Error(cat("message of ", buffer.size(), " bytes to rank ", rank,
+                    " exceeds MPI's 2 GiB count limit; use more ranks or blocks"));
+  }
+}
+
+}  // namespace
+
 std::vector<Message> sparseExchange(const std::map<int, SendBuffer>& outgoing, MPI_Comm comm,
                                     int tag, ExchangeCost* cost) {
-  using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const int ranks = mpi::size(comm);
   // Kept between calls: an exchange every step allocates only for the messages it receives.
@@ -20,10 +33,7 @@ std::vector<Message> sparseExchange(const std::map<int, SendBuffer>& outgoing, M
   recv_counts.assign(ranks, 0);
   std::int64_t sent = 0, messages = 0;
   for (const auto& [rank, buffer] : outgoing) {
-    if (buffer.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
-      throw Error(cat("message of ", buffer.size(), " bytes to rank ", rank,
-                      " exceeds MPI's 2 GiB count limit; use more ranks or blocks"));
-    }
+    checkSize(buffer, rank);
     send_counts[rank] = static_cast<std::int64_t>(buffer.size());
     sent += send_counts[rank];
     messages += send_counts[rank] > 0;
@@ -55,6 +65,53 @@ std::vector<Message> sparseExchange(const std::map<int, SendBuffer>& outgoing, M
     cost->messages += messages;
     cost->wait_seconds += std::chrono::duration<double>(t1 - t0).count();
     cost->transfer_seconds += std::chrono::duration<double>(Clock::now() - t1).count();
+  }
+  return received;
+}
+
+std::vector<Message> neighbourExchange(const std::map<int, SendBuffer>& outgoing,
+                                       std::span<const int> neighbours, MPI_Comm comm, int tag,
+                                       ExchangeCost* cost) {
+  const auto t0 = Clock::now();
+  for (const auto& [rank, buffer] : outgoing) {
+    if (!std::binary_search(neighbours.begin(), neighbours.end(), rank)) {
+      throw Error(cat("neighbourExchange: a message for rank ", rank, " of ", buffer.size(),
+                      " bytes, which is not a neighbour of rank ", mpi::rank(comm)));
+    }
+    checkSize(buffer, rank);
+  }
+  static thread_local std::vector<MPI_Request> requests;
+  requests.assign(neighbours.size(), MPI_REQUEST_NULL);
+  std::int64_t sent = 0;
+  static const SendBuffer nothing;
+  for (std::size_t k = 0; k < neighbours.size(); ++k) {
+    const auto it = outgoing.find(neighbours[k]);
+    const SendBuffer& buffer = it == outgoing.end() ? nothing : it->second;
+    sent += static_cast<std::int64_t>(buffer.size());
+    MPI_Isend(buffer.bytes().data(), static_cast<int>(buffer.size()), MPI_BYTE, neighbours[k], tag,
+              comm, &requests[k]);
+  }
+  // In neighbour order: the result is sorted by source without depending on arrival order.
+  std::vector<Message> received;
+  double waited = 0.0;
+  for (int source : neighbours) {
+    const auto probe = Clock::now();
+    MPI_Message handle;
+    MPI_Status status;
+    MPI_Mprobe(source, tag, comm, &handle, &status);
+    waited += std::chrono::duration<double>(Clock::now() - probe).count();
+    int count = 0;
+    MPI_Get_count(&status, MPI_BYTE, &count);
+    std::vector<std::byte> bytes(static_cast<std::size_t>(count));
+    MPI_Mrecv(bytes.data(), count, MPI_BYTE, &handle, MPI_STATUS_IGNORE);
+    if (count > 0) received.push_back({source, std::move(bytes)});
+  }
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  if (cost) {
+    cost->bytes += sent;
+    cost->messages += static_cast<std::int64_t>(neighbours.size());
+    cost->wait_seconds += waited;
+    cost->transfer_seconds += std::chrono::duration<double>(Clock::now() - t0).count() - waited;
   }
   return received;
 }

@@ -222,6 +222,34 @@ void BlockForest::forEachSphereHit(const Vec3& center, double radius, Visit&& vi
   }
 }
 
+// The cells of forEachSphereHit's candidate range that pass its per-axis test, with the same
+// arithmetic: every block it hits (without periodic images) lies in their product.
+bool BlockForest::sphereWithinRank(const Vec3& center, double radius, int rank) const {
+  if (periodic_[0] || periodic_[1] || periodic_[2]) return false;
+  if (!finite(center) || !std::isfinite(radius) || radius < 0) return false;
+  Index3 first, last;
+  for (int a = 0; a < 3; ++a) {
+    const double p = center[a];
+    first[a] = std::max(axisCellEstimate(a, p - radius) - 1, 0);
+    last[a] = std::min(axisCellEstimate(a, p + radius) + 1, counts_[a] - 1);
+    auto reaches = [&](int i) {
+      const double d = std::max({edges_[a][i] - p, 0.0, p - edges_[a][i + 1]});
+      return std::sqrt(d * d) <= radius;
+    };
+    while (first[a] <= last[a] && !reaches(first[a])) ++first[a];
+    while (last[a] >= first[a] && !reaches(last[a])) --last[a];
+  }
+  Index3 cell;
+  for (cell[2] = first[2]; cell[2] <= last[2]; ++cell[2]) {
+    for (cell[1] = first[1]; cell[1] <= last[1]; ++cell[1]) {
+      for (cell[0] = first[0]; cell[0] <= last[0]; ++cell[0]) {
+        if (rank_of_block_[blockIndex(cell)] != rank) return false;
+      }
+    }
+  }
+  return true;
+}
+
 void BlockForest::blocksIntersectingSphere(const Vec3& center, double radius,
                                            std::vector<BlockHit>& out) const {
   out.clear();
@@ -302,6 +330,30 @@ std::vector<int> BlockForest::neighbourRanks(int r) const {
   for (int b : blocksOfRank(r)) {
     for (int nb : neighbours(b)) {
       if (rank_of_block_[nb] != r) out.push_back(rank_of_block_[nb]);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::vector<int> BlockForest::ranksWithin(int r, double distance) const {
+  // A block k blocks away along an axis is at least (k - 1) block sizes away along it; the
+  // factor 1 + 1e-9 covers edges that differ from the nominal size by rounding.
+  Index3 reach{};
+  for (int a = 0; a < 3; ++a) {
+    const double cells = std::floor(std::max(distance, 0.0) * inv_block_size_[a] * (1.0 + 1e-9));
+    reach[a] = static_cast<int>(std::min<double>(cells + 1.0, counts_[a]));
+  }
+  std::vector<int> out;
+  for (int b : blocksOfRank(r)) {
+    for (int k = -reach[2]; k <= reach[2]; ++k) {
+      for (int j = -reach[1]; j <= reach[1]; ++j) {
+        for (int i = -reach[0]; i <= reach[0]; ++i) {
+          const int nb = neighbourIndex(b, {i, j, k});
+          if (nb >= 0 && rank_of_block_[nb] != r) out.push_back(rank_of_block_[nb]);
+        }
+      }
     }
   }
   std::sort(out.begin(), out.end());

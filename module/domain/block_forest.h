@@ -101,6 +101,13 @@ class BlockForest {
   void blocksIntersectingSphere(const Vec3& center, double radius,
                                 std::vector<BlockHit>& out) const;
 
+  /// True when the sphere can reach no block of another rank than `rank` and no periodic image:
+  /// every block that passes the sphere query's per-axis test belongs to `rank`, and no axis is
+  /// periodic. A cheap superset test (false when unsure): ranksIntersectingSphere would then
+  /// return (rank, zero image) alone, so a particle whose ghost sphere stays inside its owner's
+  /// blocks needs no query. Non-finite input: false.
+  bool sphereWithinRank(const Vec3& center, double radius, int rank) const;
+
   /// The distinct (rank, image) pairs over blocksIntersectingSphere, sorted by rank then image.
   /// For ghosts: a particle goes to every hit except (its owner, zero image); a hit on the owner
   /// with a nonzero image is a real periodic self-image.
@@ -123,6 +130,11 @@ class BlockForest {
   /// Ranks other than `r` that own a neighbour (neighbours()) of one of r's blocks, sorted. These
   /// are all ghost partners of `r` as long as the interaction range is at most the block size.
   std::vector<int> neighbourRanks(int r) const;
+  /// Ranks other than `r` owning a block whose box may lie within `distance` of one of r's blocks
+  /// (across periodic faces too), sorted: every block up to floor(distance / block size) + 1
+  /// blocks away along each axis, a superset of the exact answer. Symmetric: s is in
+  /// ranksWithin(r, d) exactly when r is in ranksWithin(s, d), because block offsets are.
+  std::vector<int> ranksWithin(int r, double distance) const;
 
  private:
   /// Block coordinate along `axis` of a coordinate already inside [edges[0], edges[n]].

@@ -99,6 +99,9 @@ class Simulation {
   const ContactPhase& contacts() const { return contact_phase_; }
   const ContactPhaseStats& contactStats() const { return contact_stats_; }
   const comm::ExchangeStats& exchangeStats() const { return exchange_stats_; }
+  /// False: every exchange sends every ghost whole instead of updating the ones that stay (the
+  /// same bits, more bytes; comm/ghost_channels.h). For comparisons; set it alike on all ranks.
+  void setCompactGhosts(bool on) { exchange_.setCompactGhosts(on); }
   /// This rank's exchanges summed over the steps since the start (or the restart).
   const comm::ExchangeStats& exchangeTotals() const { return exchange_totals_; }
   /// Pair histories this rank received with migrating particles since the start.

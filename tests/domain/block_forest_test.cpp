@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "polydem/core/strings.h"
 #include "polydem/domain/domain_error.h"
 
 namespace polydem::domain {
@@ -264,6 +265,44 @@ TEST(BlockForest, RejectsBadDomainsAndCounts) {
   // blocks thinner than the resolution of the coordinates
   EXPECT_THROW(BlockForest(Aabb(Vec3(1e6, 0, 0), Vec3(1e6 + 1e-8, 1, 1)), {1000, 1, 1}),
                DomainError);
+}
+
+// The neighbour ranks of the step's exchange: every rank owning a block within the distance (by
+// the exact box distance, across periodic faces too), and a symmetric relation, which the
+// exchange needs (each rank waits for one message from each of its neighbours).
+TEST(BlockForest, RanksWithinCoverTheDistanceAndAreSymmetric) {
+  const Aabb box(Vec3(0, 0, 0), Vec3(4, 3, 2));
+  for (const Periodic periodic : {Periodic{false, false, false}, Periodic{true, false, true}}) {
+    BlockForest f(box, {8, 6, 3}, periodic);
+    const int ranks = 7;
+    std::vector<int> map(f.numBlocks());
+    for (int b = 0; b < f.numBlocks(); ++b) map[b] = (b * 5 + b / 9) % ranks;
+    f.setRankMap(map, ranks);
+    for (const double d : {0.0, 0.3, 0.9}) {
+      SCOPED_TRACE(cat("distance ", d, ", periodic x ", periodic[0]));
+      std::vector<std::vector<int>> within(ranks);
+      for (int r = 0; r < ranks; ++r) within[r] = f.ranksWithin(r, d);
+      for (int r = 0; r < ranks; ++r) {
+        for (int s : within[r]) {
+          EXPECT_NE(s, r);
+          EXPECT_TRUE(std::binary_search(within[s].begin(), within[s].end(), r)) << r << " " << s;
+        }
+      }
+      // Exact: blocks b, c are within d if a sphere of radius d around some point of b reaches
+      // c; sampling b's corners and centre with the sphere query gives a subset of that.
+      for (int b = 0; b < f.numBlocks(); ++b) {
+        const Aabb bb = f.blockBox(b);
+        for (const Vec3& x : {bb.lo, bb.hi, bb.center(), Vec3(bb.lo.x(), bb.hi.y(), bb.lo.z())}) {
+          for (const auto& hit : f.ranksIntersectingSphere(x, d)) {
+            const int r = f.rankOfBlock(b);
+            if (hit.rank == r) continue;
+            EXPECT_TRUE(std::binary_search(within[r].begin(), within[r].end(), hit.rank))
+                << "block " << b << " of rank " << r << " reaches rank " << hit.rank;
+          }
+        }
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -141,5 +141,40 @@ TEST(BlockForest, RanksIntersectingSphereMatchesBruteForce) {
   }
 }
 
+// The exchange's shortcut: where sphereWithinRank says yes, the brute-force answer is the rank
+// alone, unshifted (spheres touching block faces exactly included); it says yes often enough to
+// matter, and never with a periodic axis.
+TEST(BlockForest, SphereWithinRankOnlyWhenTheQueryFindsTheRankAlone) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (double s : kScales) {
+    BlockForest f(scaledBox(s, Vec3(0, 0, 0), Vec3(8, 6, 2)), {8, 6, 2});
+    std::vector<int> map(f.numBlocks());
+    for (int b = 0; b < f.numBlocks(); ++b) map[b] = f.blockCoords(b)[0] / 3;  // slabs of 3
+    f.setRankMap(map, 3);
+    int yes = 0;
+    for (int trial = 0; trial < 600; ++trial) {
+      Vec3 c = s * Vec3(8 * u(rng), 6 * u(rng), 2 * u(rng));
+      double r = s * 1.5 * u(rng);
+      if (trial % 3 == 0) {  // exactly touching a block face along x
+        const auto edges = f.blockEdges(0);
+        const int k = 1 + trial % (f.counts()[0] - 1);
+        r = std::abs(c.x() - edges[k]);
+      }
+      const int rank = f.ownerOf(c);
+      if (!f.sphereWithinRank(c, r, rank)) continue;
+      ++yes;
+      for (const BlockHit& h : bruteSphere(f, c, r)) {
+        EXPECT_EQ(map[h.block], rank) << "scale " << s << " trial " << trial;
+        EXPECT_EQ(h.image, (Index3{0, 0, 0}));
+      }
+    }
+    EXPECT_GT(yes, 50) << "scale " << s;
+  }
+  BlockForest periodic(Aabb(Vec3(0, 0, 0), Vec3(8, 6, 2)), {8, 6, 2}, {false, false, true});
+  EXPECT_FALSE(periodic.sphereWithinRank(Vec3(4, 3, 1), 0.01, 0));
+  EXPECT_FALSE(periodic.sphereWithinRank(Vec3(4, NAN, 1), 0.01, 0));
+}
+
 }  // namespace
 }  // namespace polydem::domain
