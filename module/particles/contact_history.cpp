@@ -79,14 +79,6 @@ void ContactHistory::appendSorted(const PairKey& key, const PairHistory& h) {
   entries_.push_back(h);
 }
 
-void ContactHistory::appendSub(const SubKey& key, const SubHistory& h) {
-  if (!sub_keys_.empty() && !(sub_keys_.back() < key)) {
-    throw Error("ContactHistory::appendSub: keys must be strictly increasing");
-  }
-  sub_keys_.push_back(key);
-  sub_entries_.push_back(h);
-}
-
 void ContactHistory::appendSubs(const PairKey& pair, std::span<const SubEntry> subs) {
   if (subs.empty()) return;
   bool increasing = sub_keys_.empty() || sub_keys_.back() < SubKey{pair, subs.front().feature};

@@ -93,8 +93,6 @@ class ContactHistory {
 
   /// Appends an entry whose key is larger than every key so far (building in sorted order).
   void appendSorted(const PairKey& key, const PairHistory& h);
-  /// Appends a sub-contact whose key is larger than every sub-contact key so far.
-  void appendSub(const SubKey& key, const SubHistory& h);
   /// Appends the sub-contacts of pair `pair` (features strictly increasing), all larger than every
   /// sub-contact key so far: one order check against the table per pair.
   void appendSubs(const PairKey& pair, std::span<const SubEntry> subs);
