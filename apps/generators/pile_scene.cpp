@@ -80,33 +80,10 @@ io::Scene makePileScene(const PileOptions& o) {
 
   // Floor and walls: fixed boxes around the footprint [0, width]^2 (or a wide floor alone).
   const int wall_shape = static_cast<int>(s.shapes.size());
-  const double t = 1.0, h = static_cast<double>(layers) * pitch + 2.0;
+  const double t = kPileBoxThickness;
   const bool wide = o.floor_width > 0;
   const double rim = wide ? 0.5 * (o.floor_width - 1.0) * width : t;
-  s.shapes.push_back(shape(
-      "floor", geometry::shapes::box(Vec3(-rim, -rim, -t), Vec3(width + rim, width + rim, 0))));
-  if (!wide) {
-    s.shapes.push_back(
-        shape("wall_x", geometry::shapes::box(Vec3(-t, -t, 0), Vec3(0, width + t, h))));
-    s.shapes.push_back(shape("wall_y", geometry::shapes::box(Vec3(0, -t, 0), Vec3(width, 0, h))));
-  }
-  Uid uid = 1;
-  auto fixed = [&](int shape_index, const Vec3& offset) {
-    io::ParticleSpec p;
-    p.uid = uid++;
-    p.shape = shape_index;
-    p.material = 0;
-    p.position = offset;
-    p.fixed = true;
-    s.particles.push_back(p);
-  };
-  fixed(wall_shape, Vec3::Zero());
-  if (!wide) {
-    fixed(wall_shape + 1, Vec3::Zero());
-    fixed(wall_shape + 1, Vec3(width + t, 0, 0));
-    fixed(wall_shape + 2, Vec3::Zero());
-    fixed(wall_shape + 2, Vec3(0, width + t, 0));
-  }
+  Uid uid = addPileBox(s, width, static_cast<double>(layers) * pitch + 2.0, rim, !wide, 1);
 
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -126,12 +103,37 @@ io::Scene makePileScene(const PileOptions& o) {
     p.velocity = o.initial_speed * Vec3(unit(rng), unit(rng), unit(rng));
     s.particles.push_back(p);
   }
-  if (!wide) {
-    s.domain.min = Vec3(-t - 0.5, -t - 0.5, -t - 0.5);
-    s.domain.max = Vec3(width + t + 0.5, width + t + 0.5, h + 0.5);
-  }
   s.output.series_every = 1000000;
   return s;
+}
+
+Uid addPileBox(io::Scene& s, double width, double height, double rim, bool walls, Uid uid) {
+  const int floor = static_cast<int>(s.shapes.size());
+  const double t = kPileBoxThickness;
+  s.shapes.push_back(shape(
+      "floor", geometry::shapes::box(Vec3(-rim, -rim, -t), Vec3(width + rim, width + rim, 0))));
+  auto fixed = [&](int shape_index, const Vec3& offset) {
+    io::ParticleSpec p;
+    p.uid = uid++;
+    p.shape = shape_index;
+    p.material = 0;
+    p.position = offset;
+    p.fixed = true;
+    s.particles.push_back(p);
+  };
+  fixed(floor, Vec3::Zero());
+  if (!walls) return uid;
+  s.shapes.push_back(
+      shape("wall_x", geometry::shapes::box(Vec3(-t, -t, 0), Vec3(0, width + t, height))));
+  s.shapes.push_back(
+      shape("wall_y", geometry::shapes::box(Vec3(0, -t, 0), Vec3(width, 0, height))));
+  fixed(floor + 1, Vec3::Zero());
+  fixed(floor + 1, Vec3(width + t, 0, 0));
+  fixed(floor + 2, Vec3::Zero());
+  fixed(floor + 2, Vec3(0, width + t, 0));
+  s.domain.min = Vec3(-t - 0.5, -t - 0.5, -t - 0.5);
+  s.domain.max = Vec3(width + t + 0.5, width + t + 0.5, height + 0.5);
+  return uid;
 }
 
 }  // namespace polydem::sim

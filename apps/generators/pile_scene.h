@@ -31,4 +31,13 @@ struct PileOptions {
 
 io::Scene makePileScene(const PileOptions& options);
 
+/// Thickness of the P-PILE box's floor and walls, m.
+inline constexpr double kPileBoxThickness = 1.0;
+
+/// The P-PILE box around the footprint [0, width]^2, shared with the Yade comparison's scene:
+/// the shapes floor (reaching `rim` beyond the footprint on every side), wall_x and wall_y, and
+/// their fixed particles with uids from `uid` on; with `walls`, four walls up to `height` and the
+/// [domain] box just around them, else the floor alone. Returns the next free uid.
+Uid addPileBox(io::Scene& s, double width, double height, double rim, bool walls, Uid uid);
+
 }  // namespace polydem::sim

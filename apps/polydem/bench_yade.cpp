@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "generators/pile_scene.h"
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
@@ -81,26 +82,8 @@ io::Scene boxScene(const Options& o) {
   const auto side = static_cast<std::int64_t>(
       std::ceil(std::sqrt(static_cast<double>(o.particles) / static_cast<double>(o.layers))));
   const double width = static_cast<double>(side) * pitch;
-  const double t = 1.0, h = static_cast<double>(o.layers) * pitch + 2.0;
-  s.shapes.push_back(
-      {"floor", geometry::shapes::box(Vec3(-t, -t, -t), Vec3(width + t, width + t, 0)), 0});
-  s.shapes.push_back({"wall_x", geometry::shapes::box(Vec3(-t, -t, 0), Vec3(0, width + t, h)), 0});
-  s.shapes.push_back({"wall_y", geometry::shapes::box(Vec3(0, -t, 0), Vec3(width, 0, h)), 0});
-  Uid uid = 1;
-  auto fixed = [&](int shape, const Vec3& offset) {
-    io::ParticleSpec p;
-    p.uid = uid++;
-    p.shape = shape;
-    p.material = 0;
-    p.position = offset;
-    p.fixed = true;
-    s.particles.push_back(p);
-  };
-  fixed(1, Vec3::Zero());
-  fixed(2, Vec3::Zero());
-  fixed(2, Vec3(width + t, 0, 0));
-  fixed(3, Vec3::Zero());
-  fixed(3, Vec3(0, width + t, 0));
+  Uid uid = sim::addPileBox(s, width, static_cast<double>(o.layers) * pitch + 2.0,
+                            sim::kPileBoxThickness, true, 1);
   std::mt19937_64 rng(o.seed);
   std::normal_distribution<double> gauss;
   for (std::int64_t i = 0; i < o.particles; ++i) {
@@ -114,8 +97,6 @@ io::Scene boxScene(const Options& o) {
     p.orientation = Quat(gauss(rng), gauss(rng), gauss(rng), gauss(rng)).normalized();
     s.particles.push_back(p);
   }
-  s.domain.min = Vec3(-t - 0.5, -t - 0.5, -t - 0.5);
-  s.domain.max = Vec3(width + t + 0.5, width + t + 0.5, h + 0.5);
   s.output.series_every = 1000000;
   return s;
 }
