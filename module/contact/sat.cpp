@@ -126,6 +126,9 @@ AxisTest separatingAxisTestReference(const Body& a, const Body& b, const Vec3* w
 }
 
 AxisTest separatingAxisTest(const Body& a, const Body& b, const Vec3* warm, double tolerance) {
+  if (a.shape->box() != nullptr && b.shape->box() != nullptr) {
+    return sat_detail::boxTest(a, b, warm, tolerance);
+  }
   const Cloud ca(a), cb(b);
   if (warmSeparates(ca, cb, warm)) return separatedAlong(*warm);
   Search search(ca, cb, tolerance);

@@ -14,10 +14,11 @@
 // A - B they make are normal to a face of A or B (their Gauss-map arcs share a great circle).
 //
 // The cost is (face axes + edge axes of A x edge axes of B) projections of both bodies: 15 axes
-// for two cubes. Two parallelepipeds bound their nine edge axes' overlaps from shared products
-// and project only the few that could decide the answer (sat_box.cpp): about 2,390 instructions a
-// call on a dense pack of cubes (2,900 with every axis projected) against GJK + EPA's 9,250
-// (docs/performance.md). Shapes with more axes keep GJK + EPA (satApplies).
+// for two cubes. Two rectangular boxes (ConvexPolyhedron::box()) take all 15 axes the classical
+// way, from the products of their rotations (sat_obb.cpp: the same answer up to round-off); other
+// parallelepipeds bound their nine edge axes' overlaps from shared products and project only the
+// few that could decide the answer (sat_box.cpp, the same answer bit for bit). Shapes with more
+// axes keep GJK + EPA (satApplies). Costs: docs/performance.md.
 #pragma once
 
 #include "polydem/contact/contact.h"
@@ -47,8 +48,10 @@ struct AxisTest {
 /// separates the bodies, it is returned at once. Face axes are preferred to edge axes whose
 /// overlap is smaller by at most `tolerance` (a length): where an edge axis coincides with a face
 /// axis (two aligned cubes) round-off must not turn a face contact into an edge contact.
-/// Two parallelepipeds test their nine edge axes exactly only where a cheaper bound leaves it open
-/// (sat_box.cpp); the answer is separatingAxisTestReference()'s, bit for bit.
+/// Two rectangular boxes take the classical test (sat_obb.cpp), whose answer is
+/// separatingAxisTestReference()'s up to round-off (ctest contact_sat: depths within 1e-12 of the
+/// pair's size, the same axis unless two tie within that); other parallelepipeds test their nine
+/// edge axes exactly only where a cheaper bound leaves it open (sat_box.cpp), bit for bit.
 AxisTest separatingAxisTest(const Body& a, const Body& b, const Vec3* warm, double tolerance);
 
 /// The same test with every axis evaluated exactly, in order: the definition of the answer, and

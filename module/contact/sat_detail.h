@@ -127,4 +127,9 @@ bool estimateBoxEdges(const Body& a, const Body& b, const Cloud& ca, const Cloud
 BoxEdges boxEdgeAxes(const Body& a, const Body& b, const Cloud& ca, const Cloud& cb,
                      Search& search);
 
+/// The separating-axis test of two rectangular boxes (both shapes have a box(): sat_obb.cpp), from
+/// the products of their rotations; the answer of separatingAxisTestReference() up to round-off
+/// (within about 1e-15 of the pair's size and distance from the origin).
+AxisTest boxTest(const Body& a, const Body& b, const Vec3* warm, double tolerance);
+
 }  // namespace polydem::contact::sat_detail

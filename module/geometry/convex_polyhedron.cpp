@@ -111,6 +111,7 @@ void ConvexPolyhedron::buildAxes() {
     directions.push_back((vertices_[edge.v1] - vertices_[edge.v0]).normalized());
   }
   distinct(axis_edges_, directions);
+  box_ = findBoxFrame(*this);
 }
 
 void ConvexPolyhedron::buildVertexAdjacency() {
@@ -224,6 +225,7 @@ ConvexPolyhedron ConvexPolyhedron::transformed(const Mat3& rotation,
   out.centroid_ = rotation * centroid_ + translation;
   out.incenter_ = rotation * incenter_ + translation;
   out.inertia_ = rotation * inertia_ * rotation.transpose();
+  out.box_ = findBoxFrame(out);
   return out;
 }
 
@@ -245,6 +247,7 @@ ConvexPolyhedron ConvexPolyhedron::scaled(double factor) const {
   out.circumradius_ *= factor;
   out.inradius_ *= factor;
   out.incenter_ *= factor;
+  out.box_ = findBoxFrame(out);
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "polydem/core/types.h"
+#include "polydem/geometry/box_frame.h"
 #include "polydem/geometry/face_regions.h"
 
 namespace polydem::geometry {
@@ -71,6 +72,8 @@ class ConvexPolyhedron {
   const std::vector<int>& axisFaces() const { return axis_faces_; }
   const std::vector<int>& axisEdges() const { return axis_edges_; }
   static constexpr double kParallelAxes = 1e-10;
+  /// The frame of a rectangular box (box_frame.h), or null if the polyhedron is not one.
+  const BoxFrame* box() const { return box_ ? &*box_ : nullptr; }
 
   /// Exact mass properties of the solid with unit density (divergence theorem).
   double volume() const { return volume_; }
@@ -127,6 +130,7 @@ class ConvexPolyhedron {
   std::vector<Edge> edges_;
   std::vector<std::vector<int>> vertex_edges_, vertex_faces_, vertex_neighbours_;
   std::vector<int> axis_faces_, axis_edges_;
+  std::optional<BoxFrame> box_;
   double volume_ = 0.0;
   Vec3 centroid_ = Vec3::Zero();
   Mat3 inertia_ = Mat3::Zero();
