@@ -148,17 +148,26 @@ AxisTest boxTest(const Body& a, const Body& b, const Vec3* warm, double toleranc
   const double limit = geometry::ConvexPolyhedron::kParallelAxes;
   const auto& edges_a = a.shape->axisEdges();
   const auto& edges_b = b.shape->axisEdges();
-  for (int i = 0; i < 3; ++i) {
-    const int k = A.frame.edge_axis[i], k1 = (k + 1) % 3, k2 = (k + 2) % 3;
-    for (int j = 0; j < 3; ++j) {
-      const int l = B.frame.edge_axis[j], l1 = (l + 1) % 3, l2 = (l + 2) % 3;
-      const double LL = R[k1][l] * R[k1][l] + R[k2][l] * R[k2][l];
-      if (!(LL > limit * limit)) continue;  // parallel edges: no axis (sat.h)
+  // Every axis a_k x b_l's |L|^2 and its overlap's lower bound D - slack, with constant indices
+  // (unrolled, in registers); then the full test's order picks the candidates.
+  double LL[3][3], lower[3][3];
+  for (int k = 0; k < 3; ++k) {
+    const int k1 = k == 2 ? 0 : k + 1, k2 = k == 0 ? 2 : k - 1;
+    for (int l = 0; l < 3; ++l) {
+      const int l1 = l == 2 ? 0 : l + 1, l2 = l == 0 ? 2 : l - 1;
+      LL[k][l] = R[k1][l] * R[k1][l] + R[k2][l] * R[k2][l];
       const double r =
           h[k1] * abs_r[k2][l] + h[k2] * abs_r[k1][l] + g[l1] * abs_r[k][l2] + g[l2] * abs_r[k][l1];
-      const double lower = r - std::abs(ta[k2] * R[k1][l] - ta[k1] * R[k2][l]) - slack;
-      const double bar = best.bar(AxisTest::Axis::kEdges);
-      if (lower > 0.0 && !(bar > 0.0 && lower * lower < bar * bar * LL)) continue;
+      lower[k][l] = r - std::abs(ta[k2] * R[k1][l] - ta[k1] * R[k2][l]) - slack;
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    const int k = A.frame.edge_axis[i];
+    for (int j = 0; j < 3; ++j) {
+      const int l = B.frame.edge_axis[j];
+      if (!(LL[k][l] > limit * limit)) continue;  // parallel edges: no axis (sat.h)
+      const double low = lower[k][l], bar = best.bar(AxisTest::Axis::kEdges);
+      if (low > 0.0 && !(bar > 0.0 && low * low < bar * bar * LL[k][l])) continue;
       const double sign = A.frame.edge_sign[i] * B.frame.edge_sign[j];
       const Vec3 u = (sign * A.axis[k].cross(B.axis[l])).normalized();  // along e_a x e_b
       if (!best.offer(A.radius(u) + B.radius(u), u.dot(t), u, AxisTest::Axis::kEdges, edges_a[i],
