@@ -406,6 +406,37 @@ TEST(Sat, BoxEdgeEstimatesAreWithinTheirBound) {
   EXPECT_GT(worst, 1e-3);  // the bound is not loose by orders of magnitude
 }
 
+// Which shapes take the classical box test: rectangular boxes in any frame (a rotation by
+// transformed() keeps them boxes within round-off), not sheared boxes, prisms or tetrahedra; the
+// frame's corners sit at their sign patterns and its axis edges along its axes.
+TEST(Sat, BoxFrameOfShapes) {
+  std::mt19937_64 rng(7);
+  const auto box = boxShape(2.0, 1.0, 0.5);
+  const auto turned = box.transformed(randomRotation(rng), Vec3(3, -1, 2));
+  for (const auto* shape : {&box, &turned}) {
+    const geometry::BoxFrame* frame = shape->box();
+    ASSERT_NE(frame, nullptr);
+    EXPECT_LE(frame->skew, geometry::BoxFrame::kMaxSkew);
+    for (int c = 0; c < 8; ++c) {
+      Vec3 corner = frame->centre;
+      for (int k = 0; k < 3; ++k) {
+        corner += ((c >> k & 1) ? 1.0 : -1.0) * frame->half[k] * frame->axis[k];
+      }
+      EXPECT_LT((corner - shape->vertices()[frame->corner[c]]).norm(), 1e-14 * 2.0) << c;
+    }
+    for (int i = 0; i < 3; ++i) {
+      const auto& edge = shape->edges()[shape->axisEdges()[i]];
+      const Vec3 e = shape->vertices()[edge.v1] - shape->vertices()[edge.v0];
+      EXPECT_NEAR(e.dot(frame->axis[frame->edge_axis[i]]) * frame->edge_sign[i],
+                  2.0 * frame->half[frame->edge_axis[i]], 1e-14);
+    }
+  }
+  EXPECT_EQ(boxShape(1.0, 1.0, 1.0, 0.3).box(), nullptr);
+  EXPECT_EQ(smallShape(1, 1.0).box(), nullptr);  // a tetrahedron
+  EXPECT_EQ(smallShape(2, 1.0).box(), nullptr);  // a triangular prism
+  EXPECT_NE(smallShape(3, 1.0).box(), nullptr);  // a flat box
+}
+
 // KernelParams::separating_axes = false: both kernels give GJK + EPA's answer, bit for bit.
 TEST(Sat, SwitchedOffKeepsGjkEpa) {
   std::mt19937_64 rng(5);
