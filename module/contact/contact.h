@@ -22,15 +22,22 @@ namespace polydem::contact {
 /// A polyhedron placed in the world: world = position + rotation * (shape vertex).
 /// `vertices` holds the world coordinates of the shape's vertices in the shape's order; the
 /// simulation computes them once per particle per step and every pair reuses them.
+/// `face_normals`, if not empty, holds rotation * (shape face normal) for every face in the
+/// shape's order, computed once per particle per step by the simulation (the same products as
+/// faceNormal() computes on demand, so the same bits); a pair of a dense pack asks for each
+/// face's normal several times (separating axes, facing faces).
 struct Body {
   const geometry::ConvexPolyhedron* shape = nullptr;
   Vec3 position = Vec3::Zero();
   Mat3 rotation = Mat3::Identity();
   std::span<const Vec3> vertices;
+  std::span<const Vec3> face_normals = {};
 
   Vec3 toWorld(const Vec3& body) const { return position + rotation * body; }
   Vec3 centroid() const { return toWorld(shape->centroid()); }
-  Vec3 faceNormal(int f) const { return rotation * shape->faces()[f].normal; }
+  Vec3 faceNormal(int f) const {
+    return face_normals.empty() ? Vec3(rotation * shape->faces()[f].normal) : face_normals[f];
+  }
   double circumradius() const { return shape->circumradius(); }
 };
 

@@ -59,36 +59,32 @@ FaceContactBuilder::Facing FaceContactBuilder::facingSide(const Body& body, cons
   return f;
 }
 
-LabelledPolygon FaceContactBuilder::project(const Body& body, int face, std::vector<Vec2>& corners,
-                                            std::vector<int>& vertex,
+LabelledPolygon FaceContactBuilder::project(const Body& body, int face, bool seen_from_back,
+                                            std::vector<Vec2>& corners, std::vector<int>& vertex,
                                             std::vector<int>& edge) const {
   const auto& f = body.shape->faces()[face];
   const int m = static_cast<int>(f.vertices.size());
+  const int* ids = f.vertices.data();
   corners.resize(m);
-  double twice_area = 0.0;
-  for (int i = 0; i < m; ++i) {
-    const Vec3 d = body.vertices[f.vertices[i]] - frame_.origin;
-    corners[i] = Vec2(frame_.u.dot(d), frame_.v.dot(d));
-  }
-  for (int i = 0; i < m; ++i)
-    twice_area += geometry::cross2(corners[i], corners[i + 1 < m ? i + 1 : 0]);
-  if (twice_area >= 0.0) {  // counter-clockwise seen from +n already (B's face): the face's lists
+  Vec2* out = corners.data();
+  if (!seen_from_back) {  // counter-clockwise seen from +n already (B's face): the face's lists
+    for (int i = 0; i < m; ++i) out[i] = flat(body.vertices[ids[i]]);
     return {corners, f.vertices, f.edges, face};
   }
-  // A face seen from its back (A's face looks along -n): reverse it. Edge i of the reversed
+  // A face seen from its back (A's face looks along -n): reversed. Edge i of the reversed
   // polygon joins reversed corners i and i + 1, i.e. the original edge m - 2 - i (mod m).
-  std::reverse(corners.begin(), corners.end());
   vertex.resize(m);
   edge.resize(m);
   for (int i = 0; i < m; ++i) {
-    vertex[i] = f.vertices[m - 1 - i];
+    vertex[i] = ids[m - 1 - i];
+    out[i] = flat(body.vertices[vertex[i]]);
     edge[i] = f.edges[m - 2 - i >= 0 ? m - 2 - i : m - 1];  // i = m - 1: edge m - 1
   }
   return {corners, vertex, edge, face};
 }
 
-void FaceContactBuilder::fromCorner(const Body& a, const Body& b, const LabelledCorner& k,
-                                    const Vec3& n, double weight, SubContact& s) const {
+inline void FaceContactBuilder::fromCorner(const Body& a, const Body& b, const LabelledCorner& k,
+                                           const Vec3& n, double weight, SubContact& s) const {
   s.weight = weight;
   s.feature = featureKey(k.a, k.b);
   const FeatureType ta = featureType(k.a), tb = featureType(k.b);
@@ -107,29 +103,34 @@ void FaceContactBuilder::fromCorner(const Body& a, const Body& b, const Labelled
     s.gap = na.dot(*facing_a_.base - x);
     s.point = x + (0.5 * s.gap) * na;
   } else {  // crossing edges: the points of each edge above and below the projected crossing
-    const auto& ea = a.shape->edges()[featureIndex(k.a)];
-    const auto& eb = b.shape->edges()[featureIndex(k.b)];
-    auto lift = [&](const Body& body, int v0, int v1) {
-      const Vec3& x0 = body.vertices[v0];
-      const Vec3& x1 = body.vertices[v1];
-      auto flat = [&](const Vec3& x) {
-        const Vec3 d = x - frame_.origin;
-        return Vec2(frame_.u.dot(d), frame_.v.dot(d));
-      };
-      return Vec3(x0 + along(k.p, flat(x0), flat(x1)) * (x1 - x0));
-    };
-    const Vec3 pa = lift(a, ea.v0, ea.v1), pb = lift(b, eb.v0, eb.v1);
+    const Vec3 pa = lift(a, featureIndex(k.a), k.side_a, polygon_a_, k.p);
+    const Vec3 pb = lift(b, featureIndex(k.b), k.side_b, polygon_b_, k.p);
     s.normal = n;
     s.gap = n.dot(pb - pa);
     s.point = 0.5 * (pa + pb);
   }
 }
 
+inline Vec3 FaceContactBuilder::lift(const Body& body, int e, int side,
+                                     const LabelledPolygon& polygon, const Vec2& p) const {
+  const auto& edge = body.shape->edges()[e];
+  const Vec3& x0 = body.vertices[edge.v0];
+  const Vec3& x1 = body.vertices[edge.v1];
+  if (side < 0) return x0 + along(p, flat(x0), flat(x1)) * (x1 - x0);
+  // The edge's ends as project() placed them: the same values as projecting them again.
+  const int m = static_cast<int>(polygon.corners.size());
+  const int next = side + 1 < m ? side + 1 : 0;
+  const bool forward = polygon.vertex[side] == edge.v0;
+  const Vec2& p0 = polygon.corners[forward ? side : next];
+  const Vec2& p1 = polygon.corners[forward ? next : side];
+  return x0 + along(p, p0, p1) * (x1 - x0);
+}
+
 bool FaceContactBuilder::faceFace(const Body& a, const Body& b, const Contact& c) {
   const int fa = facing_a_.face, fb = facing_b_.face;
-  clipper_.polygons(project(a, fa, corners_a_, vertex_a_, edge_a_),
-                    project(b, fb, corners_b_, vertex_b_, edge_b_), RelTol::kPoint * scale_,
-                    overlap_);
+  polygon_a_ = project(a, fa, true, corners_a_, vertex_a_, edge_a_);
+  polygon_b_ = project(b, fb, false, corners_b_, vertex_b_, edge_b_);
+  clipper_.polygons(polygon_a_, polygon_b_, RelTol::kPoint * scale_, overlap_);
   const int m = static_cast<int>(overlap_.size());
   if (m < 3) return false;
   // Each corner's share of the area: half of the two fan triangles (middle, corner, neighbour)
@@ -153,6 +154,9 @@ bool FaceContactBuilder::faceFace(const Body& a, const Body& b, const Contact& c
   // root is monotonic and correctly rounded.
   const double extent = std::sqrt(extent2);
   if (!(twice_area > 2.0 * RelTol::kIteration * scale_ * extent)) return false;
+  // Corner i's weight: half its two triangles over the area. Written as a division per corner
+  // (not one reciprocal for the pair), which rounds as the weights always have: the rock-slope
+  // scenes' results depend on these bits.
   pending_.resize(m);
   for (int i = 0; i < m; ++i) {
     const double weight = 0.5 * (shares_[i] + shares_[i > 0 ? i - 1 : m - 1]) / (0.5 * twice_area);
@@ -166,13 +170,10 @@ bool FaceContactBuilder::faceFace(const Body& a, const Body& b, const Contact& c
 bool FaceContactBuilder::edgeFace(const Body& edge_body, const Body& face_body, int edge,
                                   bool edge_is_a, const Contact& c) {
   const int face = edge_is_a ? facing_b_.face : facing_a_.face;
-  const LabelledPolygon polygon = project(face_body, face, corners_b_, vertex_b_, edge_b_);
+  const LabelledPolygon polygon =
+      project(face_body, face, !edge_is_a, corners_b_, vertex_b_, edge_b_);
   const auto& e = edge_body.shape->edges()[edge];
-  auto flat = [&](int v) {
-    const Vec3 d = edge_body.vertices[v] - frame_.origin;
-    return Vec2(frame_.u.dot(d), frame_.v.dot(d));
-  };
-  const Vec2 s0 = flat(e.v0), s1 = flat(e.v1);
+  const Vec2 s0 = flat(edge_body.vertices[e.v0]), s1 = flat(edge_body.vertices[e.v1]);
   clipper_.segment(s0, s1, e.v0, e.v1, edge, edge_is_a, polygon, overlap_);
   if (overlap_.size() != 2) return false;
   if (!((overlap_[1].p - overlap_[0].p).norm() > RelTol::kPoint * scale_)) return false;

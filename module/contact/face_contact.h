@@ -97,13 +97,25 @@ class FaceContactBuilder {
   bool edgeFace(const Body& edge_body, const Body& face_body, int edge, bool edge_is_a,
                 const Contact& c);
   /// The face projected onto the contact plane, counter-clockwise seen from +n; `corners` and,
-  /// for a face seen from its back, `vertex` and `edge` hold the reversed lists.
-  LabelledPolygon project(const Body& body, int face, std::vector<Vec2>& corners,
-                          std::vector<int>& vertex, std::vector<int>& edge) const;
+  /// for a face seen from its back, `vertex` and `edge` hold the reversed lists. A facing face of
+  /// A looks along -n, within the facing angle, so it is seen from its back (its projection is
+  /// clockwise: its area times n_A . n < -cos 20 deg), and one of B from its front: the side is
+  /// known without summing the projected area.
+  LabelledPolygon project(const Body& body, int face, bool seen_from_back,
+                          std::vector<Vec2>& corners, std::vector<int>& vertex,
+                          std::vector<int>& edge) const;
   /// Fills `s` (every member) with the sub-contact of corner `k` of weight `weight`.
   void fromCorner(const Body& a, const Body& b, const LabelledCorner& k, const Vec3& n,
                   double weight, SubContact& s) const;
   void finish(const Body& a, const Body& b, const Vec3& n);
+  /// The point of `body`'s edge `e` that projects onto `p`. `side` is the edge's position in
+  /// `polygon` (the body's projected face), whose corners are its projected ends; -1: not there.
+  Vec3 lift(const Body& body, int e, int side, const LabelledPolygon& polygon, const Vec2& p) const;
+  /// Coordinates of the projection of `x` onto the contact plane.
+  Vec2 flat(const Vec3& x) const {
+    const Vec3 d = x - frame_.origin;
+    return Vec2(frame_.u.dot(d), frame_.v.dot(d));
+  }
 
   struct Frame {
     Vec3 origin, u, v;
@@ -111,6 +123,7 @@ class FaceContactBuilder {
   double scale_ = 0.0;  // the pair's length scale
   double area_ = 0.0;
   Facing facing_a_, facing_b_;
+  LabelledPolygon polygon_a_, polygon_b_;  // the projected facing faces of a face-face contact
   std::vector<Vec2> corners_a_, corners_b_;
   std::vector<int> vertex_a_, vertex_b_, edge_a_, edge_b_;
   std::vector<LabelledCorner> overlap_;

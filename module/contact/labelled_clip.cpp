@@ -40,7 +40,7 @@ void LabelledClipper::polygons(const LabelledPolygon& a, const LabelledPolygon& 
   for (int i = 0; i < na; ++i) {
     poly_[i] = {{a.corners[i], feature(FeatureType::kVertex, a.vertex[i]),
                  feature(FeatureType::kFace, b.face)},
-                a.edge[i]};
+                i};
   }
   std::size_t n = static_cast<std::size_t>(na);
   for (int k = 0; k < nb && n > 0; ++k) {
@@ -50,13 +50,13 @@ void LabelledClipper::polygons(const LabelledPolygon& a, const LabelledPolygon& 
     grow(h_, n);
     const Working* poly = poly_.data();
     double* h = h_.data();
-    bool any_out = false, any_in = false;
+    std::size_t out_count = 0;  // counted without a branch per corner
     for (std::size_t i = 0; i < n; ++i) {
       h[i] = cross2(d, poly[i].corner.p - q0);  // >= 0: left of the edge, inside B
-      (h[i] < 0.0 ? any_out : any_in) = true;
+      out_count += h[i] < 0.0;
     }
-    if (!any_out) continue;
-    if (!any_in) {
+    if (out_count == 0) continue;
+    if (out_count == n) {
       n = 0;
       break;
     }
@@ -76,11 +76,14 @@ void LabelledClipper::polygons(const LabelledPolygon& a, const LabelledPolygon& 
       Working& x = next[kept_count++];
       x.corner.p = wi.corner.p + (hi / (hi - hj)) * (poly[j].corner.p - wi.corner.p);
       if (wi.carrier >= 0) {  // an edge of A crosses B's edge k
-        x.corner.a = feature(FeatureType::kEdge, wi.carrier);
+        x.corner.a = feature(FeatureType::kEdge, a.edge[wi.carrier]);
         x.corner.b = feature(FeatureType::kEdge, b.edge[k]);
+        x.corner.side_a = wi.carrier;
+        x.corner.side_b = k;
       } else {  // two of B's edge lines meet: a vertex of B inside A's face
         x.corner.a = feature(FeatureType::kFace, a.face);
         x.corner.b = feature(FeatureType::kVertex, sharedVertex(b, -1 - wi.carrier, k));
+        x.corner.side_a = x.corner.side_b = -1;
       }
       // Entering, the polygon goes on along the crossed edge; leaving, along the clip line.
       x.carrier = hi < 0.0 ? wi.carrier : -1 - k;

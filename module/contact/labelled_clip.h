@@ -31,6 +31,10 @@ struct LabelledCorner {
   Vec2 p = Vec2::Zero();
   std::uint32_t a = 0;  // feature of A: the vertex, the edge (crossing) or the face (B's vertex)
   std::uint32_t b = 0;  // feature of B likewise
+  // A crossing of two polygons' edges (polygons()): the crossing edges' positions in A's and B's
+  // polygon (edge i joins corners i and i + 1), so that the builder finds their projected ends
+  // without projecting them again; -1 for any other corner.
+  std::int32_t side_a = -1, side_b = -1;
 };
 
 /// A convex polygon (counter-clockwise, 2D) of one body's face, with the body's feature ids.
@@ -62,7 +66,8 @@ class LabelledClipper {
  private:
   struct Working {
     LabelledCorner corner;
-    std::int32_t carrier;  // the edge leaving this corner: >= 0 an edge of A, < 0 clip line -1-k
+    std::int32_t
+        carrier;  // the edge leaving this corner: >= 0 A's polygon edge, < 0 clip line -1-k
   };
   std::vector<Working> poly_, next_;
   std::vector<double> h_;

@@ -52,13 +52,18 @@ void ParticleStorage::updateDerived(const ShapeTable& shapes, std::span<const do
   angular_velocity_.resize(n);
   mass_.resize(n);
   vertex_begin_.resize(n + 1);
-  std::size_t total = 0;
+  face_begin_.resize(n + 1);
+  std::size_t total = 0, total_faces = 0;
   for (std::size_t i = 0; i < n; ++i) {
     vertex_begin_[i] = total;
+    face_begin_[i] = total_faces;
     total += shapes[state_[i].shape].polyhedron.vertices().size();
+    total_faces += shapes[state_[i].shape].polyhedron.faces().size();
   }
   vertex_begin_[n] = total;
+  face_begin_[n] = total_faces;
   world_vertices_.resize(total);
+  world_face_normals_.resize(total_faces);
   for (std::size_t i = 0; i < n; ++i) {
     const Particle& p = state_[i];
     const geometry::BodyShape& shape = shapes[p.shape];
@@ -73,6 +78,10 @@ void ParticleStorage::updateDerived(const ShapeTable& shapes, std::span<const do
     Vec3* out = world_vertices_.data() + vertex_begin_[i];
     const Vec3 placed = p.position + shift_[i];
     for (std::size_t v = 0; v < body.size(); ++v) out[v] = placed + r * body[v];
+    // The same product as contact::Body::faceNormal() computes on demand.
+    const auto& faces = shape.polyhedron.faces();
+    Vec3* normal = world_face_normals_.data() + face_begin_[i];
+    for (std::size_t f = 0; f < faces.size(); ++f) normal[f] = r * faces[f].normal;
   }
 }
 

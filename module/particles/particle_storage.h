@@ -44,8 +44,8 @@ class ParticleStorage {
   int addGhost(Particle p, const Vec3& shift = Vec3::Zero());
   void dropGhosts();
 
-  /// Recomputes rotation matrices, angular velocities and world vertices (at the placed position)
-  /// of every particle.
+  /// Recomputes rotation matrices, angular velocities, world vertices (at the placed position)
+  /// and world face normals of every particle.
   void updateDerived(const ShapeTable& shapes, std::span<const double> densities);
 
   // Per-step derived data, parallel to all(); valid after updateDerived().
@@ -61,6 +61,10 @@ class ParticleStorage {
   std::span<const Vec3> worldVertices(std::size_t i) const {
     return {world_vertices_.data() + vertex_begin_[i], vertex_begin_[i + 1] - vertex_begin_[i]};
   }
+  /// World outward face normals of entry i (rotation * shape normal), in the shape's face order.
+  std::span<const Vec3> worldFaceNormals(std::size_t i) const {
+    return {world_face_normals_.data() + face_begin_[i], face_begin_[i + 1] - face_begin_[i]};
+  }
 
  private:
   std::vector<Particle> state_;
@@ -73,6 +77,8 @@ class ParticleStorage {
   std::vector<double> mass_;
   std::vector<Vec3> world_vertices_;
   std::vector<std::size_t> vertex_begin_;
+  std::vector<Vec3> world_face_normals_;
+  std::vector<std::size_t> face_begin_;
 };
 
 /// Angular velocity from angular momentum: w = R I^-1 R^T L, I the body-frame principal moments.

@@ -55,9 +55,9 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
     if (const auto* previous = old.seek(c.key)) h = *previous;
     const auto [old_sub_keys, old_subs] = old.subs(c.key);
     const contact::Body body_a{&shapes[pa.shape].polyhedron, frame.xa, storage.rotation(c.a),
-                               frame.va};
+                               frame.va, storage.worldFaceNormals(c.a)};
     const contact::Body body_b{&shapes[pb.shape].polyhedron, frame.xb, storage.rotation(c.b),
-                               frame.vb};
+                               frame.vb, storage.worldFaceNormals(c.b)};
     const ModelledContact modelled = model_.evaluate(
         *setup.kernel, setup.model, setup.overlap_centroid, body_a, body_b, &h.kernel);
 
