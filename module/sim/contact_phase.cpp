@@ -5,9 +5,11 @@
 
 namespace polydem::sim {
 
-bool ContactPhase::evaluate(const ContactSetup& setup, const particles::ParticleStorage& storage,
-                            const OrderedPair& c, particles::ContactHistory::Cursor& old,
-                            particles::ContactHistory& next, Evaluated& out) {
+// Inlined into both callers: run() calls it for every candidate pair, and one call per pair
+// measured about 1 % more instructions in the 1-rank step (callgrind, 2,000 dense cubes).
+[[gnu::always_inline]] inline bool ContactPhase::evaluate(
+    const ContactSetup& setup, const particles::ParticleStorage& storage, const OrderedPair& c,
+    particles::ContactHistory::Cursor& old, particles::ContactHistory& next, Evaluated& out) {
   const auto& shapes = *setup.shapes;
   PairFrame frame;
   if (!filter_.accept(storage, shapes, c, setup.margin, frame)) return false;
