@@ -131,20 +131,22 @@ std::string percent(double x) {
 void printBalance(const std::vector<Measurement>& results) {
   std::printf(
       "\nbalance after the last step, per rank max/mean (counts: the same on any machine):\n"
-      "%5s %13s %7s %7s %10s %7s %8s %7s %8s %11s %9s %7s %26s\n",
+      "%5s %13s %7s %7s %10s %7s %8s %7s %8s %11s %9s %7s %26s %7s %8s\n",
       "ranks", "blocks", "owned", "ghosts", "cand.pairs", "pairs", "contacts", "work", "work eff",
-      "bytes/step", "msgs/step", "ghosts", "exchange ms wait/xfer/other");
+      "bytes/step", "msgs/step", "ghosts", "exchange ms wait/xfer/other", "early", "early ms");
   for (const auto& m : results) {
     if (m.control) continue;
     const auto& b = m.balance;
     std::printf(
         "%5d %4dx%3dx%3d %7.3f %7.3f %10.3f %7.3f %8.3f %7.3f %7.1f%% %11.0f %9.2f %7.0f "
-        "%8.3f/%7.3f/%7.3f\n",
+        "%8.3f/%7.3f/%7.3f %6.1f%% %8.3f\n",
         m.ranks, b.blocks[0], b.blocks[1], b.blocks[2], b.owned.ratio(), b.ghosts.ratio(),
         b.candidate_pairs.ratio(), b.evaluated_pairs.ratio(), b.contacts.ratio(), b.work.ratio(),
         100 * sim::modelledEfficiency(b), b.bytes_per_step.mean, b.messages_per_step.mean,
         b.ghosts.mean, 1e3 * b.wait_seconds.mean, 1e3 * b.transfer_seconds.mean,
-        1e3 * b.bookkeeping_seconds.mean);
+        1e3 * b.bookkeeping_seconds.mean,
+        b.evaluated_pairs.mean > 0 ? 100 * b.early_pairs.mean / b.evaluated_pairs.mean : 0.0,
+        1e3 * b.early_seconds.mean);
   }
   std::printf(
       "(pairs: kernel calls, a pair across a rank border on both ranks; work: the load model;\n"
@@ -153,19 +155,20 @@ void printBalance(const std::vector<Measurement>& results) {
       " one message per neighbour rank (empty ones included), a ghost kept from the step before\n"
       " as a 104-byte state update, a new one whole (134 bytes); ghosts: mean per rank;\n"
       " exchange times: mean per rank and step, not deterministic; wait: until the neighbours'\n"
-      " messages arrived)\n");
+      " messages arrived; early: the share of the pairs evaluated while the exchange before the\n"
+      " step was in flight, and the time that took, mean per rank and step)\n");
 }
 
 }  // namespace
 
 int benchScaling(int argc, char** argv) {
-  Args args(argc, argv, {"help", "control"});
+  Args args(argc, argv, {"help", "control", "no-overlap"});
   if (args.flag("help")) {
     std::printf(
         "usage: mpirun -n P polydem bench scaling [--particles N | --per-rank N]\n"
         "         [--shapes mixed|cubes] [--layers L] [--steps S] [--warmup W] [--kernel NAME]\n"
         "         [--ranks 1,2,...] [--control] [--contact-model sub-contacts|point]\n"
-        "         [--json FILE]\n"
+        "         [--json FILE] [--no-overlap]\n"
         "         [--gap G]   lattice gap relative to the size (default 0.05: particles start\n"
         "                     apart and fall; -0.001 with cubes: a dense pack, every face in\n"
         "                     contact from the first step)\n"
@@ -175,7 +178,8 @@ int benchScaling(int argc, char** argv) {
         "  4, ..., P) and prints particle-steps per second per core, parallel efficiency and the\n"
         "  balance figures per rank. --per-rank N: weak scaling, N particles per rank of each\n"
         "  group. --control: also the 1-rank run on all P ranks at once (independent runs side\n"
-        "  by side): the efficiency the hardware itself allows.\n");
+        "  by side): the efficiency the hardware itself allows. --no-overlap: [domain]\n"
+        "  overlap_exchange = false (no contact work while the exchange is in flight).\n");
     return 0;
   }
   sim::PileOptions pile;
@@ -193,6 +197,7 @@ int benchScaling(int argc, char** argv) {
   const std::int64_t steps = args.integer("steps", 100);
   const std::int64_t warmup = args.integer("warmup", 20);
   const bool control = args.flag("control");
+  const bool overlap = !args.flag("no-overlap");
   const auto json_path = args.value("json");
   const int world = mpi::size();
   const auto groups = parseRanks(args.value("ranks", ""), world);
@@ -204,6 +209,7 @@ int benchScaling(int argc, char** argv) {
     if (per_rank > 0) o.particles = per_rank * ranks;
     io::Scene scene = sim::makePileScene(o);
     scene.contact_model = model;
+    scene.domain.overlap_exchange = overlap;
     return scene;
   };
 
@@ -229,13 +235,13 @@ int benchScaling(int argc, char** argv) {
   if (control && t1 > 0) control_ratio = t1 / results.back().seconds;
   std::printf(
       "P-PILE %s scaling: %s %s particles%s, kernel %s, contact model %s, %lld steps after %lld "
-      "warm-up\n",
+      "warm-up, exchange overlap %s\n",
       per_rank > 0 ? "weak" : "strong",
       per_rank > 0 ? cat(per_rank, " per rank").c_str() : cat(results.front().particles).c_str(),
       pile.shapes.c_str(),
       pile.floor_width > 0 ? cat(" on a floor ", pile.floor_width, "x as wide").c_str() : "",
       pile.kernel.c_str(), model.c_str(), static_cast<long long>(steps),
-      static_cast<long long>(warmup));
+      static_cast<long long>(warmup), overlap ? "on" : "off");
   std::printf("%7s %9s %9s %14s %14s %10s %9s %22s %8s %8s %8s\n", "ranks", "wall [s]", "contacts",
               "p-steps/s", "p-steps/s/core", "efficiency", "of hw", "step ms min/mean/max",
               "broad%", "contact%", "comm%");

@@ -265,16 +265,27 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
                                          ContactHistory& history,
                                          const particles::ShapeTable& shapes, double range,
                                          std::int64_t step) {
+  post(forest, storage, history, shapes, range, step);
+  return finish(forest, storage, history);
+}
+
+bool ParticleExchange::post(const domain::BlockForest& forest, particles::ParticleStorage& storage,
+                            ContactHistory& history, const particles::ShapeTable& shapes,
+                            double range, std::int64_t step) {
+  if (in_flight_.posted) throw Error("ParticleExchange::post: the last exchange is not finished");
   const auto t0 = Clock::now();
-  ExchangeStats stats;
+  ExchangeStats& stats = in_flight_.stats;
+  stats = {};
+  in_flight_.kept_here.clear();
+  in_flight_.outgoing.clear();
   storage.dropGhosts();
   // The neighbours alone, unless the particles were placed by another forest (a rebalance, the
   // first exchange): then any rank may receive, and every ghost travels whole.
   const bool neighbours_only = placement_.matches(forest, range);
   if (!neighbours_only) channels_.reset();
-  std::map<int, SendBuffer> records, outgoing;
-  std::unordered_map<Uid, int> leaving;              // uid -> destination rank
-  std::vector<std::pair<Particle, Vec3>> kept_here;  // ghosts kept on this rank
+  std::map<int, SendBuffer> records;
+  std::unordered_map<Uid, int> leaving;    // uid -> destination rank
+  auto& kept_here = in_flight_.kept_here;  // ghosts kept on this rank
   // One rank and no periodic axis: no ghosts at all, and no sphere queries to find that out.
   const auto& periodic = forest.periodic();
   const bool alone = forest.numRanks() == 1 && !periodic[0] && !periodic[1] && !periodic[2];
@@ -315,16 +326,40 @@ ExchangeStats ParticleExchange::exchange(const domain::BlockForest& forest,
     sendToOwner(storage, i, owner, records, leaving, stats);
   }
   packHistories(history, leaving, records, stats);
-  stats.ghost_updates_sent = channels_.pack(records, outgoing).updates;
-  ExchangeCost cost;
-  const auto messages = neighbours_only
-                            ? neighbourExchange(outgoing, neighbours_, comm_, kExchangeTag, &cost)
-                            : sparseExchange(outgoing, comm_, kExchangeTag, &cost);
-  addCost(stats, cost);
-  unpackMessages(messages, storage, history, channels_, stats);
-  addGhosts(kept_here, channels_, forest, storage);
+  stats.ghost_updates_sent = channels_.pack(records, in_flight_.outgoing).updates;
+  in_flight_.posted = true;
+  in_flight_.neighbours_only = neighbours_only;
+  if (neighbours_only) {
+    postNeighbourSends(in_flight_.outgoing, neighbours_, comm_, kExchangeTag, in_flight_.sends);
+  } else {
+    // A collective exchange to any rank: nothing to overlap, it completes here.
+    ExchangeCost cost;
+    in_flight_.received = sparseExchange(in_flight_.outgoing, comm_, kExchangeTag, &cost);
+    addCost(stats, cost);
+  }
+  in_flight_.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   if (!neighbours_only) placed(forest, range);
-  stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return neighbours_only && !neighbours_.empty();
+}
+
+ExchangeStats ParticleExchange::finish(const domain::BlockForest& forest,
+                                       particles::ParticleStorage& storage,
+                                       ContactHistory& history) {
+  if (!in_flight_.posted) throw Error("ParticleExchange::finish: no exchange was posted");
+  const auto t0 = Clock::now();
+  ExchangeStats& stats = in_flight_.stats;
+  if (in_flight_.neighbours_only) {
+    ExchangeCost cost;
+    in_flight_.received =
+        receiveNeighbourMessages(neighbours_, comm_, kExchangeTag, in_flight_.sends, &cost);
+    addCost(stats, cost);
+  }
+  unpackMessages(in_flight_.received, storage, history, channels_, stats);
+  addGhosts(in_flight_.kept_here, channels_, forest, storage);
+  in_flight_.received.clear();
+  in_flight_.posted = false;
+  // The exchange's own time: what ran between post() and finish() is not its.
+  stats.seconds = in_flight_.seconds + std::chrono::duration<double>(Clock::now() - t0).count();
   return stats;
 }
 

@@ -26,6 +26,7 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <map>
 #include <vector>
 
 #include "polydem/comm/ghost_channels.h"
@@ -79,6 +80,19 @@ class ParticleExchange {
                          particles::ContactHistory& history, const particles::ShapeTable& shapes,
                          double range, std::int64_t step);
 
+  /// exchange() in two halves, so that work on the local particles can run while the messages
+  /// travel. post() does everything up to the sends: the migrants are gone from `storage`, the
+  /// ghosts dropped, positions wrapped; it returns true if messages to neighbours are in flight
+  /// (false: one rank, or a collective exchange that completed at once). finish() receives,
+  /// unpacks the arrivals (appended after the local particles, whose indices stay), merges their
+  /// histories into `history` and adds the ghosts: then the state is what exchange() leaves. Both
+  /// collective; nothing else may touch `storage` or `history` in between except to read them.
+  bool post(const domain::BlockForest& forest, particles::ParticleStorage& storage,
+            particles::ContactHistory& history, const particles::ShapeTable& shapes, double range,
+            std::int64_t step);
+  ExchangeStats finish(const domain::BlockForest& forest, particles::ParticleStorage& storage,
+                       particles::ContactHistory& history);
+
   /// False: every ghost travels whole at every exchange (the same ghosts, more bytes); for
   /// comparisons. Collective in effect: set it alike on every rank.
   void setCompactGhosts(bool on) { channels_.setCompact(on); }
@@ -109,8 +123,20 @@ class ParticleExchange {
   int destination(int rank, const particles::Particle& p, std::int64_t step,
                   bool neighbours_only) const;
 
+  /// An exchange between post() and finish().
+  struct InFlight {
+    bool posted = false, neighbours_only = false;
+    std::map<int, SendBuffer> outgoing;                           // alive until the sends complete
+    std::vector<std::pair<particles::Particle, Vec3>> kept_here;  // ghosts kept on this rank
+    PostedSends sends;
+    std::vector<Message> received;
+    ExchangeStats stats;
+    double seconds = 0.0;  // spent in post()
+  };
+
   MPI_Comm comm_;
   int rank_ = 0;
+  InFlight in_flight_;
   std::vector<domain::RankHit> hits_;  // reused between calls
   GhostChannels channels_;
   Placement placement_;

@@ -69,9 +69,8 @@ std::vector<Message> sparseExchange(const std::map<int, SendBuffer>& outgoing, M
   return received;
 }
 
-std::vector<Message> neighbourExchange(const std::map<int, SendBuffer>& outgoing,
-                                       std::span<const int> neighbours, MPI_Comm comm, int tag,
-                                       ExchangeCost* cost) {
+void postNeighbourSends(const std::map<int, SendBuffer>& outgoing, std::span<const int> neighbours,
+                        MPI_Comm comm, int tag, PostedSends& posted) {
   const auto t0 = Clock::now();
   for (const auto& [rank, buffer] : outgoing) {
     if (!std::binary_search(neighbours.begin(), neighbours.end(), rank)) {
@@ -80,17 +79,22 @@ std::vector<Message> neighbourExchange(const std::map<int, SendBuffer>& outgoing
     }
     checkSize(buffer, rank);
   }
-  static thread_local std::vector<MPI_Request> requests;
-  requests.assign(neighbours.size(), MPI_REQUEST_NULL);
-  std::int64_t sent = 0;
+  posted.requests.assign(neighbours.size(), MPI_REQUEST_NULL);
+  posted.bytes = 0;
   static const SendBuffer nothing;
   for (std::size_t k = 0; k < neighbours.size(); ++k) {
     const auto it = outgoing.find(neighbours[k]);
     const SendBuffer& buffer = it == outgoing.end() ? nothing : it->second;
-    sent += static_cast<std::int64_t>(buffer.size());
+    posted.bytes += static_cast<std::int64_t>(buffer.size());
     MPI_Isend(buffer.bytes().data(), static_cast<int>(buffer.size()), MPI_BYTE, neighbours[k], tag,
-              comm, &requests[k]);
+              comm, &posted.requests[k]);
   }
+  posted.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::vector<Message> receiveNeighbourMessages(std::span<const int> neighbours, MPI_Comm comm,
+                                              int tag, PostedSends& posted, ExchangeCost* cost) {
+  const auto t0 = Clock::now();
   // In neighbour order: the result is sorted by source without depending on arrival order.
   std::vector<Message> received;
   double waited = 0.0;
@@ -106,14 +110,24 @@ std::vector<Message> neighbourExchange(const std::map<int, SendBuffer>& outgoing
     MPI_Mrecv(bytes.data(), count, MPI_BYTE, &handle, MPI_STATUS_IGNORE);
     if (count > 0) received.push_back({source, std::move(bytes)});
   }
-  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  MPI_Waitall(static_cast<int>(posted.requests.size()), posted.requests.data(),
+              MPI_STATUSES_IGNORE);
   if (cost) {
-    cost->bytes += sent;
+    const double here = std::chrono::duration<double>(Clock::now() - t0).count();
+    cost->bytes += posted.bytes;
     cost->messages += static_cast<std::int64_t>(neighbours.size());
     cost->wait_seconds += waited;
-    cost->transfer_seconds += std::chrono::duration<double>(Clock::now() - t0).count() - waited;
+    cost->transfer_seconds += posted.seconds + here - waited;
   }
   return received;
+}
+
+std::vector<Message> neighbourExchange(const std::map<int, SendBuffer>& outgoing,
+                                       std::span<const int> neighbours, MPI_Comm comm, int tag,
+                                       ExchangeCost* cost) {
+  static thread_local PostedSends posted;
+  postNeighbourSends(outgoing, neighbours, comm, tag, posted);
+  return receiveNeighbourMessages(neighbours, comm, tag, posted, cost);
 }
 
 }  // namespace polydem::comm

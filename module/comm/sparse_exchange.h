@@ -49,4 +49,21 @@ std::vector<Message> neighbourExchange(const std::map<int, SendBuffer>& outgoing
                                        std::span<const int> neighbours, MPI_Comm comm, int tag,
                                        ExchangeCost* cost = nullptr);
 
+/// The sends of a neighbour exchange in flight: posted by postNeighbourSends, completed by
+/// receiveNeighbourMessages (the buffers given to the first must live until then). Work done in
+/// between overlaps the transfer (neighbourExchange is the two calls in a row).
+struct PostedSends {
+  std::vector<MPI_Request> requests;
+  std::int64_t bytes = 0;
+  double seconds = 0.0;  // spent posting them (counted as transfer)
+};
+
+/// The first half of neighbourExchange: checks the destinations and posts the sends.
+void postNeighbourSends(const std::map<int, SendBuffer>& outgoing, std::span<const int> neighbours,
+                        MPI_Comm comm, int tag, PostedSends& posted);
+/// The second half: receives one message from each neighbour (the wait), completes the sends.
+std::vector<Message> receiveNeighbourMessages(std::span<const int> neighbours, MPI_Comm comm,
+                                              int tag, PostedSends& posted,
+                                              ExchangeCost* cost = nullptr);
+
 }  // namespace polydem::comm

@@ -84,6 +84,9 @@ struct DomainSpec {
   std::int64_t rebalance_every = 100;  // steps between balance checks; 0 = never after the start
   std::string balancer = "metis";  // "metis" | "sfc" | "cyclic" (round robin: borders everywhere,
                                    // to stress communication in tests)
+  // Evaluate the pairs of two local particles while the exchange's messages travel (several
+  // ranks; the same bits either way: sim/contact_phase.h). False: for comparisons.
+  bool overlap_exchange = true;
   int line = 0;  // of `blocks` (else of [domain]), for errors found once the rank count is known
 };
 

@@ -18,7 +18,7 @@ BalanceFigures balanceFigures(const Simulation& sim) {
   const auto& total = sim.stepExchangeTotals();
   const double steps = static_cast<double>(std::max<std::int64_t>(1, sim.exchanges()));
   const double bookkeeping = total.seconds - total.wait_seconds - total.transfer_seconds;
-  constexpr int kFigures = 14;
+  constexpr int kFigures = 16;
   const std::array<double, kFigures> mine = {static_cast<double>(owned),
                                              static_cast<double>(p.ghostCount()),
                                              static_cast<double>(c.candidates),
@@ -32,6 +32,8 @@ BalanceFigures balanceFigures(const Simulation& sim) {
                                              total.wait_seconds / steps,
                                              total.transfer_seconds / steps,
                                              bookkeeping / steps,
+                                             static_cast<double>(c.early),
+                                             sim.earlySeconds() / steps,
                                              sim.lastWork().unique};
   std::array<double, kFigures> lo{}, hi{}, sum{};
   MPI_Allreduce(mine.data(), lo.data(), kFigures, MPI_DOUBLE, MPI_MIN, sim.comm());
@@ -54,6 +56,8 @@ BalanceFigures balanceFigures(const Simulation& sim) {
                            &f.wait_seconds,
                            &f.transfer_seconds,
                            &f.bookkeeping_seconds,
+                           &f.early_pairs,
+                           &f.early_seconds,
                            &unique};
   for (int k = 0; k < kFigures; ++k) *out[k] = {lo[k], sum[k] / f.ranks, hi[k]};
   f.unique_work = sum[kFigures - 1];
@@ -76,6 +80,7 @@ nlohmann::json toJson(const BalanceFigures& f) {
                   {"ghosts", toJson(f.ghosts)},
                   {"candidate_pairs", toJson(f.candidate_pairs)},
                   {"evaluated_pairs", toJson(f.evaluated_pairs)},
+                  {"early_pairs", toJson(f.early_pairs)},
                   {"contacts", toJson(f.contacts)},
                   {"work", toJson(f.work)},
                   {"modelled_efficiency", modelledEfficiency(f)},
@@ -85,7 +90,8 @@ nlohmann::json toJson(const BalanceFigures& f) {
                   {"messages_sent_per_step", toJson(f.messages_per_step)}};
   json times = {{"wait", toJson(f.wait_seconds)},
                 {"transfer", toJson(f.transfer_seconds)},
-                {"bookkeeping", toJson(f.bookkeeping_seconds)}};
+                {"bookkeeping", toJson(f.bookkeeping_seconds)},
+                {"early_contact_work", toJson(f.early_seconds)}};
   return {{"balance", balance}, {"communication_seconds_per_step", times}};
 }
 

@@ -25,6 +25,8 @@ struct BalanceFigures {
   Spread candidate_pairs;    // broad-phase pairs of the last contact phase
   Spread evaluated_pairs;    // kernel calls of the last contact phase (pairs across a border on
                              // both ranks)
+  Spread early_pairs;        // of the evaluated pairs: those evaluated while the exchange before
+                             // the step was in flight (sim/contact_phase.h)
   Spread contacts;           // touching pairs among them
   Spread work;               // the load model's cost of the last step (sim/load_balance.h)
   double unique_work = 0.0;  // the same work done once (as on one rank), summed over the ranks
@@ -35,6 +37,9 @@ struct BalanceFigures {
   // Seconds per step in the exchange: waiting for the slowest rank, moving the bytes, and the rest
   // (finding destinations, packing, unpacking). Timings: not deterministic.
   Spread wait_seconds, transfer_seconds, bookkeeping_seconds;
+  // Seconds per step of contact work done while the exchange was in flight (not part of the
+  // three above; the loop's "communicate" timer holds it).
+  Spread early_seconds;
 };
 
 /// The efficiency the balance and the duplicated border pairs allow, communication left out:

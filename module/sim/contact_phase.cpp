@@ -5,22 +5,15 @@
 
 namespace polydem::sim {
 
-ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
-                                    const particles::ParticleStorage& storage,
-                                    std::span<const broadphase::CandidatePair> candidates,
-                                    particles::ContactHistory& history,
-                                    std::vector<dynamics::ForceAccumulator>& forces) {
-  ContactPhaseStats stats;
-  stats.candidates = static_cast<std::int64_t>(candidates.size());
-  const auto pairs = order_.sort(storage, candidates);
-  records_.clear();
-  next_.clear();
-  forces.assign(storage.size(), dynamics::ForceAccumulator{});
+// Inlined into both callers: run() calls it for every candidate pair, and one call per pair
+// measured about 1 % more instructions in the 1-rank step (callgrind, 2,000 dense cubes).
+[[gnu::always_inline]] inline bool ContactPhase::evaluate(
+    const ContactSetup& setup, const particles::ParticleStorage& storage, const OrderedPair& c,
+    particles::ContactHistory::Cursor& old, particles::ContactHistory& next, Evaluated& out) {
   const auto& shapes = *setup.shapes;
-  particles::ContactHistory::Cursor old(history);
+  PairFrame frame;
+  if (!filter_.accept(storage, shapes, c, setup.margin, frame)) return false;
   const double t_half = setup.time - 0.5 * setup.dt;
-  filter_.prepare(storage);
-
   // A body's motion in the pair's frame: a driven body's prescribed velocity field at t - dt/2.
   auto motion = [&](std::size_t i, const Vec3& position) {
     const auto& p = storage[i];
@@ -31,11 +24,86 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
     }
     return PairMotion{position, p.velocity, storage.angularVelocity(i)};
   };
+
+  const auto& pa = storage[c.a];
+  const auto& pb = storage[c.b];
+  particles::PairHistory h;
+  if (const auto* previous = old.seek(c.key)) h = *previous;
+  const auto [old_sub_keys, old_subs] = old.subs(c.key);
+  const contact::Body body_a{&shapes[pa.shape].polyhedron, frame.xa, storage.rotation(c.a),
+                             frame.va, storage.worldFaceNormals(c.a)};
+  const contact::Body body_b{&shapes[pb.shape].polyhedron, frame.xb, storage.rotation(c.b),
+                             frame.vb, storage.worldFaceNormals(c.b)};
+  const ModelledContact modelled = model_.evaluate(
+      *setup.kernel, setup.model, setup.overlap_centroid, body_a, body_b, &h.kernel);
+
+  const PairMotion a = motion(c.a, frame.xa), b = motion(c.b, frame.xb);
+  const double ma = storage.mass(c.a), mb = storage.mass(c.b);
+  const double m_eff = pa.isFree() && pb.isFree() ? ma * mb / (ma + mb) : (pa.isFree() ? ma : mb);
+  const auto& law = (*setup.law)[pa.material * setup.materials + pb.material];
+  out.r = law_.apply(c.key, modelled, body_a, body_b, a, b, m_eff, setup.dt, law, h, old_sub_keys,
+                     old_subs, next);
+  out.xa = frame.xa;
+  out.xb = frame.xb;
+  out.status = modelled.contact.status;
+  out.touching = modelled.contact.touching;
+  return true;
+}
+
+std::int64_t ContactPhase::runEarly(const ContactSetup& setup,
+                                    const particles::ParticleStorage& storage,
+                                    std::span<const broadphase::CandidatePair> candidates,
+                                    const particles::ContactHistory& history) {
+  discardEarly();
+  early_setup_ = setup;
+  const auto pairs = order_.sort(storage, candidates);
+  filter_.prepare(storage);
+  particles::ContactHistory::Cursor old(history);
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const OrderedPair& c = pairs[k];
+    while (k + 1 < pairs.size() && pairs[k + 1].key == c.key) ++k;  // periodic images
+    if (storage[c.a].isDriven() || storage[c.b].isDriven()) continue;
+    EarlyPair pair{c.key, {}};
+    if (evaluate(setup, storage, c, old, early_history_, pair.e)) early_.push_back(pair);
+  }
+  return static_cast<std::int64_t>(early_.size());
+}
+
+void ContactPhase::takeEarlyHistory(const particles::PairKey& key,
+                                    particles::ContactHistory::Cursor& early) {
+  if (const auto* h = early.seek(key)) next_.appendSorted(key, *h);
+  const auto [sub_keys, subs] = early.subs(key);
+  sub_scratch_.clear();
+  for (std::size_t s = 0; s < subs.size(); ++s)
+    sub_scratch_.push_back({sub_keys[s].feature, subs[s]});
+  next_.appendSubs(key, sub_scratch_);
+}
+
+ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
+                                    const particles::ParticleStorage& storage,
+                                    std::span<const broadphase::CandidatePair> candidates,
+                                    particles::ContactHistory& history,
+                                    std::vector<dynamics::ForceAccumulator>& forces) {
+  ContactPhaseStats stats;
+  stats.candidates = static_cast<std::int64_t>(candidates.size());
+  // The early results hold for this setup alone; the time only reaches driven bodies' pairs,
+  // which are never evaluated early.
+  ContactSetup same_time = early_setup_;
+  same_time.time = setup.time;
+  if (!(same_time == setup)) discardEarly();
+  const auto pairs = order_.sort(storage, candidates);
+  records_.clear();
+  next_.clear();
+  forces.assign(storage.size(), dynamics::ForceAccumulator{});
+  particles::ContactHistory::Cursor old(history), early_history(early_history_);
+  std::size_t next_early = 0;
+  filter_.prepare(storage);
+
   auto localFree = [&](std::int32_t i) {
     return static_cast<std::size_t>(i) < storage.localCount() && storage[i].isFree();
   };
 
-  PairFrame frame;
+  Evaluated e;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const OrderedPair& c = pairs[k];
     // Periodic images can yield the same pair twice on one rank: evaluate once, and apply the
@@ -46,28 +114,20 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
       if (local_a < 0 && localFree(pairs[k].a)) local_a = pairs[k].a;
       if (local_b < 0 && localFree(pairs[k].b)) local_b = pairs[k].b;
     }
-    if (!filter_.accept(storage, shapes, c, setup.margin, frame)) continue;
+    // Both lists are in key order: one merge walk. A pair evaluated early is taken as it is, its
+    // history appended here, so that the new table is built in this one order.
+    while (next_early < early_.size() && early_[next_early].key < c.key) ++next_early;
+    if (next_early < early_.size() && early_[next_early].key == c.key) {
+      e = early_[next_early++].e;
+      takeEarlyHistory(c.key, early_history);
+      ++stats.early;
+    } else if (!evaluate(setup, storage, c, old, next_, e)) {
+      continue;
+    }
 
     ++stats.evaluated;
-    const auto& pa = storage[c.a];
-    const auto& pb = storage[c.b];
-    particles::PairHistory h;
-    if (const auto* previous = old.seek(c.key)) h = *previous;
-    const auto [old_sub_keys, old_subs] = old.subs(c.key);
-    const contact::Body body_a{&shapes[pa.shape].polyhedron, frame.xa, storage.rotation(c.a),
-                               frame.va, storage.worldFaceNormals(c.a)};
-    const contact::Body body_b{&shapes[pb.shape].polyhedron, frame.xb, storage.rotation(c.b),
-                               frame.vb, storage.worldFaceNormals(c.b)};
-    const ModelledContact modelled = model_.evaluate(
-        *setup.kernel, setup.model, setup.overlap_centroid, body_a, body_b, &h.kernel);
-
-    const PairMotion a = motion(c.a, frame.xa), b = motion(c.b, frame.xb);
-    const double ma = storage.mass(c.a), mb = storage.mass(c.b);
-    const double m_eff = pa.isFree() && pb.isFree() ? ma * mb / (ma + mb) : (pa.isFree() ? ma : mb);
-    const auto& law = (*setup.law)[pa.material * setup.materials + pb.material];
-    const PairLawResult r = law_.apply(c.key, modelled, body_a, body_b, a, b, m_eff, setup.dt, law,
-                                       h, old_sub_keys, old_subs, next_);
-    sumPairForce(forces, local_a, local_b, r, frame.xa, frame.xb);
+    const PairLawResult& r = e.r;
+    sumPairForce(forces, local_a, local_b, r, e.xa, e.xb);
 
     ContactRecord rec;
     rec.key = c.key;
@@ -75,10 +135,10 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
     rec.b = local_b;
     rec.stored_a = c.a;
     rec.stored_b = c.b;
-    rec.touching = modelled.contact.touching;
-    rec.status = modelled.contact.status;
+    rec.touching = e.touching;
+    rec.status = e.status;
     rec.a_is_local = static_cast<std::size_t>(c.a) < storage.localCount();
-    rec.both_free = pa.isFree() && pb.isFree();
+    rec.both_free = storage[c.a].isFree() && storage[c.b].isFree();
     if (r.touching) {
       ++stats.touching;
       stats.subcontacts += r.subcontacts;
@@ -90,9 +150,10 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
       rec.energy = r.energy;
       rec.subcontacts = r.subcontacts;
     }
-    countStatus(stats, modelled.contact.status);
+    countStatus(stats, e.status);
     records_.push_back(rec);
   }
+  discardEarly();
   std::swap(history, next_);
   return stats;
 }

@@ -16,6 +16,12 @@
 //     in that frame, not by the broad phase (which only has to return a superset);
 //  3. pairs are visited in key order (lo uid, hi uid) and each particle's force is accumulated in
 //     that order, which is the order of its partners' uids.
+//
+// With several ranks the phase can start early (runEarly): while the exchange's messages travel,
+// the pairs of two local particles present before the exchange (neither a ghost, an arrival nor a
+// driven body) are evaluated into a buffer, histories included, without summing anything. run()
+// then walks all pairs in key order as always, takes each buffered pair's result where it would
+// have computed it, and sums forces and appends histories in that one order: the same bits.
 #pragma once
 
 #include <span>
@@ -39,6 +45,7 @@ namespace polydem::sim {
 
 /// Everything the contact phase needs besides the particles.
 struct ContactSetup {
+  friend bool operator==(const ContactSetup&, const ContactSetup&) = default;
   const particles::ShapeTable* shapes = nullptr;
   const contact::Kernel* kernel = nullptr;
   // Law coefficients per material pair (index a * materials + b) for the current stage.
@@ -65,15 +72,54 @@ class ContactPhase {
                         particles::ContactHistory& history,
                         std::vector<dynamics::ForceAccumulator>& forces);
 
+  /// Evaluates ahead of run() the pairs of `candidates` (over `storage`, which holds local
+  /// particles only) with neither member driven (a driven body's velocity depends on the time,
+  /// which the next step has not reached yet), reading `history`. The results wait for the next
+  /// run() with the same setup (the time aside), which uses them if the particles' indices and
+  /// states and the histories of those pairs are unchanged by then: the caller's promise
+  /// (Simulation discards them otherwise). Returns the pairs evaluated.
+  std::int64_t runEarly(const ContactSetup& setup, const particles::ParticleStorage& storage,
+                        std::span<const broadphase::CandidatePair> candidates,
+                        const particles::ContactHistory& history);
+  /// Forgets what runEarly() evaluated (the state it was computed from changed).
+  void discardEarly() {
+    early_.clear();
+    early_history_.clear();
+  }
+
   const std::vector<ContactRecord>& records() const { return records_; }
 
  private:
+  /// One pair's law result, as run() needs it to sum and record it.
+  struct Evaluated {
+    PairLawResult r;
+    Vec3 xa, xb;  // the canonical frame's centroids
+    contact::Status status = contact::Status::kOk;
+    bool touching = false;  // the kernel's verdict (the law may still apply no force)
+  };
+  /// A pair evaluated by runEarly(), waiting for run().
+  struct EarlyPair {
+    particles::PairKey key;
+    Evaluated e;
+  };
+  /// Filter, kernel, model and law of pair `c`; false if the filter rejects it. Appends the
+  /// pair's new history to `next`.
+  bool evaluate(const ContactSetup& setup, const particles::ParticleStorage& storage,
+                const OrderedPair& c, particles::ContactHistory::Cursor& old,
+                particles::ContactHistory& next, Evaluated& out);
+  /// Appends the early pair's history (pair and sub-contacts) from early_history_ to next_.
+  void takeEarlyHistory(const particles::PairKey& key, particles::ContactHistory::Cursor& early);
+
   PairOrder order_;
   PairFilter filter_;
   ContactModelStep model_;
   PairLaw law_;
   std::vector<ContactRecord> records_;
   particles::ContactHistory next_;
+  std::vector<EarlyPair> early_;  // in key order
+  particles::ContactHistory early_history_;
+  ContactSetup early_setup_;
+  std::vector<particles::SubEntry> sub_scratch_;
 };
 
 }  // namespace polydem::sim

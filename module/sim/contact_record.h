@@ -31,6 +31,7 @@ struct ContactRecord {
 struct ContactPhaseStats {
   std::int64_t candidates = 0;  // pairs from the broad phase
   std::int64_t evaluated = 0;   // pairs passing the sphere and box tests (kernel calls)
+  std::int64_t early = 0;       // of those: evaluated while the exchange was in flight
   std::int64_t touching = 0;
   std::int64_t subcontacts = 0;  // sub-contacts in compression (sub-contact model)
   std::int64_t not_converged = 0, degenerate = 0, inner_domain = 0;

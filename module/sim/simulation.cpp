@@ -1,6 +1,7 @@
 // The steps of a Simulation and its two stages.
 #include "polydem/sim/simulation.h"
 
+#include <chrono>
 #include <cmath>
 
 #include "polydem/core/error.h"
@@ -55,6 +56,17 @@ void Simulation::updateDerived() {
 }
 
 void Simulation::findCandidates() {
+  findPairs(candidates_);
+  // Before the contact phase allocates its records and histories for every pair.
+  if (candidates_.size() * bytesPerCandidatePair() > (std::size_t{64} << 20)) {
+    if (const auto problem = pairMemoryProblem(scene_, storage_, candidates_, loop_.step(),
+                                               availableMemoryBytes())) {
+      throw SimulationError(*problem);
+    }
+  }
+}
+
+void Simulation::findPairs(std::vector<broadphase::CandidatePair>& out) {
   const std::size_t n = storage_.size();
   centers_.resize(n);
   radii_.resize(n);
@@ -72,24 +84,17 @@ void Simulation::findCandidates() {
   // A superset of the contact phase's own test, which is made in each pair's canonical frame.
   const double margin = margin_ + 1e-9 * 2.0 * r_max;
   try {
-    broadphase_->findPairs({centers_, radii_, uids_, active_}, margin, candidates_);
+    broadphase_->findPairs({centers_, radii_, uids_, active_}, margin, out);
   } catch (const std::bad_alloc&) {
     throw SimulationError(cat("step ", loop_.step(), ": the broad phase ran out of memory for ",
-                              "its candidate pairs (", candidates_.size(),
+                              "its candidate pairs (", out.size(),
                               " so far): particles "
                               "overlap massively; check the scene for particles placed on top of "
                               "each other"));
   }
-  // Before the contact phase allocates its records and histories for every pair.
-  if (candidates_.size() * bytesPerCandidatePair() > (std::size_t{64} << 20)) {
-    if (const auto problem = pairMemoryProblem(scene_, storage_, candidates_, loop_.step(),
-                                               availableMemoryBytes())) {
-      throw SimulationError(*problem);
-    }
-  }
 }
 
-void Simulation::computeContacts() {
+ContactSetup Simulation::contactSetup() const {
   ContactSetup setup;
   setup.shapes = &shapes_;
   setup.kernel = kernel_.get();
@@ -101,7 +106,11 @@ void Simulation::computeContacts() {
   setup.margin = margin_;
   setup.dt = dt();
   setup.time = stage_ == Stage::kEquilibrium ? 0.0 : time();
-  contact_stats_ = contact_phase_.run(setup, storage_, candidates_, history_, forces_);
+  return setup;
+}
+
+void Simulation::computeContacts() {
+  contact_stats_ = contact_phase_.run(contactSetup(), storage_, candidates_, history_, forces_);
   // The work of this phase, and where it was if the decomposition is weighed after this step
   // (the records hold storage indices, valid only until the particles move).
   const auto every = scene_.domain.rebalance_every;
@@ -162,7 +171,7 @@ void Simulation::startLeapfrogWith(const ForceOperator& op) {
       dynamics::startLeapfrog(p, massProperties(i), extra[i].force, extra[i].torque, dt());
     }
   }
-  exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  refreshGhosts();
 }
 
 std::vector<std::string> Simulation::forceOperatorNames() const {
@@ -222,12 +231,33 @@ void Simulation::communicate() {
   if (scene_.domain.rebalance_every > 0 && next_step % scene_.domain.rebalance_every == 0) {
     balanceDecomposition();
   }
-  exchange_stats_ =
-      exchange_.exchange(*forest_, storage_, history_, shapes_, ghost_range_, next_step);
+  // While the messages travel, the next step's pairs of two local particles (sim/contact_phase.h).
+  const bool in_flight =
+      exchange_.post(*forest_, storage_, history_, shapes_, ghost_range_, next_step);
+  if (in_flight && scene_.domain.overlap_exchange) evaluateEarly();
+  exchange_stats_ = exchange_.finish(*forest_, storage_, history_);
   migrated_histories_ += exchange_stats_.histories_received;
   exchange_totals_ += exchange_stats_;
   step_exchange_totals_ += exchange_stats_;
   ++exchanges_;
+}
+
+// The local particles here now are those of the next step minus the arrivals, at their next
+// positions: their derived data, their pairs (no ghost yet, so every pair has two local members)
+// and the contact phase's work on those pairs. The next step's contact phase takes the results
+// unless the state changed in between (every change between steps refreshes the ghosts, and
+// refreshGhosts() forgets them).
+void Simulation::evaluateEarly() {
+  const auto t0 = std::chrono::steady_clock::now();
+  updateDerived();
+  findPairs(early_candidates_);
+  contact_phase_.runEarly(contactSetup(), storage_, early_candidates_, history_);
+  early_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void Simulation::refreshGhosts() {
+  contact_phase_.discardEarly();
+  exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
 }
 
 void Simulation::observe() {
@@ -248,7 +278,7 @@ void Simulation::startLeapfrog() {
       dynamics::startLeapfrog(p, massProperties(i), forces_[i].force, forces_[i].torque, dt());
     }
   }
-  exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  refreshGhosts();
   leapfrog_fresh_ = true;
 }
 
@@ -291,7 +321,7 @@ std::int64_t Simulation::runEquilibrium() {
       p.velocity.setZero();
       p.angular_momentum.setZero();
     }
-    exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+    refreshGhosts();
   }
   return equilibrium_steps_;
 }

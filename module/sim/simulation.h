@@ -179,6 +179,9 @@ class Simulation {
   /// steps), and how many steps they were.
   const comm::ExchangeStats& stepExchangeTotals() const { return step_exchange_totals_; }
   std::int64_t exchanges() const { return exchanges_; }
+  /// Seconds this rank spent on the next steps' early contact work inside the exchanges (part
+  /// of the loop's "communicate" timer, not the exchange's own time).
+  double earlySeconds() const { return early_seconds_; }
 
   /// The dt suggested from masses and stiffnesses (see dynamics/time_step.h).
   double suggestedTimeStep() const { return suggested_dt_; }
@@ -210,6 +213,14 @@ class Simulation {
 
   void updateDerived();
   void findCandidates();
+  /// The broad phase's pairs over the particles stored now.
+  void findPairs(std::vector<broadphase::CandidatePair>& out);
+  /// The contact phase's setup for the current stage and time.
+  ContactSetup contactSetup() const;
+  /// The early part of the next contact phase, while the exchange is in flight.
+  void evaluateEarly();
+  /// Fresh ghosts after a change of state between steps; forgets the early contact work.
+  void refreshGhosts();
   void computeContacts();
   void applyForceOperators();
   void startLeapfrogWith(const ForceOperator& op);
@@ -264,6 +275,8 @@ class Simulation {
   std::vector<dynamics::ForceAccumulator> forces_;  // parallel to storage_ during a step only
   dynamics::ForceRatio ratio_local_;  // this rank's share of Keissar eq. 3.2, last contact phase
   std::vector<broadphase::CandidatePair> candidates_;
+  std::vector<broadphase::CandidatePair> early_candidates_;  // evaluateEarly()'s
+  double early_seconds_ = 0.0;  // spent in evaluateEarly() since the start
   std::vector<Vec3> centers_;
   std::vector<double> radii_;
   std::vector<Uid> uids_;

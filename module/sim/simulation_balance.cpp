@@ -128,7 +128,7 @@ bool Simulation::rebalance() {
   if (!balanceDecomposition()) return false;
   const auto moved = exchange_.migrate(*forest_, storage_, history_, loop_.step());
   migrated_histories_ += moved.histories_received;
-  exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  refreshGhosts();
   exchange_totals_ += moved;
   exchange_totals_ += exchange_stats_;
   return true;

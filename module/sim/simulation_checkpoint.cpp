@@ -116,7 +116,7 @@ Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoi
     equilibrium_done_ = true;
   }
   loop_.restore(checkpoint.step, time);
-  exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  refreshGhosts();
 }
 
 // The stored domain box and periodicity (they decide wrapping and what leaves the domain); the

@@ -22,7 +22,7 @@ bool Simulation::setVelocity(Uid uid, const std::optional<Vec3>& velocity,
     owned = true;
   }
   // Ghost copies carry velocities into the contact law's damping: refresh them (collective).
-  exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  refreshGhosts();
   return mpi::allreduceOr(owned, comm_);
 }
 

@@ -33,7 +33,7 @@ Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm)
   placeParticles();
   suggestTimeStep();
   registerSteps();
-  exchange_stats_ = exchange_.refreshGhosts(*forest_, storage_, shapes_, ghost_range_);
+  refreshGhosts();
   sample_load_ = true;
   startLeapfrog();
   rebalance();  // by the work of the contact phase at t = 0, which startLeapfrog computed

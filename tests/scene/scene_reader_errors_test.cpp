@@ -49,6 +49,8 @@ TEST(SceneReaderErrors, WrongTypes) {
               {"'material' must be an array of tables", "[[material]]"});
   expectError(replaced(kBase, "[simulation]", "[[simulation]]  # <-"),
               {"'simulation' must be a table"});
+  expectError(kBase + "[domain]\noverlap_exchange = \"yes\"  # <-\n",
+              {"[domain]", "overlap_exchange: expected true or false"});
 }
 
 TEST(SceneReaderErrors, MissingRequiredValues) {

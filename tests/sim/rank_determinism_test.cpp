@@ -1,7 +1,8 @@
 // Same input, same bits, on any rank count: a scene whose particles cross rank borders many times
 // ends in the same state (hash of every particle and every pair history) on 1, 2, 3 and 4 ranks,
 // with and without rebalancing, and across periodic boundaries. The 1-rank reference is computed
-// in the same test, on rank 0 alone.
+// in the same test, on rank 0 alone. With several ranks the exchange overlaps the next step's
+// interior contact work by default; it is also run against the same scene with the overlap off.
 #include <gtest/gtest.h>
 
 #include "generators/pile_scene.h"
@@ -93,6 +94,55 @@ TEST(RankDeterminism, DefaultDecompositionFollowingTheWork) {
 
 TEST(RankDeterminism, SameBitsAcrossPeriodicBoundaries) {
   expectSameBits(crossingScene(true));
+}
+
+// What a run with or without the exchange overlap gives: its state hash and, summed over the steps
+// and ranks, the pairs evaluated and those of them evaluated while the exchange was in flight.
+struct OverlapOutcome {
+  std::uint64_t hash = 0;
+  std::int64_t evaluated = 0, early = 0;
+};
+
+OverlapOutcome runCounting(io::Scene scene, bool overlap) {
+  scene.domain.overlap_exchange = overlap;
+  Simulation sim(scene, MPI_COMM_WORLD);
+  std::int64_t evaluated = 0, early = 0;
+  sim.addObserver([&] {
+    evaluated += sim.contactStats().evaluated;
+    early += sim.contactStats().early;
+  });
+  sim.run();
+  return {sim.stateHash().combined, mpi::allreduceSum(evaluated), mpi::allreduceSum(early)};
+}
+
+// The overlap (sim/contact_phase.h) changes when pairs are evaluated, not what: the same state,
+// and the same pairs evaluated, with it and without; and it really happens on several ranks.
+void expectOverlapKeepsTheBits(const io::Scene& scene) {
+  log::setLevel(log::Level::kWarning);
+  const OverlapOutcome on = runCounting(scene, true), off = runCounting(scene, false);
+  EXPECT_EQ(on.hash, off.hash) << "overlap on and off differ on " << mpi::size() << " ranks";
+  EXPECT_EQ(on.evaluated, off.evaluated);
+  EXPECT_EQ(off.early, 0);
+  if (mpi::size() == 1) {
+    EXPECT_EQ(on.early, 0) << "one rank has no exchange to overlap";
+  } else {
+    // Most pairs are interior ones; the rest involve a ghost or an arrival (or a driven body).
+    EXPECT_GT(on.early, on.evaluated / 2) << "too few pairs evaluated while messages travel";
+    EXPECT_LT(on.early, on.evaluated) << "pairs across rank borders must wait for the ghosts";
+  }
+}
+
+TEST(RankDeterminism, OverlapOnAndOffGiveTheSameBits) {
+  io::Scene s = crossingScene(false);
+  s.steps = 1500;
+  expectOverlapKeepsTheBits(s);
+}
+
+TEST(RankDeterminism, OverlapOnAndOffGiveTheSameBitsAcrossPeriodicFaces) {
+  io::Scene s = crossingScene(true);
+  s.steps = 1500;
+  s.domain.rebalance_every = 300;  // a rebalanced exchange is collective: no overlap that step
+  expectOverlapKeepsTheBits(s);
 }
 
 TEST(RankDeterminism, ParticlesReallyCrossBorders) {
