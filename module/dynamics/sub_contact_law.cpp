@@ -41,16 +41,21 @@ PairForce subContactForces(const contact::FaceContact& fc,
                            double m_eff, double dt, const LawCoefficients& k,
                            std::vector<SubState>& kept) {
   SubContactScratch scratch;
-  return subContactForces(fc, old_keys, old, kin, m_eff, dt, k, kept, scratch);
+  std::vector<particles::SubKey> keys(fc.subs.size());
+  std::vector<particles::SubHistory> entries(fc.subs.size());
+  const PairForce out =
+      subContactForces(fc, old_keys, old, kin, m_eff, dt, k, {keys, entries}, scratch);
+  kept.clear();
+  for (int i = 0; i < out.loaded; ++i) kept.push_back({keys[i].feature, entries[i]});
+  return out;
 }
 
 PairForce subContactForces(const contact::FaceContact& fc,
                            std::span<const particles::SubKey> old_keys,
                            std::span<const particles::SubHistory> old, const PairKinematics& kin,
                            double m_eff, double dt, const LawCoefficients& k,
-                           std::vector<SubState>& kept, SubContactScratch& scratch) {
+                           const particles::SubSlots& kept, SubContactScratch& scratch) {
   PairForce out;
-  kept.clear();
   const double kn = pairStiffness(k.kn, k.jkn, fc);
   const double ks = pairStiffness(k.ks, k.jks, fc);
   // The pair's dashpot, 2 zeta sqrt(m_eff Kn), shared by weight: a uniform approach meets the
@@ -90,8 +95,16 @@ PairForce subContactForces(const contact::FaceContact& fc,
   }
   for (; j < old_keys.size(); ++j) given.shear += old[j].shear_force;
 
-  // Pass 2, in key order: the springs' forces and their sums.
+  // Pass 2, in key order: the springs' forces and their sums. The sums live in locals until the
+  // end: the kept histories are written through pointers, which the compiler must otherwise
+  // assume may alias `out`.
+  Vec3 force = Vec3::Zero(), torque_a = Vec3::Zero(), torque_b = Vec3::Zero();
   Vec3 centre_sum = Vec3::Zero(), shear_sum = Vec3::Zero(), point_sum = Vec3::Zero();
+  double normal_sum = 0.0, energy = 0.0;
+  std::size_t loaded = 0;
+  bool sliding = false;
+  const Vec3 xa = kin.xa, va = kin.va, wa = kin.wa, xb = kin.xb, vb = kin.vb, wb = kin.wb;
+  const double tan_friction = k.tan_friction, cohesion = k.cohesion;
   for (std::size_t i = 0; i < m; ++i) {
     const auto& s = fc.subs[i];
     point_sum += s.point;
@@ -99,7 +112,7 @@ PairForce subContactForces(const contact::FaceContact& fc,
 
     const Vec3& n = s.normal;
     const double w = s.weight;
-    const Vec3 v = relativeVelocity(s.point, kin.xa, kin.va, kin.wa, kin.xb, kin.vb, kin.wb);
+    const Vec3 v = relativeVelocity(s.point, xa, va, wa, xb, vb, wb);
     const double v_normal = v.dot(n);
     const double f_elastic = w * kn * s.gap;
     const double f_normal = std::max(f_elastic - w * dashpot * v_normal, 0.0);
@@ -112,25 +125,33 @@ PairForce subContactForces(const contact::FaceContact& fc,
       shear -= shear.dot(n) * n;
     }
     shear -= (w * ks * dt) * (v - v_normal * n);
-    const double cap = f_elastic * k.tan_friction + w * k.cohesion;
+    const double cap = f_elastic * tan_friction + w * cohesion;
     const double magnitude = shear.norm();
     if (magnitude > cap) {
       shear *= cap / magnitude;
-      out.sliding = true;
+      sliding = true;
     }
 
     const Vec3 f = f_normal * n + shear;
-    out.force += f;
-    out.torque_a += (s.point - kin.xa).cross(f);
-    out.torque_b -= (s.point - kin.xb).cross(f);
-    out.normal += f_normal;
-    out.energy += 0.5 * f_elastic * s.gap;
-    if (ks > 0.0) out.energy += 0.5 * shear.squaredNorm() / (w * ks);
+    force += f;
+    torque_a += (s.point - xa).cross(f);
+    torque_b -= (s.point - xb).cross(f);
+    normal_sum += f_normal;
+    energy += 0.5 * f_elastic * s.gap;
+    if (ks > 0.0) energy += 0.5 * shear.squaredNorm() / (w * ks);
     centre_sum += f_normal * s.point;
     shear_sum += shear;
-    ++out.loaded;
-    kept.push_back({s.feature, {shear, n}});
+    kept.keys[loaded].feature = s.feature;
+    kept.entries[loaded] = {shear, n};
+    ++loaded;
   }
+  out.force = force;
+  out.torque_a = torque_a;
+  out.torque_b = torque_b;
+  out.normal = normal_sum;
+  out.energy = energy;
+  out.loaded = static_cast<int>(loaded);
+  out.sliding = sliding;
   out.shear = shear_sum.norm();
   out.centre = out.normal > 0.0 ? Vec3(centre_sum / out.normal)
                                 : Vec3(point_sum / static_cast<double>(fc.subs.size()));

@@ -69,15 +69,18 @@ struct SubContactScratch {
 
 /// Advances the sub-contacts `fc` of one touching pair by one step. `old_keys`/`old` are the
 /// pair's sub-contact histories of the last step (sorted by feature); the sub-contacts in
-/// compression are written to `kept` (sorted by feature), to be stored for the next step.
-/// Pre: as contactForce(); fc.subs sorted by feature, weights summing to 1.
+/// compression, PairForce::loaded of them, are written in key order to the first slots of `kept`
+/// (features and histories; the pair's keys are the caller's), to be stored for the next step.
+/// Pre: as contactForce(); fc.subs sorted by feature, weights summing to 1; `kept` has
+/// fc.subs.size() slots.
 PairForce subContactForces(const contact::FaceContact& fc,
                            std::span<const particles::SubKey> old_keys,
                            std::span<const particles::SubHistory> old, const PairKinematics& kin,
                            double m_eff, double dt, const LawCoefficients& k,
-                           std::vector<SubState>& kept, SubContactScratch& scratch);
+                           const particles::SubSlots& kept, SubContactScratch& scratch);
 
-/// The same with working space of its own (allocates; for a single pair).
+/// The same, the kept sub-contacts in `kept`, with working space of its own (allocates; for a
+/// single pair).
 PairForce subContactForces(const contact::FaceContact& fc,
                            std::span<const particles::SubKey> old_keys,
                            std::span<const particles::SubHistory> old, const PairKinematics& kin,

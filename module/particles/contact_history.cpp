@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::particles {
 
@@ -53,8 +54,9 @@ void unpack(RecvBuffer& in, SubKey& key, SubHistory& h) {
 void ContactHistory::clear() {
   keys_.clear();
   entries_.clear();
-  sub_keys_.clear();
-  sub_entries_.clear();
+  sub_end_.clear();
+  subs_ = 0;
+  open_ = 0;
 }
 
 const PairHistory* ContactHistory::find(const PairKey& key) const {
@@ -64,11 +66,10 @@ const PairHistory* ContactHistory::find(const PairKey& key) const {
 }
 
 std::pair<std::size_t, std::size_t> ContactHistory::subRange(const PairKey& key) const {
-  const auto lo = std::lower_bound(sub_keys_.begin(), sub_keys_.end(), SubKey{key, 0});
-  auto hi = lo;
-  while (hi != sub_keys_.end() && hi->pair == key) ++hi;
-  return {static_cast<std::size_t>(lo - sub_keys_.begin()),
-          static_cast<std::size_t>(hi - sub_keys_.begin())};
+  const auto it = std::lower_bound(keys_.begin(), keys_.end(), key);
+  const auto k = static_cast<std::size_t>(it - keys_.begin());
+  const std::size_t first = subBegin(k);
+  return {first, it == keys_.end() || *it != key ? first : sub_end_[k]};
 }
 
 void ContactHistory::appendSorted(const PairKey& key, const PairHistory& h) {
@@ -77,35 +78,87 @@ void ContactHistory::appendSorted(const PairKey& key, const PairHistory& h) {
   }
   keys_.push_back(key);
   entries_.push_back(h);
+  sub_end_.push_back(subs_);
 }
 
 void ContactHistory::appendSubs(const PairKey& pair, std::span<const SubEntry> subs) {
   if (subs.empty()) return;
-  bool increasing = sub_keys_.empty() || sub_keys_.back() < SubKey{pair, subs.front().feature};
-  for (std::size_t i = 1; i < subs.size(); ++i) {
-    increasing = increasing && subs[i - 1].feature < subs[i].feature;
+  if (keys_.empty() || keys_.back() != pair) {
+    throw Error("ContactHistory::appendSubs: sub-contacts of a pair other than the last appended");
   }
-  if (!increasing) throw Error("ContactHistory::appendSubs: keys must be strictly increasing");
-  for (const SubEntry& s : subs) {
-    sub_keys_.push_back({pair, s.feature});
-    sub_entries_.push_back(s.history);
+  const SubSlots slots = openSubs(subs.size());
+  for (std::size_t i = 0; i < subs.size(); ++i) {
+    slots.keys[i].feature = subs[i].feature;
+    slots.entries[i] = subs[i].history;
+  }
+  closeSubs(subs.size());
+}
+
+SubSlots ContactHistory::openSubs(std::size_t count) {
+  if (keys_.empty() || open_ > 0) {
+    throw Error("ContactHistory::openSubs: no pair appended, or slots still open");
+  }
+  const std::size_t first = subs_;
+  if (sub_keys_.size() < first + count) {
+    sub_keys_.resize(first + count);
+    sub_entries_.resize(first + count);
+  }
+  for (std::size_t i = first; i < first + count; ++i) sub_keys_[i].pair = keys_.back();
+  open_ = count;
+  return {{sub_keys_.data() + first, count}, {sub_entries_.data() + first, count}};
+}
+
+void ContactHistory::closeSubs(std::size_t used) {
+  const std::size_t first = subs_, last = first + used;
+  // The whole block of the pair, with what an earlier openSubs of the same pair kept.
+  const std::size_t block = subBegin(keys_.size() - 1);
+  bool increasing = used <= open_;
+  for (std::size_t i = std::max(first, block + 1); increasing && i < last; ++i) {
+    increasing = sub_keys_[i - 1].feature < sub_keys_[i].feature;
+  }
+  open_ = 0;
+  if (!increasing) {
+    throw Error("ContactHistory::closeSubs: more than were opened, or features not increasing");
+  }
+  subs_ = last;
+  sub_end_.back() = last;
+}
+
+void ContactHistory::indexSubs() {
+  sub_end_.assign(keys_.size(), 0);
+  std::size_t s = 0;
+  for (std::size_t k = 0; k < keys_.size(); ++k) {
+    if (s < subs_ && sub_keys_[s].pair < keys_[k]) break;  // no pair entry: below
+    while (s < subs_ && sub_keys_[s].pair == keys_[k]) ++s;
+    sub_end_[k] = s;
+  }
+  if (s != subs_) {
+    const PairKey& orphan = sub_keys_[s].pair;
+    throw Error(cat("ContactHistory: sub-contact history of pair (", orphan.lo, ", ", orphan.hi,
+                    ") without the pair's own history (inconsistent data)"));
   }
 }
 
 void ContactHistory::merge(std::span<const PairKey> keys, std::span<const PairHistory> entries) {
   mergeTable(keys_, entries_, keys, entries);
+  open_ = 0;
+  indexSubs();
 }
 
 void ContactHistory::merge(const HistoryRecords& records) {
   mergeTable<PairKey, PairHistory>(keys_, entries_, records.keys, records.entries);
+  sub_keys_.resize(subs_);  // the slots kept for reuse are not entries
+  sub_entries_.resize(subs_);
   mergeTable<SubKey, SubHistory>(sub_keys_, sub_entries_, records.sub_keys, records.sub_entries);
+  subs_ = sub_keys_.size();
+  open_ = 0;
+  indexSubs();
 }
 
 void ContactHistory::copyPair(std::size_t pair_index, HistoryRecords& records) const {
-  const PairKey& key = keys_[pair_index];
-  records.keys.push_back(key);
+  records.keys.push_back(keys_[pair_index]);
   records.entries.push_back(entries_[pair_index]);
-  const auto [first, last] = subRange(key);
+  const std::size_t first = subBegin(pair_index), last = sub_end_[pair_index];
   records.sub_keys.insert(records.sub_keys.end(), sub_keys_.begin() + first,
                           sub_keys_.begin() + last);
   records.sub_entries.insert(records.sub_entries.end(), sub_entries_.begin() + first,
@@ -120,13 +173,10 @@ const PairHistory* ContactHistory::Cursor::seek(const PairKey& key) {
 
 std::pair<std::span<const SubKey>, std::span<const SubHistory>> ContactHistory::Cursor::subs(
     const PairKey& key) {
-  const auto& k = h_.sub_keys_;
-  while (sub_pos_ < k.size() && k[sub_pos_].pair < key) ++sub_pos_;
-  std::size_t end = sub_pos_;
-  while (end < k.size() && k[end].pair == key) ++end;
-  const std::span<const SubKey> keys(k.data() + sub_pos_, end - sub_pos_);
-  const std::span<const SubHistory> entries(h_.sub_entries_.data() + sub_pos_, end - sub_pos_);
-  return {keys, entries};
+  // Every sub-contact has its pair's entry (indexSubs), so a pair without one has none.
+  if (seek(key) == nullptr) return {};
+  const std::size_t first = h_.subBegin(pos_), count = h_.sub_end_[pos_] - first;
+  return {{h_.sub_keys_.data() + first, count}, {h_.sub_entries_.data() + first, count}};
 }
 
 }  // namespace polydem::particles

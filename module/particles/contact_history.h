@@ -6,11 +6,12 @@
 // pair has a shear spring of its own, kept in a second table keyed by (pair, features). Both live
 // outside the kernels so that they can migrate with particles and be written to checkpoints.
 //
-// Storage is two vectors sorted by key; a pair's sub-contacts are contiguous in the second. The
-// narrow phase visits candidate pairs in the same key order, so looking up last step's entries is
-// a merge walk (no hashing), and the new history comes out already sorted. A pair whose two
-// particles are owned by different ranks is evaluated on both ranks from identical inputs, so
-// both copies stay bit-for-bit equal.
+// Storage is two tables sorted by key; a pair's sub-contacts are contiguous in the second, and each
+// pair keeps the end of its block there, so a pair's sub-contacts are found by its index, without
+// a search. The narrow phase visits candidate pairs in the same key order, so looking up last
+// step's entries is a merge walk (no hashing), and the new history comes out already sorted. A
+// pair whose two particles are owned by different ranks is evaluated on both ranks from identical
+// inputs, so both copies stay bit-for-bit equal.
 #pragma once
 
 #include <span>
@@ -66,6 +67,13 @@ void unpack(RecvBuffer& in, PairKey& key, PairHistory& h);
 void pack(SendBuffer& out, const SubKey& key, const SubHistory& h);
 void unpack(RecvBuffer& in, SubKey& key, SubHistory& h);
 
+/// Room for a pair's sub-contacts in the table (ContactHistory::openSubs): the pair's key is
+/// filled in; the caller writes the features and the histories of the first n slots in order.
+struct SubSlots {
+  std::span<SubKey> keys;
+  std::span<SubHistory> entries;
+};
+
 /// Histories in transit (received from other ranks, read from a checkpoint), in any order.
 struct HistoryRecords {
   std::vector<PairKey> keys;
@@ -81,8 +89,8 @@ class ContactHistory {
   bool empty() const { return keys_.empty(); }
   std::span<const PairKey> keys() const { return keys_; }
   std::span<const PairHistory> entries() const { return entries_; }
-  std::span<const SubKey> subKeys() const { return sub_keys_; }
-  std::span<const SubHistory> subEntries() const { return sub_entries_; }
+  std::span<const SubKey> subKeys() const { return {sub_keys_.data(), subs_}; }
+  std::span<const SubHistory> subEntries() const { return {sub_entries_.data(), subs_}; }
   void clear();
 
   /// Entry for `key`, or null. O(log n).
@@ -93,9 +101,15 @@ class ContactHistory {
 
   /// Appends an entry whose key is larger than every key so far (building in sorted order).
   void appendSorted(const PairKey& key, const PairHistory& h);
-  /// Appends the sub-contacts of pair `pair` (features strictly increasing), all larger than every
-  /// sub-contact key so far: one order check against the table per pair.
+  /// Appends the sub-contacts of pair `pair` (features strictly increasing, above those it has);
+  /// `pair` must be the pair appended last.
   void appendSubs(const PairKey& pair, std::span<const SubEntry> subs);
+  /// Room for up to `count` sub-contacts of the pair appended last, to be written in place (no
+  /// copy through a buffer of the caller's) and closed by closeSubs before anything else.
+  SubSlots openSubs(std::size_t count);
+  /// Keeps the first `used` slots of openSubs, drops the rest; throws (dropping them all) unless
+  /// the pair's features are strictly increasing.
+  void closeSubs(std::size_t used);
 
   /// Adds entries in any order (e.g. received from other ranks); sorts, and keeps one copy of
   /// keys present twice (copies of the same pair from two ranks are identical by construction).
@@ -105,7 +119,8 @@ class ContactHistory {
   /// Adds this history's entries for `key` (pair and sub-contacts) to `records`.
   void copyPair(std::size_t pair_index, HistoryRecords& records) const;
 
-  /// Sequential lookup for a caller visiting keys in increasing order: advances internal cursors.
+  /// Sequential lookup for a caller visiting keys in increasing order: advances an internal cursor
+  /// over the pairs; a pair's sub-contacts are then its block of the second table.
   class Cursor {
    public:
     explicit Cursor(const ContactHistory& h) : h_(h) {}
@@ -116,14 +131,24 @@ class ContactHistory {
 
    private:
     const ContactHistory& h_;
-    std::size_t pos_ = 0, sub_pos_ = 0;
+    std::size_t pos_ = 0;
   };
 
  private:
+  /// First sub-contact of pair `k` (the end of the block of pair k - 1).
+  std::size_t subBegin(std::size_t k) const { return k == 0 ? 0 : sub_end_[k - 1]; }
+  /// Recomputes sub_end_ from the two sorted tables; throws if a sub-contact has no pair entry.
+  void indexSubs();
+
   std::vector<PairKey> keys_;
   std::vector<PairHistory> entries_;
+  std::vector<std::size_t> sub_end_;  // per pair: one past its last sub-contact in sub_keys_
+  // The sub-contacts are the first subs_ entries: slots past them are kept (constructed) from
+  // earlier steps, so that openSubs in the step's loop neither constructs nor checks per slot.
   std::vector<SubKey> sub_keys_;
   std::vector<SubHistory> sub_entries_;
+  std::size_t subs_ = 0;
+  std::size_t open_ = 0;  // slots handed out by openSubs, not yet closed
 };
 
 }  // namespace polydem::particles

@@ -16,13 +16,14 @@ PairLawResult PairLaw::apply(const particles::PairKey& key, const ModelledContac
     const auto fc = face_.build(a, b, contact);
     const dynamics::PairKinematics kin{ma.position, ma.velocity_half, ma.angular_velocity,
                                        mb.position, mb.velocity_half, mb.angular_velocity};
-    const auto f =
-        dynamics::subContactForces(fc, old_keys, old, kin, m_eff, dt, law, kept_, scratch_);
     h.shear_force.setZero();
     h.normal = contact.normal;
     h.touching = 1;
     next.appendSorted(key, h);
-    next.appendSubs(key, kept_);
+    // The law writes the sub-contacts it keeps straight into the next step's table.
+    const auto f = dynamics::subContactForces(fc, old_keys, old, kin, m_eff, dt, law,
+                                              next.openSubs(fc.subs.size()), scratch_);
+    next.closeSubs(static_cast<std::size_t>(f.loaded));
     r.touching = true;
     r.split = true;
     r.point = f.centre;

@@ -47,7 +47,6 @@ class PairLaw {
 
  private:
   contact::FaceContactBuilder face_;
-  std::vector<dynamics::SubState> kept_;
   dynamics::SubContactScratch scratch_;
 };
 

@@ -182,9 +182,10 @@ TEST(SubContactLaw, ShearOfVanishedCornersGoesToNewOnes) {
   EXPECT_NEAR(kept[5].history.shear_force.y(), 6.0, 1e-12);
 }
 
-// PairLaw keeps one working space for every pair: what a larger pair left in it must not reach
-// the next pair. The same pair (corners with and without history, an open one, a vanished one)
-// after a six-corner pair with other histories gives the bits of a fresh working space.
+// PairLaw keeps one working space for every pair and writes the kept sub-contacts straight into
+// the next step's history table: what a larger pair left in either must not reach the next pair.
+// The same pair (corners with and without history, an open one, a vanished one) after a
+// six-corner pair with other histories gives the bits of a fresh working space and table.
 TEST(SubContactLaw, ReusedWorkingSpaceGivesTheSameBits) {
   auto subs = square(1e-4, 3e-4);  // the corners at y = -0.5 are open
   std::vector<particles::SubKey> keys;
@@ -197,10 +198,19 @@ TEST(SubContactLaw, ReusedWorkingSpaceGivesTheSameBits) {
   kin.va = Vec3(0.01, -0.02, -0.003);
   kin.wa = Vec3(0.1, 0.2, 0.3);
 
+  // As PairLaw: the pair's entry, then its sub-contacts written in place.
+  auto step = [&](const std::vector<SubContact>& s, std::span<const particles::SubKey> k,
+                  std::span<const particles::SubHistory> h, const particles::PairKey& pair,
+                  SubContactScratch& scratch, particles::ContactHistory& next) {
+    next.appendSorted(pair, {});
+    const auto f =
+        subContactForces(face(s), k, h, kin, kMass, kDt, law(), next.openSubs(s.size()), scratch);
+    next.closeSubs(static_cast<std::size_t>(f.loaded));
+    return f;
+  };
   SubContactScratch fresh, reused;
-  std::vector<SubState> kept_fresh, kept_reused;
-  const auto expected =
-      subContactForces(face(subs), keys, old, kin, kMass, kDt, law(), kept_fresh, fresh);
+  particles::ContactHistory table_fresh, table_reused;
+  const auto expected = step(subs, keys, old, {1, 2}, fresh, table_fresh);
 
   auto big = square(2e-4);  // a larger pair first, every corner carried over
   big.push_back({7, Vec3(0.6, 0, 0), Vec3::UnitZ(), 2e-4, 0.0});
@@ -208,27 +218,30 @@ TEST(SubContactLaw, ReusedWorkingSpaceGivesTheSameBits) {
   std::vector<particles::SubKey> big_keys;
   std::vector<particles::SubHistory> big_old;
   for (const auto& s : big) {
-    big_keys.push_back({{3, 4}, s.feature});
+    big_keys.push_back({{0, 1}, s.feature});
     big_old.push_back({Vec3(50, 50, 0), Vec3::UnitZ()});
   }
-  subContactForces(face(big), big_keys, big_old, kin, kMass, kDt, law(), kept_reused, reused);
-  const auto f =
-      subContactForces(face(subs), keys, old, kin, kMass, kDt, law(), kept_reused, reused);
+  step(big, big_keys, big_old, {0, 1}, reused, table_reused);
+  ASSERT_EQ(table_reused.subKeys().size(), 6u);
+  const auto f = step(subs, keys, old, {1, 2}, reused, table_reused);
 
   EXPECT_EQ(f.force, expected.force);
   EXPECT_EQ(f.torque_a, expected.torque_a);
   EXPECT_EQ(f.torque_b, expected.torque_b);
   EXPECT_EQ(f.energy, expected.energy);
-  ASSERT_EQ(kept_reused.size(), kept_fresh.size());
-  ASSERT_EQ(kept_fresh.size(), 2u);  // the two closed corners
+  const auto kept_fresh = table_fresh.subEntries();
+  const auto kept_reused = table_reused.subEntries().subspan(6);
+  ASSERT_EQ(table_reused.subKeys().size(), 8u);  // six of the big pair, two of this one
+  ASSERT_EQ(kept_fresh.size(), 2u);              // the two closed corners
   for (std::size_t i = 0; i < kept_fresh.size(); ++i) {
-    EXPECT_EQ(kept_reused[i].feature, kept_fresh[i].feature);
-    EXPECT_EQ(kept_reused[i].history.shear_force, kept_fresh[i].history.shear_force);
-    EXPECT_EQ(kept_reused[i].history.normal, kept_fresh[i].history.normal);
+    EXPECT_EQ(table_reused.subKeys()[6 + i], table_fresh.subKeys()[i]);
+    EXPECT_EQ(kept_reused[i].shear_force, kept_fresh[i].shear_force);
+    EXPECT_EQ(kept_reused[i].normal, kept_fresh[i].normal);
   }
+  EXPECT_EQ(table_fresh.subKeys()[0], (particles::SubKey{{1, 2}, subs[1].feature}));
   // The newcomer (no history) got the vanished corner's shear, the carried one its own.
-  EXPECT_GT(kept_fresh[0].history.shear_force.y(), 3.0);
-  EXPECT_GT(kept_fresh[1].history.shear_force.x(), 2.0);
+  EXPECT_GT(kept_fresh[0].shear_force.y(), 3.0);
+  EXPECT_GT(kept_fresh[1].shear_force.x(), 2.0);
 }
 
 // A joint stiffness per area scales with the face overlap; line and point contacts keep kn.
