@@ -203,7 +203,7 @@ void readDrivers(const Context& ctx, const toml::table& root, Scene& scene) {
 void readDomain(const Context& ctx, const toml::table& root, Scene& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "domain");
   if (!s) return;
-  s->allowOnly({"min", "max", "blocks", "periodic", "rebalance_every", "balancer"});
+  s->allowOnly({"min", "max", "blocks", "periodic", "rebalance_every", "balancer", "sort_every"});
   DomainSpec& d = scene.domain;
   d.line = s->lineOf("blocks");
   d.min = s->vec3("min", Quantity::kLength);
@@ -246,6 +246,7 @@ void readDomain(const Context& ctx, const toml::table& root, Scene& scene) {
   }
   d.rebalance_every = s->integer("rebalance_every", d.rebalance_every, Range::kNonNegative);
   d.balancer = s->choice("balancer", {"metis", "sfc", "cyclic"}, d.balancer);
+  d.sort_every = s->integer("sort_every", d.sort_every, Range::kNonNegative);
 }
 
 void readEquilibrium(const Context& ctx, const toml::table& root, Scene& scene) {
