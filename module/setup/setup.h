@@ -83,8 +83,10 @@ struct DomainSpec {
   std::array<bool, 3> periodic{false, false, false};
   std::int64_t rebalance_every = 100;  // steps between balance checks; 0 = never after the start
   // Steps between reorders of each rank's particles into the broad phase's cell order (sim/
-  // simulation.cpp: fewer cache misses, the same results); also at the first step. 0 = never.
-  std::int64_t sort_every = 100;
+  // simulation.cpp; the same results), also at the first step; 0 = never (the default: it pays
+  // where particles are created scattered, and cost time on a pack created in space order,
+  // docs/performance.md).
+  std::int64_t sort_every = 0;
   std::string balancer = "metis";  // "metis" | "sfc" | "cyclic" (round robin: borders everywhere,
                                    // to stress communication in tests)
   int line = 0;  // of `blocks` (else of [domain]), for errors found once the rank count is known

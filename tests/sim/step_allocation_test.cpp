@@ -16,7 +16,7 @@ namespace {
 // Allocations of `steps` steps after `warmup` steps of a dense pack of `particles` cubes, whose
 // storage is sorted into cell order every `sort_every` steps (0: never).
 long allocationsPerSteps(std::int64_t particles, const std::string& model, int warmup, int steps,
-                         std::int64_t sort_every = 100) {
+                         std::int64_t sort_every = 0) {
   PileOptions o;
   o.particles = particles;
   o.shapes = "cubes";

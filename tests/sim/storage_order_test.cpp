@@ -1,7 +1,7 @@
 // Storage order is free (particles/particle_storage.h): pairs are evaluated and forces summed in
 // uid order, so a rank may keep its particles in any order. Checked here on any rank count: a run
 // whose particles are shuffled in storage every few steps, one sorted into cell order at every
-// step and one at the default interval all end in the bits of a run never reordered, on one rank
+// step and one every 100 steps all end in the bits of a run never reordered, on one rank
 // and on all. And the step's sort leaves the particles in the order it claims: that of the grid
 // of the free particles' size (broadphase/cell_order.h), which the broad phase then gathers
 // front to back.
@@ -80,9 +80,9 @@ TEST(StorageOrder, ShuffledOrSortedStorageKeepsEveryBit) {
   EXPECT_EQ(shuffled.sorts, 0);
   const Outcome every_step = run(heap(1), false, MPI_COMM_WORLD);
   EXPECT_GE(every_step.sorts, *heap(1).steps) << "a sort at every step (on some rank)";
-  const Outcome by_default = run(heap(100), false, MPI_COMM_WORLD);
-  EXPECT_GE(by_default.sorts, 15);
-  for (const Outcome* o : {&shuffled, &every_step, &by_default}) {
+  const Outcome every_100 = run(heap(100), false, MPI_COMM_WORLD);
+  EXPECT_GE(every_100.sorts, 15);
+  for (const Outcome* o : {&shuffled, &every_step, &every_100}) {
     EXPECT_EQ(o->hash, reference.hash)
         << "state differs from the never reordered 1-rank run on " << mpi::size() << " ranks";
     EXPECT_EQ(o->conflicts, 0);
