@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "polydem/broadphase/cell_order.h"
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
 
@@ -158,16 +159,11 @@ CubeLayer makeCubeLayer(const CubeLayerSpec& spec) {
     if (spec.shuffle) {
       rng.shuffle(order);
     } else {
-      // Cells of the small cubes' grid, from the lowest corner of the scene.
-      const double edge = 2.0 * circumradius(kSmallEdge);
-      auto cell = [&](std::size_t i) {
-        const Vec3& c = layer.centers[i];
-        return std::array<long, 3>{std::lround(std::floor(c.z() / edge)),
-                                   std::lround(std::floor(c.y() / edge)),
-                                   std::lround(std::floor(c.x() / edge))};
-      };
-      std::stable_sort(order.begin(), order.end(),
-                       [&](std::size_t a, std::size_t b) { return cell(a) < cell(b); });
+      // The order a simulation's periodic sort leaves (sim/simulation.cpp): cells of the small
+      // cubes' grid at zero margin.
+      broadphase::CellOrder cells;
+      const auto sorted = cells.order(layer.view(), n, 2.0 * circumradius(kSmallEdge));
+      std::copy(sorted.begin(), sorted.end(), order.begin());
     }
     CubeLayer shuffled = layer;
     for (std::size_t i = 0; i < n; ++i) {

@@ -24,7 +24,7 @@ struct CubeLayerSpec {
   double gap = 2.5e-3;   // clearance between neighbours and above the ground (m)
   bool shuffle = false;  // store the cubes in random order instead of slot order
   // Store the cubes in the order of their cells of the small cubes' size, (z, y, x) as the grid
-  // sorts them: as a simulation that keeps its particles sorted in space would.
+  // sorts them (broadphase::CellOrder): as a simulation sorts its particles (domain.sort_every).
   bool sort_cells = false;
   bool ground = false;  // add the ground slab as one huge fixed body
   std::uint64_t seed = 2024;

@@ -46,6 +46,31 @@ void ParticleStorage::dropGhosts() {
   shift_.resize(local_count_);
 }
 
+void ParticleStorage::permuteLocals(std::span<const std::int32_t> order) {
+  const std::size_t n = local_count_;
+  if (order.size() != n) {
+    throw Error(cat("ParticleStorage::permuteLocals: ", order.size(), " indices for ", n,
+                    " local particles"));
+  }
+  placed_.assign(n, 0);
+  permuted_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto from = static_cast<std::size_t>(order[k]);
+    if (order[k] < 0 || from >= n || placed_[from]) {
+      throw Error(cat("ParticleStorage::permuteLocals: index ", order[k], " at place ", k,
+                      " is out of range or taken twice"));
+    }
+    placed_[from] = 1;
+    permuted_[k] = state_[from];
+  }
+  // Local particles have no periodic shift (addLocal), so shift_ needs no permutation; every uid
+  // is in index_of_ already, so assigning through find() allocates nothing.
+  for (std::size_t k = 0; k < n; ++k) {
+    state_[k] = permuted_[k];
+    index_of_.find(state_[k].uid)->second = static_cast<int>(k);
+  }
+}
+
 void ParticleStorage::updateDerived(const ShapeTable& shapes, std::span<const double> densities) {
   const std::size_t n = state_.size();
   rotation_.resize(n);

@@ -8,6 +8,7 @@
 // are processed in uid order (see sim/), so storage may be reordered freely.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -43,6 +44,12 @@ class ParticleStorage {
   /// stays the owner's bits, so that every rank can rebuild any pair in one canonical frame.
   int addGhost(Particle p, const Vec3& shift = Vec3::Zero());
   void dropGhosts();
+  /// Puts the local particles in the order `order` gives: the particle at index order[k] moves to
+  /// index k (`order` is a permutation of [0, localCount())); ghosts keep their places. What is
+  /// indexed by uid follows. The per-step derived data is left in the old order, as after a
+  /// migration: it is valid again after the next updateDerived(). No allocation once warm.
+  /// Throws polydem::Error if `order` is not such a permutation.
+  void permuteLocals(std::span<const std::int32_t> order);
 
   /// Recomputes rotation matrices, angular velocities, world vertices (at the placed position)
   /// and world face normals of every particle.
@@ -71,6 +78,8 @@ class ParticleStorage {
   std::size_t local_count_ = 0;
   std::unordered_map<Uid, int> index_of_;
   std::vector<Vec3> shift_;
+  std::vector<Particle> permuted_;    // permuteLocals() scratch
+  std::vector<std::uint8_t> placed_;  // permuteLocals() check
 
   std::vector<Mat3> rotation_;
   std::vector<Vec3> angular_velocity_;

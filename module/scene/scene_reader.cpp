@@ -203,8 +203,8 @@ void readDrivers(const Context& ctx, const toml::table& root, Scene& scene) {
 void readDomain(const Context& ctx, const toml::table& root, Scene& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "domain");
   if (!s) return;
-  s->allowOnly(
-      {"min", "max", "blocks", "periodic", "rebalance_every", "balancer", "overlap_exchange"});
+  s->allowOnly({"min", "max", "blocks", "periodic", "rebalance_every", "balancer",
+                "overlap_exchange", "sort_every"});
   DomainSpec& d = scene.domain;
   d.line = s->lineOf("blocks");
   d.min = s->vec3("min", Quantity::kLength);
@@ -248,6 +248,7 @@ void readDomain(const Context& ctx, const toml::table& root, Scene& scene) {
   d.rebalance_every = s->integer("rebalance_every", d.rebalance_every, Range::kNonNegative);
   d.balancer = s->choice("balancer", {"metis", "sfc", "cyclic"}, d.balancer);
   d.overlap_exchange = s->boolean("overlap_exchange").value_or(d.overlap_exchange);
+  d.sort_every = s->integer("sort_every", d.sort_every, Range::kNonNegative);
 }
 
 void readEquilibrium(const Context& ctx, const toml::table& root, Scene& scene) {

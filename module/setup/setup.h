@@ -82,6 +82,11 @@ struct DomainSpec {
   std::optional<std::array<int, 3>> blocks;  // default: fitted to the free particles
   std::array<bool, 3> periodic{false, false, false};
   std::int64_t rebalance_every = 100;  // steps between balance checks; 0 = never after the start
+  // Steps between reorders of each rank's particles into the broad phase's cell order (sim/
+  // simulation.cpp; the same results), also at the first step; 0 = never (the default: it pays
+  // where particles are created scattered, and cost time on a pack created in space order,
+  // docs/performance.md).
+  std::int64_t sort_every = 0;
   std::string balancer = "metis";  // "metis" | "sfc" | "cyclic" (round robin: borders everywhere,
                                    // to stress communication in tests)
   // Evaluate the pairs of two local particles while the exchange's messages travel (several

@@ -27,6 +27,7 @@ dynamics::MassProperties Simulation::massProperties(std::size_t i) const {
 
 void Simulation::registerSteps() {
   loop_.setTimeStep(scene_.dt);
+  loop_.add("sort", [this] { sortParticles(); });  // storage order (no result changes)
   loop_.add("derived", [this] { updateDerived(); });
   loop_.add("broadphase", [this] { findCandidates(); });
   loop_.add("contacts", [this] { computeContacts(); });
@@ -55,18 +56,8 @@ void Simulation::updateDerived() {
   }
 }
 
-void Simulation::findCandidates() {
-  findPairs(candidates_);
-  // Before the contact phase allocates its records and histories for every pair.
-  if (candidates_.size() * bytesPerCandidatePair() > (std::size_t{64} << 20)) {
-    if (const auto problem = pairMemoryProblem(scene_, storage_, candidates_, loop_.step(),
-                                               availableMemoryBytes())) {
-      throw SimulationError(*problem);
-    }
-  }
-}
-
-void Simulation::findPairs(std::vector<broadphase::CandidatePair>& out) {
+// The broad phase's input from the storage; returns the largest radius.
+double Simulation::fillSphereSet() {
   const std::size_t n = storage_.size();
   centers_.resize(n);
   radii_.resize(n);
@@ -81,6 +72,48 @@ void Simulation::findPairs(std::vector<broadphase::CandidatePair>& out) {
     active_[i] = i < storage_.localCount() && p.isFree();
     r_max = std::max(r_max, radii_[i]);
   }
+  return r_max;
+}
+
+// Particles sit in storage in creation and arrival order, and the broad phase's grids visit them
+// in cell order: past the caches, every gather of a particle and every pair of the contact phase
+// waits on memory. At the first step of this Simulation (and of a restart) and every sort_every
+// steps, the local particles are put in the cell order of the grid of the smallest free particles
+// (broadphase/cell_order.h; for one size, exactly the order the multilevel grid gathers them in).
+// Ghosts keep their places. No result changes (contact_phase.h: uid order throughout).
+void Simulation::sortParticles() {
+  const std::int64_t every = scene_.domain.sort_every;
+  if (every <= 0 || (sort_started_ && loop_.step() % every != 0)) return;
+  sort_started_ = true;
+  const double r_max = fillSphereSet();
+  double r_min = r_max;
+  bool any_free = false;
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    if (!active_[i]) continue;
+    any_free = true;
+    r_min = std::min(r_min, radii_[i]);
+  }
+  if (!any_free) return;
+  // The reach findCandidates() gives the grid of particles of this size (cell_factor 1).
+  const double reach = 2.0 * r_min + margin_ + 1e-9 * 2.0 * r_max;
+  storage_.permuteLocals(
+      cell_order_.order({centers_, radii_, uids_, active_}, storage_.localCount(), reach));
+  ++sorts_;
+}
+
+void Simulation::findCandidates() {
+  findPairs(candidates_);
+  // Before the contact phase allocates its records and histories for every pair.
+  if (candidates_.size() * bytesPerCandidatePair() > (std::size_t{64} << 20)) {
+    if (const auto problem = pairMemoryProblem(scene_, storage_, candidates_, loop_.step(),
+                                               availableMemoryBytes())) {
+      throw SimulationError(*problem);
+    }
+  }
+}
+
+void Simulation::findPairs(std::vector<broadphase::CandidatePair>& out) {
+  const double r_max = fillSphereSet();
   // A superset of the contact phase's own test, which is made in each pair's canonical frame.
   const double margin = margin_ + 1e-9 * 2.0 * r_max;
   try {

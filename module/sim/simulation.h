@@ -3,8 +3,8 @@
 // particles whose centroids lie in its blocks, sees ghost copies of its neighbours' particles and
 // replicated fixed/driven bodies, and runs the same timeloop:
 //
-//   derived -> broadphase -> contacts -> gravity -> force operators -> integrate -> communicate
-//   -> monitors
+//   sort (now and then) -> derived -> broadphase -> contacts -> gravity -> force operators
+//   -> integrate -> communicate -> monitors
 //
 // (see contact_phase.h for why the result is the same bits on any number of ranks, and
 // force_operator.h for the forces a user adds).
@@ -15,10 +15,12 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "polydem/broadphase/broad_phase.h"
+#include "polydem/broadphase/cell_order.h"
 #include "polydem/comm/particle_exchange.h"
 #include "polydem/comm/state_hash.h"
 #include "polydem/contact/contact.h"
@@ -183,6 +185,15 @@ class Simulation {
   /// of the loop's "communicate" timer, not the exchange's own time).
   double earlySeconds() const { return early_seconds_; }
 
+  /// Puts this rank's local particles in storage in the order `order` gives (order[k]: the
+  /// storage index of the particle that goes to index k; a permutation of [0,
+  /// particles().localCount())), between steps; not collective. No result changes: pairs are
+  /// evaluated and summed in uid order (contact_phase.h). The step does this itself into the
+  /// broad phase's cell order (scene domain.sort_every); tests shuffle with it.
+  void reorderParticles(std::span<const std::int32_t> order) { storage_.permuteLocals(order); }
+  /// How many times the step reordered this rank's particles into cell order.
+  std::int64_t sorts() const { return sorts_; }
+
   /// The dt suggested from masses and stiffnesses (see dynamics/time_step.h).
   double suggestedTimeStep() const { return suggested_dt_; }
 
@@ -212,6 +223,8 @@ class Simulation {
   void restoreParticles(const CheckpointData& checkpoint, const std::string& file);
 
   void updateDerived();
+  double fillSphereSet();
+  void sortParticles();
   void findCandidates();
   /// The broad phase's pairs over the particles stored now.
   void findPairs(std::vector<broadphase::CandidatePair>& out);
@@ -281,6 +294,9 @@ class Simulation {
   std::vector<double> radii_;
   std::vector<Uid> uids_;
   std::vector<std::uint8_t> active_;
+  broadphase::CellOrder cell_order_;
+  std::int64_t sorts_ = 0;
+  bool sort_started_ = false;  // sortParticles() ran at this object's first step
 
   timeloop::TimeLoop loop_;
   timeloop::TimeLoop parked_loop_;  // the main stage's loop while the equilibrium stage runs

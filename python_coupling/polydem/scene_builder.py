@@ -18,7 +18,7 @@ _SIMULATION_KEYS = ("kernel", "broadphase", "contact_model", "contact_point", "d
                     "steps", "gravity", "contact_margin")
 _SECTION_KEYS = {
     "kernel_params": ("lp_rounding",),
-    "domain": ("min", "max", "blocks", "periodic", "rebalance_every", "balancer"),
+    "domain": ("min", "max", "blocks", "periodic", "rebalance_every", "balancer", "sort_every"),
     "equilibrium": ("enabled", "local_damping", "friction_angle", "force_ratio", "max_steps",
                     "reset_velocities"),
     "output": ("series_every", "snapshot_every", "progress_every", "monitor"),
@@ -143,7 +143,7 @@ class Scene(Bodies):
         return self._set("kernel_params", settings)
 
     def set_domain(self, **settings):
-        """[domain]: min, max, blocks, periodic, rebalance_every, balancer."""
+        """[domain]: min, max, blocks, periodic, rebalance_every, balancer, sort_every."""
         return self._set("domain", settings)
 
     def set_equilibrium(self, **settings):

@@ -13,8 +13,10 @@
 namespace polydem::sim {
 namespace {
 
-// Allocations of `steps` steps after `warmup` steps of a dense pack of `particles` cubes.
-long allocationsPerSteps(std::int64_t particles, const std::string& model, int warmup, int steps) {
+// Allocations of `steps` steps after `warmup` steps of a dense pack of `particles` cubes, whose
+// storage is sorted into cell order every `sort_every` steps (0: never).
+long allocationsPerSteps(std::int64_t particles, const std::string& model, int warmup, int steps,
+                         std::int64_t sort_every = 0) {
   PileOptions o;
   o.particles = particles;
   o.shapes = "cubes";
@@ -22,6 +24,7 @@ long allocationsPerSteps(std::int64_t particles, const std::string& model, int w
   o.layers = 4;
   io::Scene scene = makePileScene(o);
   scene.contact_model = model;
+  scene.domain.sort_every = sort_every;
   Simulation sim(scene, MPI_COMM_WORLD);
   for (int i = 0; i < warmup; ++i) sim.step();
   const long before = polydem::testing::allocationCount();
@@ -37,6 +40,12 @@ TEST(StepAllocations, NoneOnceWarm) {
     EXPECT_EQ(small, 0) << model << ": allocations in 5 warm steps of 64 cubes";
     EXPECT_EQ(large, 0) << model << ": allocations in 5 warm steps of 400 cubes";
   }
+}
+
+TEST(StepAllocations, NoneWhenSortingEveryStep) {
+  log::setLevel(log::Level::kWarning);
+  EXPECT_EQ(allocationsPerSteps(400, "sub-contacts", 20, 5, 1), 0)
+      << "allocations in 5 warm steps of 400 cubes, each with a sort into cell order";
 }
 
 }  // namespace
