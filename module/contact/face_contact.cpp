@@ -170,8 +170,12 @@ bool FaceContactBuilder::faceFace(const Body& a, const Body& b, const Contact& c
 bool FaceContactBuilder::edgeFace(const Body& edge_body, const Body& face_body, int edge,
                                   bool edge_is_a, const Contact& c) {
   const int face = edge_is_a ? facing_b_.face : facing_a_.face;
+  // A's face (seen from its back, so reversed) goes into A's buffers and B's into B's, as in
+  // faceFace(): buffers that a face-face pair has grown already, so an edge-face pair meeting
+  // later allocates nothing.
   const LabelledPolygon polygon =
-      project(face_body, face, !edge_is_a, corners_b_, vertex_b_, edge_b_);
+      edge_is_a ? project(face_body, face, false, corners_b_, vertex_b_, edge_b_)
+                : project(face_body, face, true, corners_a_, vertex_a_, edge_a_);
   const auto& e = edge_body.shape->edges()[edge];
   const Vec2 s0 = flat(edge_body.vertices[e.v0]), s1 = flat(edge_body.vertices[e.v1]);
   clipper_.segment(s0, s1, e.v0, e.v1, edge, edge_is_a, polygon, overlap_);
