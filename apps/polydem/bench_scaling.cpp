@@ -162,13 +162,13 @@ void printBalance(const std::vector<Measurement>& results) {
 }  // namespace
 
 int benchScaling(int argc, char** argv) {
-  Args args(argc, argv, {"help", "control", "no-overlap"});
+  Args args(argc, argv, {"help", "control", "overlap"});
   if (args.flag("help")) {
     std::printf(
         "usage: mpirun -n P polydem bench scaling [--particles N | --per-rank N]\n"
         "         [--shapes mixed|cubes] [--layers L] [--steps S] [--warmup W] [--kernel NAME]\n"
         "         [--ranks 1,2,...] [--control] [--contact-model sub-contacts|point]\n"
-        "         [--json FILE] [--no-overlap]\n"
+        "         [--json FILE] [--overlap]\n"
         "         [--gap G]   lattice gap relative to the size (default 0.05: particles start\n"
         "                     apart and fall; -0.001 with cubes: a dense pack, every face in\n"
         "                     contact from the first step)\n"
@@ -178,8 +178,8 @@ int benchScaling(int argc, char** argv) {
         "  4, ..., P) and prints particle-steps per second per core, parallel efficiency and the\n"
         "  balance figures per rank. --per-rank N: weak scaling, N particles per rank of each\n"
         "  group. --control: also the 1-rank run on all P ranks at once (independent runs side\n"
-        "  by side): the efficiency the hardware itself allows. --no-overlap: [domain]\n"
-        "  overlap_exchange = false (no contact work while the exchange is in flight).\n");
+        "  by side): the efficiency the hardware itself allows. --overlap: [domain]\n"
+        "  overlap_exchange = true (local pairs evaluated while the exchange is in flight).\n");
     return 0;
   }
   sim::PileOptions pile;
@@ -197,7 +197,7 @@ int benchScaling(int argc, char** argv) {
   const std::int64_t steps = args.integer("steps", 100);
   const std::int64_t warmup = args.integer("warmup", 20);
   const bool control = args.flag("control");
-  const bool overlap = !args.flag("no-overlap");
+  const bool overlap = args.flag("overlap");
   const auto json_path = args.value("json");
   const int world = mpi::size();
   const auto groups = parseRanks(args.value("ranks", ""), world);

@@ -90,8 +90,9 @@ struct DomainSpec {
   std::string balancer = "metis";  // "metis" | "sfc" | "cyclic" (round robin: borders everywhere,
                                    // to stress communication in tests)
   // Evaluate the pairs of two local particles while the exchange's messages travel (several
-  // ranks; the same bits either way: sim/contact_phase.h). False: for comparisons.
-  bool overlap_exchange = true;
+  // ranks; the same bits either way: sim/contact_phase.h). Off by default: on the 2-core machine
+  // it made the 2-rank step 10-20 % slower (docs/domain.md), more work than the wait it hides.
+  bool overlap_exchange = false;
   int line = 0;  // of `blocks` (else of [domain]), for errors found once the rank count is known
 };
 

@@ -48,7 +48,7 @@ blocks = [2, 1, 3]
 periodic = [true, false, false]
 rebalance_every = 500
 balancer = "sfc"
-overlap_exchange = false
+overlap_exchange = true
 
 [equilibrium]
 local_damping = 0.7
@@ -213,7 +213,7 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
   EXPECT_EQ(s.domain.periodic, (std::array<bool, 3>{true, false, false}));
   EXPECT_EQ(s.domain.rebalance_every, 500);
   EXPECT_EQ(s.domain.balancer, "sfc");
-  EXPECT_FALSE(s.domain.overlap_exchange);
+  EXPECT_TRUE(s.domain.overlap_exchange);
 
   EXPECT_TRUE(s.equilibrium.enabled);
   EXPECT_EQ(s.equilibrium.local_damping, 0.7);

@@ -1,8 +1,8 @@
 // Same input, same bits, on any rank count: a scene whose particles cross rank borders many times
 // ends in the same state (hash of every particle and every pair history) on 1, 2, 3 and 4 ranks,
 // with and without rebalancing, and across periodic boundaries. The 1-rank reference is computed
-// in the same test, on rank 0 alone. With several ranks the exchange overlaps the next step's
-// interior contact work by default; it is also run against the same scene with the overlap off.
+// in the same test, on rank 0 alone. The exchange overlap (off by default) is run against the same
+// scene with the overlap off.
 #include <gtest/gtest.h>
 
 #include "generators/pile_scene.h"
