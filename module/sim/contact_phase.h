@@ -75,9 +75,10 @@ class ContactPhase {
   /// Evaluates ahead of run() the pairs of `candidates` (over `storage`, which holds local
   /// particles only) with neither member driven (a driven body's velocity depends on the time,
   /// which the next step has not reached yet), reading `history`. The results wait for the next
-  /// run() with the same setup (the time aside), which uses them if the particles' indices and
-  /// states and the histories of those pairs are unchanged by then: the caller's promise
-  /// (Simulation discards them otherwise). Returns the pairs evaluated.
+  /// run() with the same setup (the time aside), which uses them if the particles' states and the
+  /// histories of those pairs are unchanged by then: the caller's promise (Simulation discards
+  /// them otherwise). They are values matched by pair key, so a reordering of the storage in
+  /// between (Simulation::sortParticles) leaves them valid. Returns the pairs evaluated.
   std::int64_t runEarly(const ContactSetup& setup, const particles::ParticleStorage& storage,
                         std::span<const broadphase::CandidatePair> candidates,
                         const particles::ContactHistory& history);
