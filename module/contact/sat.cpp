@@ -6,6 +6,7 @@
 
 #include "polydem/contact/sat_detail.h"
 #include "polydem/contact/support.h"
+#include "polydem/geometry/box_frame.h"
 
 namespace polydem::contact {
 
@@ -149,10 +150,28 @@ AxisTest separatingAxisTest(const Body& a, const Body& b, const Vec3* warm, doub
 
 namespace {
 
+// For a rectangular box (BoxFrame): the edge at vertex v along box axis k, as its two ends (v
+// first), from the corner table alone: v's corner bits with bit k flipped. For an axis edge `like`
+// along k it is the edge edgeAt() below picks: at a corner of a box the three edges lie along the
+// three axes (orthogonal within BoxFrame::kMaxSkew), so the parallel edge's cosine is 1 and the
+// others' that skew plus the round-off of the world vertices, u (|x| + size) / edge: never a tie.
+std::pair<Vec3, Vec3> boxEdgeAt(const Body& body, const geometry::BoxFrame& box, int v, int k) {
+  int bits = 0;
+  while (box.corner[bits] != v) ++bits;
+  const int other = box.corner[bits ^ (1 << k)];
+  return {body.vertices[v], body.vertices[other]};
+}
+
 // The edge at vertex v of `body` most nearly parallel to the edge `like`, as its two ends (v
 // first).
 std::pair<Vec3, Vec3> edgeAt(const Body& body, int v, int like) {
   const auto& shape = *body.shape;
+  if (const auto* box = shape.box()) {
+    const auto& axis_edges = shape.axisEdges();
+    for (int i = 0; i < 3; ++i) {
+      if (axis_edges[i] == like) return boxEdgeAt(body, *box, v, box->edge_axis[i]);
+    }
+  }
   const auto& ref = shape.edges()[like];
   const Vec3 d = (body.vertices[ref.v1] - body.vertices[ref.v0]).normalized();
   int best = -1;

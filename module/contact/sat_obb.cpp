@@ -41,8 +41,10 @@ namespace {
 using geometry::BoxFrame;
 constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2;
 
-// A box in world coordinates: its centre and unit axes (the rotated face normals, as
-// Body::faceNormal computes them).
+// A box in world coordinates: its centre and unit axes. An axis a_k is the normal of face
+// axisFaces()[k] (BoxFrame), so its world direction is Body::faceNormal of that face: in the
+// contact phase a copy of the rotated normal that the particle storage computed once per step with
+// the same product, instead of three 3 x 3 products per body and pair.
 struct WorldBox {
   const BoxFrame& frame;
   Vec3 centre;
@@ -50,7 +52,8 @@ struct WorldBox {
 
   WorldBox(const Body& body, const BoxFrame& f) : frame(f) {
     centre = body.position + body.rotation * f.centre;
-    for (int k = 0; k < 3; ++k) axis[k] = body.rotation * f.axis[k];
+    const auto& faces = body.shape->axisFaces();
+    for (int k = 0; k < 3; ++k) axis[k] = body.faceNormal(faces[k]);
   }
 
   // Half the box's extent along the unit axis u.
