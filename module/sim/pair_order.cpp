@@ -6,25 +6,44 @@ namespace polydem::sim {
 
 namespace {
 
-// Pairs of one lower uid ordered by (higher uid, a, b): insertion sort, as the few pairs of one
-// particle come nearly ordered from the broad phase.
-void sortBucket(OrderedPair* first, OrderedPair* last) {
-  auto less = [](const OrderedPair& x, const OrderedPair& y) {
-    return x.key.hi != y.key.hi ? x.key.hi < y.key.hi : (x.a != y.a ? x.a < y.a : x.b < y.b);
-  };
-  for (OrderedPair* i = first + 1; i < last; ++i) {
-    const OrderedPair c = *i;
-    OrderedPair* j = i;
-    for (; j > first && less(c, *(j - 1)); --j) *j = *(j - 1);
-    *j = c;
+// Counting sort of `in` into `out` by rank(pair) (stable): `start` holds one more entry than there
+// are ranks and is used up as the fill pointers.
+template <typename Rank>
+void scatter(std::span<const OrderedPair> in, std::vector<std::size_t>& start,
+             std::vector<OrderedPair>& out, Rank rank) {
+  std::size_t sum = 0;
+  for (std::size_t& s : start) {
+    const std::size_t count = s;
+    s = sum;
+    sum += count;
+  }
+  for (const OrderedPair& x : in) out[start[rank(x)]++] = x;
+}
+
+// The pairs of one key (periodic images of one pair) by storage indices (a, b): they arrive in
+// broad-phase order, next to each other, and are few.
+void sortImages(std::vector<OrderedPair>& pairs) {
+  for (std::size_t k = 1; k < pairs.size(); ++k) {
+    if (!(pairs[k].key == pairs[k - 1].key)) continue;
+    const OrderedPair c = pairs[k];
+    std::size_t j = k;
+    for (; j > 0 && pairs[j - 1].key == c.key &&
+           (c.a != pairs[j - 1].a ? c.a < pairs[j - 1].a : c.b < pairs[j - 1].b);
+         --j) {
+      pairs[j] = pairs[j - 1];
+    }
+    pairs[j] = c;
   }
 }
 
 }  // namespace
 
 // Key order (lo uid, hi uid, a, b) without comparing pairs: the particles are ranked by uid (one
-// sort of the storage, a few times smaller than the pairs), the pairs are bucketed by the rank of
-// their lower uid (a counting sort) and each bucket is sorted on its own.
+// sort of the storage, a few times smaller than the pairs), and the pairs are put in order by two
+// counting sorts (a radix sort with the ranks as digits): by the rank of the higher uid, then,
+// stably, by the rank of the lower uid. That leaves only the pairs of one key (periodic images)
+// to order by storage indices. The order is the same as a comparison sort's: the keys are unique
+// but for those images, and they are ordered by (a, b).
 std::span<const OrderedPair> PairOrder::sort(
     const particles::ParticleStorage& storage,
     std::span<const broadphase::CandidatePair> candidates) {
@@ -38,23 +57,24 @@ std::span<const OrderedPair> PairOrder::sort(
     if (k == 0 || by_uid_[k].first != by_uid_[k - 1].first) ++rank;  // images share a rank
     uid_rank_[by_uid_[k].second] = rank;
   }
-  bucket_start_.assign(static_cast<std::size_t>(rank) + 2, 0);
-  for (const auto& c : candidates) {
-    const std::int32_t lo = storage[c.i].uid < storage[c.j].uid ? c.i : c.j;
-    ++bucket_start_[uid_rank_[lo] + 1];
-  }
-  for (std::size_t b = 1; b < bucket_start_.size(); ++b) bucket_start_[b] += bucket_start_[b - 1];
-  pairs_.resize(candidates.size());
-  fill_ = bucket_start_;
-  for (const auto& c : candidates) {
+  // Each candidate in canonical form, counted by both ranks.
+  lo_start_.assign(static_cast<std::size_t>(rank) + 1, 0);
+  hi_start_.assign(static_cast<std::size_t>(rank) + 1, 0);
+  canonical_.resize(candidates.size());
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const auto& c = candidates[k];
     const Uid ui = storage[c.i].uid, uj = storage[c.j].uid;
     const OrderedPair x =
         ui < uj ? OrderedPair{{ui, uj}, c.i, c.j} : OrderedPair{{uj, ui}, c.j, c.i};
-    pairs_[fill_[uid_rank_[x.a]]++] = x;
+    canonical_[k] = x;
+    ++lo_start_[uid_rank_[x.a]];
+    ++hi_start_[uid_rank_[x.b]];
   }
-  for (std::size_t b = 0; b + 1 < bucket_start_.size(); ++b) {
-    sortBucket(pairs_.data() + bucket_start_[b], pairs_.data() + bucket_start_[b + 1]);
-  }
+  by_hi_.resize(candidates.size());
+  pairs_.resize(candidates.size());
+  scatter(canonical_, hi_start_, by_hi_, [&](const OrderedPair& x) { return uid_rank_[x.b]; });
+  scatter(by_hi_, lo_start_, pairs_, [&](const OrderedPair& x) { return uid_rank_[x.a]; });
+  sortImages(pairs_);
   return pairs_;
 }
 

@@ -30,9 +30,10 @@ class PairOrder {
 
  private:
   std::vector<OrderedPair> pairs_;
+  std::vector<OrderedPair> canonical_, by_hi_;        // in broad-phase order; by higher uid
   std::vector<std::pair<Uid, std::int32_t>> by_uid_;  // (uid, storage index), sorted
   std::vector<std::int32_t> uid_rank_;                // per storage index: rank of its uid
-  std::vector<std::size_t> bucket_start_, fill_;      // pairs per lower-uid rank
+  std::vector<std::size_t> lo_start_, hi_start_;      // pairs per lower-, higher-uid rank
 };
 
 }  // namespace polydem::sim
