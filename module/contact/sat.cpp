@@ -67,6 +67,9 @@ int projections(const Body& a, const Body& b) {
 }  // namespace
 
 bool satApplies(const Body& a, const Body& b) {
+  // Two rectangular boxes: 8 vertices each and 3 + 3 + 9 axes, 240 projections.
+  static_assert(Cloud::kMax >= 8 && 15 * 16 <= kSatMaxProjections);
+  if (a.shape->box() != nullptr && b.shape->box() != nullptr) return true;
   return a.vertices.size() <= Cloud::kMax && b.vertices.size() <= Cloud::kMax &&
          projections(a, b) <= kSatMaxProjections;
 }
