@@ -97,17 +97,19 @@ class ContactPhase {
     Vec3 xa, xb;  // the canonical frame's centroids
     contact::Status status = contact::Status::kOk;
     bool touching = false;  // the kernel's verdict (the law may still apply no force)
+    bool accepted = false;  // the filter let the pair through (else nothing above is set)
   };
   /// A pair evaluated by runEarly(), waiting for run().
   struct EarlyPair {
     particles::PairKey key;
     Evaluated e;
   };
-  /// Filter, kernel, model and law of pair `c`; false if the filter rejects it. Appends the
-  /// pair's new history to `next`.
-  bool evaluate(const ContactSetup& setup, const particles::ParticleStorage& storage,
-                const OrderedPair& c, particles::ContactHistory::Cursor& old,
-                particles::ContactHistory& next, Evaluated& out);
+  /// Filter, kernel, model and law of pair `c` (not `accepted` if the filter rejects it).
+  /// Appends the pair's new history to `next`. Returned by value: built in the caller's
+  /// variable, where an output argument cost a copy of the law's result per pair.
+  Evaluated evaluate(const ContactSetup& setup, const particles::ParticleStorage& storage,
+                     const OrderedPair& c, particles::ContactHistory::Cursor& old,
+                     particles::ContactHistory& next);
   /// Appends the early pair's history (pair and sub-contacts) from early_history_ to next_.
   void takeEarlyHistory(const particles::PairKey& key, particles::ContactHistory::Cursor& early);
 
