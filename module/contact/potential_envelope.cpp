@@ -111,7 +111,12 @@ bool EnvelopeIntegrator::buildRegion(int k, std::span<const int> others) {
   poly_n_ = n;
   const Term tk = term(k);
   for (int l : others) {
-    if (l == k) continue;
+    // A neighbour that is no candidate of the pair bounds region k nowhere in the overlap, when
+    // region k meets the piece (the walk visits only such k): on the segment of the piece from
+    // a point of region k to a point outside, the first bisector crossed is that of a
+    // neighbour m with term_m = term_k = phi <= the pair's bound at the crossing, so m is a
+    // candidate, and term_k > term_m from there on: m's clip removes the point already.
+    if (l == k || (skip_non_candidates_ && !is_candidate_[l])) continue;
     // Zhao eq. 8: term_k - term_l <= 0 (a plane below term_k at no corner leaves it whole).
     const Term& tl = term(l);
     if (!clip(tk.g - tl.g, tk.a - tl.a, l)) return false;
@@ -149,10 +154,11 @@ double EnvelopeIntegrator::walk(std::size_t from, PieceIntegrals& out) {
 
 void EnvelopeIntegrator::integrate(std::span<const Vec2> corners, const PieceFrame& frame,
                                    const Cell& cell, std::span<const int> planes,
-                                   PieceIntegrals& out) {
+                                   std::span<const char> is_candidate, PieceIntegrals& out) {
   corners_ = corners;
   frame_ = &frame;
   cell_ = &cell;
+  is_candidate_ = is_candidate;
   ++piece_;  // a fresh stamp: no term is made yet
   const std::size_t m = cell.planes.size();
   if (stamp_.size() < m) {
@@ -179,6 +185,7 @@ void EnvelopeIntegrator::integrate(std::span<const Vec2> corners, const PieceFra
     candidates_.assign(planes.begin(), planes.end());
   }
   queue_.assign(1, best);
+  skip_non_candidates_ = true;
   double covered = walk(0, out);
   // The walk crosses from region to region along edges. Should it have missed one (two
   // bisectors meeting the piece's plane in the same line), the area says so: then every plane
@@ -190,6 +197,8 @@ void EnvelopeIntegrator::integrate(std::span<const Vec2> corners, const PieceFra
         queue_.push_back(j);
       }
     }
+    // These regions may miss the piece: clip them by every neighbour.
+    skip_non_candidates_ = false;
     walk(tried, out);
   }
 }

@@ -48,9 +48,11 @@ class EnvelopeIntegrator {
  public:
   /// Adds the integral of phi_cell over the convex polygon `corners` (counter-clockwise, in
   /// `frame`), its first moment and its area. `planes` lists the cell's planes that may be the
-  /// minimum somewhere in the overlap (any superset of those is right, only slower).
+  /// minimum somewhere in the overlap (any superset of those is right, only slower);
+  /// `is_candidate[l]` is non-zero for exactly the planes l in `planes`.
   void integrate(std::span<const Vec2> corners, const PieceFrame& frame, const Cell& cell,
-                 std::span<const int> planes, PieceIntegrals& out);
+                 std::span<const int> planes, std::span<const char> is_candidate,
+                 PieceIntegrals& out);
 
  private:
   // term_l(u, v) = a + g.(u, v) on the piece's plane.
@@ -77,6 +79,8 @@ class EnvelopeIntegrator {
   std::span<const Vec2> corners_;
   const PieceFrame* frame_ = nullptr;
   const Cell* cell_ = nullptr;
+  std::span<const char> is_candidate_;
+  bool skip_non_candidates_ = true;  // region k is known to meet the piece
 
   std::vector<Term> terms_;
   std::vector<std::uint64_t> stamp_;  // stamp_[l] == piece_: term l is made for this piece
