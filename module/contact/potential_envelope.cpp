@@ -38,9 +38,8 @@ void integrateLinear(std::span<const Vec2> corners, std::span<const double> valu
   }
 }
 
-const EnvelopeIntegrator::Term& EnvelopeIntegrator::term(int l) {
+const EnvelopeIntegrator::Term& EnvelopeIntegrator::makeTerm(int l) {
   Term& t = terms_[l];
-  if (stamp_[l] == piece_) return t;
   stamp_[l] = piece_;
   // term_l(x) = (offset - n.x) s with x = origin + u e1 + v e2.
   const CellPlane& p = cell_->planes[l];
@@ -60,7 +59,7 @@ void EnvelopeIntegrator::reserve(std::size_t n) {
   region_values_.resize(size);
 }
 
-bool EnvelopeIntegrator::clip(const Vec2& g, double c, int label) {
+inline bool EnvelopeIntegrator::clip(const Vec2& g, double c, int label) {
   // The buffers hold the piece plus one corner per cut (reserved by buildRegion).
   const std::size_t n = poly_n_;
   double* h = h_.data();
@@ -70,11 +69,17 @@ bool EnvelopeIntegrator::clip(const Vec2& g, double c, int label) {
     h[i] = g.x() * poly[i].x() + g.y() * poly[i].y() + c;
     n_out += h[i] > 0.0;
   }
-  if (n_out == 0) return true;
+  return n_out == 0 || cut(n_out, label);
+}
+
+bool EnvelopeIntegrator::cut(std::size_t n_out, int label) {
+  const std::size_t n = poly_n_;
   if (n_out == n) {
     poly_n_ = 0;
     return false;
   }
+  const double* h = h_.data();
+  const Vec2* poly = poly_.data();
   // Sutherland-Hodgman as geometry::ConvexPolygonClipper (corners on the line kept, no new
   // corner next to them), carrying the edge labels: a kept edge keeps its label, the new edge
   // gets `label`.
