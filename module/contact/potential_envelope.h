@@ -5,7 +5,8 @@
 // The piece is a convex polygon in the plane of one face, in 2D coordinates of that plane; there
 // every term is an affine function of (u, v). Region k on the piece is the piece clipped by
 // term_k <= term_l for the planes l that may bound k's region: its neighbours in the cell's
-// nearest-face partition (geometry::FaceRegions) when the cell has one, else every candidate.
+// nearest-face partition (geometry::FaceRegions) that are candidates of the pair when the cell
+// has one, else every candidate.
 // Only regions that exist are built: a walk starts at the plane smallest at the piece's centre,
 // each region's polygon remembers which plane made each of its edges, and those planes are
 // visited next. Should the walk miss a region (two bisectors meeting the piece's plane in one
