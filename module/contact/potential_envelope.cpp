@@ -149,7 +149,8 @@ double EnvelopeIntegrator::walk(std::size_t from, PieceIntegrals& out) {
     area += out.area - before;
     for (std::size_t i = 0; i < poly_n_; ++i) {
       const int l = labels_[i];
-      if (l >= 0 && std::find(queue_.begin(), queue_.end(), l) == queue_.end()) {
+      if (l >= 0 && queued_[l] != piece_) {
+        queued_[l] = piece_;
         queue_.push_back(l);
       }
     }
@@ -168,6 +169,7 @@ void EnvelopeIntegrator::integrate(std::span<const Vec2> corners, const PieceFra
   const std::size_t m = cell.planes.size();
   if (stamp_.size() < m) {
     stamp_.resize(m, 0);
+    queued_.resize(m, 0);
     terms_.resize(m);
   }
   Vec2 mean = Vec2::Zero();
@@ -190,6 +192,7 @@ void EnvelopeIntegrator::integrate(std::span<const Vec2> corners, const PieceFra
     candidates_.assign(planes.begin(), planes.end());
   }
   queue_.assign(1, best);
+  queued_[best] = piece_;
   skip_non_candidates_ = true;
   double covered = walk(0, out);
   // The walk crosses from region to region along edges. Should it have missed one (two
@@ -198,7 +201,8 @@ void EnvelopeIntegrator::integrate(std::span<const Vec2> corners, const PieceFra
   if (covered < polygonArea(corners) * (1.0 - 1e-12)) {
     const std::size_t tried = queue_.size();
     for (int j : planes) {
-      if (std::find(queue_.begin(), queue_.begin() + tried, j) == queue_.begin() + tried) {
+      if (queued_[j] != piece_) {
+        queued_[j] = piece_;
         queue_.push_back(j);
       }
     }

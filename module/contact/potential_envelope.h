@@ -89,7 +89,8 @@ class EnvelopeIntegrator {
   bool skip_non_candidates_ = true;  // region k is known to meet the piece
 
   std::vector<Term> terms_;
-  std::vector<std::uint64_t> stamp_;  // stamp_[l] == piece_: term l is made for this piece
+  std::vector<std::uint64_t> stamp_;   // stamp_[l] == piece_: term l is made for this piece
+  std::vector<std::uint64_t> queued_;  // queued_[l] == piece_: l is in queue_
   std::uint64_t piece_ = 0;
 
   std::vector<int> candidates_, queue_;
