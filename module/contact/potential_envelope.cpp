@@ -38,9 +38,8 @@ void integrateLinear(std::span<const Vec2> corners, std::span<const double> valu
   }
 }
 
-const EnvelopeIntegrator::Term& EnvelopeIntegrator::term(int l) {
+const EnvelopeIntegrator::Term& EnvelopeIntegrator::makeTerm(int l) {
   Term& t = terms_[l];
-  if (stamp_[l] == piece_) return t;
   stamp_[l] = piece_;
   // term_l(x) = (offset - n.x) s with x = origin + u e1 + v e2.
   const CellPlane& p = cell_->planes[l];
@@ -60,7 +59,7 @@ void EnvelopeIntegrator::reserve(std::size_t n) {
   region_values_.resize(size);
 }
 
-bool EnvelopeIntegrator::clip(const Vec2& g, double c, int label) {
+inline bool EnvelopeIntegrator::clip(const Vec2& g, double c, int label) {
   // The buffers hold the piece plus one corner per cut (reserved by buildRegion).
   const std::size_t n = poly_n_;
   double* h = h_.data();
@@ -70,11 +69,17 @@ bool EnvelopeIntegrator::clip(const Vec2& g, double c, int label) {
     h[i] = g.x() * poly[i].x() + g.y() * poly[i].y() + c;
     n_out += h[i] > 0.0;
   }
-  if (n_out == 0) return true;
+  return n_out == 0 || cut(n_out, label);
+}
+
+bool EnvelopeIntegrator::cut(std::size_t n_out, int label) {
+  const std::size_t n = poly_n_;
   if (n_out == n) {
     poly_n_ = 0;
     return false;
   }
+  const double* h = h_.data();
+  const Vec2* poly = poly_.data();
   // Sutherland-Hodgman as geometry::ConvexPolygonClipper (corners on the line kept, no new
   // corner next to them), carrying the edge labels: a kept edge keeps its label, the new edge
   // gets `label`.
@@ -111,7 +116,12 @@ bool EnvelopeIntegrator::buildRegion(int k, std::span<const int> others) {
   poly_n_ = n;
   const Term tk = term(k);
   for (int l : others) {
-    if (l == k) continue;
+    // A neighbour that is no candidate of the pair bounds region k nowhere in the overlap, when
+    // region k meets the piece (the walk visits only such k): on the segment of the piece from
+    // a point of region k to a point outside, the first bisector crossed is that of a
+    // neighbour m with term_m = term_k = phi <= the pair's bound at the crossing, so m is a
+    // candidate, and term_k > term_m from there on: m's clip removes the point already.
+    if (l == k || (skip_non_candidates_ && !is_candidate_[l])) continue;
     // Zhao eq. 8: term_k - term_l <= 0 (a plane below term_k at no corner leaves it whole).
     const Term& tl = term(l);
     if (!clip(tk.g - tl.g, tk.a - tl.a, l)) return false;
@@ -139,7 +149,8 @@ double EnvelopeIntegrator::walk(std::size_t from, PieceIntegrals& out) {
     area += out.area - before;
     for (std::size_t i = 0; i < poly_n_; ++i) {
       const int l = labels_[i];
-      if (l >= 0 && std::find(queue_.begin(), queue_.end(), l) == queue_.end()) {
+      if (l >= 0 && queued_[l] != piece_) {
+        queued_[l] = piece_;
         queue_.push_back(l);
       }
     }
@@ -149,14 +160,16 @@ double EnvelopeIntegrator::walk(std::size_t from, PieceIntegrals& out) {
 
 void EnvelopeIntegrator::integrate(std::span<const Vec2> corners, const PieceFrame& frame,
                                    const Cell& cell, std::span<const int> planes,
-                                   PieceIntegrals& out) {
+                                   std::span<const char> is_candidate, PieceIntegrals& out) {
   corners_ = corners;
   frame_ = &frame;
   cell_ = &cell;
+  is_candidate_ = is_candidate;
   ++piece_;  // a fresh stamp: no term is made yet
   const std::size_t m = cell.planes.size();
   if (stamp_.size() < m) {
     stamp_.resize(m, 0);
+    queued_.resize(m, 0);
     terms_.resize(m);
   }
   Vec2 mean = Vec2::Zero();
@@ -179,6 +192,8 @@ void EnvelopeIntegrator::integrate(std::span<const Vec2> corners, const PieceFra
     candidates_.assign(planes.begin(), planes.end());
   }
   queue_.assign(1, best);
+  queued_[best] = piece_;
+  skip_non_candidates_ = true;
   double covered = walk(0, out);
   // The walk crosses from region to region along edges. Should it have missed one (two
   // bisectors meeting the piece's plane in the same line), the area says so: then every plane
@@ -186,10 +201,13 @@ void EnvelopeIntegrator::integrate(std::span<const Vec2> corners, const PieceFra
   if (covered < polygonArea(corners) * (1.0 - 1e-12)) {
     const std::size_t tried = queue_.size();
     for (int j : planes) {
-      if (std::find(queue_.begin(), queue_.begin() + tried, j) == queue_.begin() + tried) {
+      if (queued_[j] != piece_) {
+        queued_[j] = piece_;
         queue_.push_back(j);
       }
     }
+    // These regions may miss the piece: clip them by every neighbour.
+    skip_non_candidates_ = false;
     walk(tried, out);
   }
 }

@@ -5,7 +5,8 @@
 // The piece is a convex polygon in the plane of one face, in 2D coordinates of that plane; there
 // every term is an affine function of (u, v). Region k on the piece is the piece clipped by
 // term_k <= term_l for the planes l that may bound k's region: its neighbours in the cell's
-// nearest-face partition (geometry::FaceRegions) when the cell has one, else every candidate.
+// nearest-face partition (geometry::FaceRegions) that are candidates of the pair when the cell
+// has one, else every candidate.
 // Only regions that exist are built: a walk starts at the plane smallest at the piece's centre,
 // each region's polygon remembers which plane made each of its edges, and those planes are
 // visited next. Should the walk miss a region (two bisectors meeting the piece's plane in one
@@ -48,9 +49,11 @@ class EnvelopeIntegrator {
  public:
   /// Adds the integral of phi_cell over the convex polygon `corners` (counter-clockwise, in
   /// `frame`), its first moment and its area. `planes` lists the cell's planes that may be the
-  /// minimum somewhere in the overlap (any superset of those is right, only slower).
+  /// minimum somewhere in the overlap (any superset of those is right, only slower);
+  /// `is_candidate[l]` is non-zero for exactly the planes l in `planes`.
   void integrate(std::span<const Vec2> corners, const PieceFrame& frame, const Cell& cell,
-                 std::span<const int> planes, PieceIntegrals& out);
+                 std::span<const int> planes, std::span<const char> is_candidate,
+                 PieceIntegrals& out);
 
  private:
   // term_l(u, v) = a + g.(u, v) on the piece's plane.
@@ -58,8 +61,10 @@ class EnvelopeIntegrator {
     double a = 0.0;
     Vec2 g = Vec2::Zero();
   };
-  // Term l on this piece, made on first use.
-  const Term& term(int l);
+  // Term l on this piece, made on first use (the look-up is inline: a region asks for each of
+  // its neighbours' terms, most of them made already).
+  const Term& term(int l) { return stamp_[l] == piece_ ? terms_[l] : makeTerm(l); }
+  const Term& makeTerm(int l);
   // Region k on the piece: the piece clipped by term_k <= term_l for the planes l in `others`.
   // Returns false when nothing is left.
   bool buildRegion(int k, std::span<const int> others);
@@ -70,16 +75,22 @@ class EnvelopeIntegrator {
   double walk(std::size_t from, PieceIntegrals& out);
   // Grows the polygon buffers to hold n corners (they never shrink).
   void reserve(std::size_t n);
-  // Keeps the part of poly_ where g.y + c <= 0; the new edge is labelled `label`.
+  // Keeps the part of poly_ where g.y + c <= 0; the new edge is labelled `label`. Most clips
+  // cut nothing (61-83 %, docs/kernels/distance-potential.md): that test is inline, the cut not.
   bool clip(const Vec2& g, double c, int label);
+  // The cut of clip(), given the corners' values in h_ and n_out > 0 of them outside.
+  bool cut(std::size_t n_out, int label);
 
   // The piece being integrated.
   std::span<const Vec2> corners_;
   const PieceFrame* frame_ = nullptr;
   const Cell* cell_ = nullptr;
+  std::span<const char> is_candidate_;
+  bool skip_non_candidates_ = true;  // region k is known to meet the piece
 
   std::vector<Term> terms_;
-  std::vector<std::uint64_t> stamp_;  // stamp_[l] == piece_: term l is made for this piece
+  std::vector<std::uint64_t> stamp_;   // stamp_[l] == piece_: term l is made for this piece
+  std::vector<std::uint64_t> queued_;  // queued_[l] == piece_: l is in queue_
   std::uint64_t piece_ = 0;
 
   std::vector<int> candidates_, queue_;

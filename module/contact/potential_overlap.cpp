@@ -113,18 +113,26 @@ void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other, bool on_a,
   }
 }
 
-double OverlapIntegrator::selectCandidates(const Cell& cell, std::vector<int>& candidates) const {
+OverlapIntegrator::PoolSummary OverlapIntegrator::summarisePool() const {
+  PoolSummary p{Vec3::Zero(), pool_.front(), pool_.front()};
+  for (const Vec3& x : pool_) {
+    p.mean += x;
+    p.lo = p.lo.cwiseMin(x);
+    p.hi = p.hi.cwiseMax(x);
+  }
+  p.mean /= static_cast<double>(pool_.size());
+  return p;
+}
+
+double OverlapIntegrator::selectCandidates(const Cell& cell, const PoolSummary& pool,
+                                           std::vector<int>& candidates,
+                                           std::vector<char>& is_candidate) const {
   // phi = min_j term_j, each term linear, so over the overlap (the convex hull of pool_) phi <=
   // max over pool_ of term_k for any k =: bound, k the smallest term at the pool's mean; plane j
   // can be the minimum somewhere only if its smallest term over the overlap is <= bound, and the
-  // pool's box bounds that from below. Each piece narrows the list further (EnvelopeIntegrator).
-  Vec3 mean = Vec3::Zero(), lo = pool_.front(), hi = pool_.front();
-  for (const Vec3& x : pool_) {
-    mean += x;
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
-  }
-  mean /= static_cast<double>(pool_.size());
+  // pool's box bounds that from below. Each region of the piece split is clipped only by
+  // candidates (EnvelopeIntegrator).
+  const Vec3& mean = pool.mean;
   const std::size_t m = cell.planes.size();
   std::size_t best = 0;
   double best_term = cell.planes[0].term(mean);
@@ -137,13 +145,15 @@ double OverlapIntegrator::selectCandidates(const Cell& cell, std::vector<int>& c
   }
   double bound = -std::numeric_limits<double>::infinity();
   for (const Vec3& x : pool_) bound = std::max(bound, cell.planes[best].term(x));
-  const Vec3 centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  const Vec3 centre = 0.5 * (pool.lo + pool.hi), half = 0.5 * (pool.hi - pool.lo);
   candidates.clear();
+  is_candidate.resize(m);
   for (std::size_t j = 0; j < m; ++j) {
     const CellPlane& p = cell.planes[j];
     const double box_low =
         (p.offset - p.normal.dot(centre) - p.normal.cwiseAbs().dot(half)) * p.inv_scale;
-    if (box_low <= bound) candidates.push_back(static_cast<int>(j));
+    is_candidate[j] = box_low <= bound;
+    if (is_candidate[j]) candidates.push_back(static_cast<int>(j));
   }
   return bound;
 }
@@ -159,8 +169,9 @@ PairInfo OverlapIntegrator::add(const Cell& a, const Cell& b, const Vec3& lo, co
   clipFaces(b, a, false, lo, hi);
   if (pieces_.empty()) return info;
   info.found = true;
-  info.bound_a = selectCandidates(a, candidates_a_);
-  info.bound_b = selectCandidates(b, candidates_b_);
+  const PoolSummary pool = summarisePool();
+  info.bound_a = selectCandidates(a, pool, candidates_a_, is_candidate_a_);
+  info.bound_b = selectCandidates(b, pool, candidates_b_, is_candidate_b_);
 
   for (const Piece& piece : pieces_) {
     // On A's surface: n = A's face normal, phi_A = 0, integrand -n phi_B; on B's: n phi_A.
@@ -170,7 +181,8 @@ PairInfo OverlapIntegrator::add(const Cell& a, const Cell& b, const Vec3& lo, co
     PieceIntegrals part;
     envelope_.integrate(
         std::span<const Vec2>(flat_pool_.data() + piece.begin, piece.end - piece.begin),
-        piece.frame, other, piece.on_a ? candidates_b_ : candidates_a_, part);
+        piece.frame, other, piece.on_a ? candidates_b_ : candidates_a_,
+        piece.on_a ? is_candidate_b_ : is_candidate_a_, part);
     // The first moment in space: integral of x phi = origin I + e1 I_u + e2 I_v.
     const PieceFrame& f = piece.frame;
     const Vec3 first_moment =

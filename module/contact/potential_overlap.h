@@ -71,9 +71,15 @@ class OverlapIntegrator {
   // Bit k set: corner v of own lies outside the other's plane k (computed once per pair).
   const std::uint64_t* outsideMask(const Cell& own, const Cell& other, int v);
   void clipFaces(const Cell& own, const Cell& other, bool on_a, const Vec3& lo, const Vec3& hi);
+  // The mean and the box of pool_ (the overlap's boundary corners), shared by both cells.
+  struct PoolSummary {
+    Vec3 mean, lo, hi;
+  };
+  PoolSummary summarisePool() const;
   // Candidates of `cell`: planes whose term can be the minimum somewhere in the overlap (a cheap
-  // superset). Returns an upper bound of phi_cell over the overlap.
-  double selectCandidates(const Cell& cell, std::vector<int>& candidates) const;
+  // superset), listed and flagged per plane. Returns an upper bound of phi_cell over the overlap.
+  double selectCandidates(const Cell& cell, const PoolSummary& pool, std::vector<int>& candidates,
+                          std::vector<char>& is_candidate) const;
 
   geometry::ConvexPolygonClipper clipper_;
   EnvelopeIntegrator envelope_;
@@ -81,6 +87,7 @@ class OverlapIntegrator {
   std::vector<Vec2> flat_pool_;
   std::vector<Piece> pieces_;
   std::vector<int> candidates_a_, candidates_b_;
+  std::vector<char> is_candidate_a_, is_candidate_b_;
   std::vector<std::uint64_t> outside_, all_out_, any_out_;
   std::size_t words_ = 0;
   std::vector<char> known_;
