@@ -69,19 +69,6 @@ template <Emit kEmit, class Lanes>
   out.keep(w);
 }
 
-// Whether a sphere (centre t, radius t.r) can be within reach of any sphere of radius <= r_max
-// centred in the box [lo, hi]. Never false when withinReach() would be true for such a sphere:
-// each term below is, in floating point, at most the corresponding term of withinReach().
-inline bool boxWithinReach(const Probe& t, const Vec3& lo, const Vec3& hi, double r_max,
-                           double margin) {
-  // Distance to the box along each axis (0 inside); max() compiles to branch-free maxsd.
-  const double dx = std::max(std::max(lo.x() - t.x, t.x - hi.x()), 0.0);
-  const double dy = std::max(std::max(lo.y() - t.y, t.y - hi.y()), 0.0);
-  const double dz = std::max(std::max(lo.z() - t.z, t.z - hi.z()), 0.0);
-  const double reach = r_max + t.r + margin;
-  return dx * dx + dy * dy + dz * dz <= reach * reach;
-}
-
 // Advances `cursor` to the first cell at or after `from` and returns the end of the run of
 // cells in the same row as `from` with x <= x_last.
 inline std::size_t rowRun(std::span<const CellGrid::Cell> cells, const CellKey& from,
@@ -137,8 +124,9 @@ template <class Lanes>
 [[gnu::always_inline]] inline void searchAcrossRuns(const CellGrid& target, const CellGrid& queries,
                                                     double margin, PairWriter& out,
                                                     AcrossScratch& scratch) {
-  std::vector<std::int32_t>& found = scratch.found;
+  std::vector<AcrossScratch::Range>& found = scratch.found;
   std::vector<std::int32_t>& survivors = scratch.survivors;
+  constexpr std::int32_t kLanes = Lanes::kLanes;
   const Coords tcoords = target.coords();
   const Meta* tmeta = target.meta().data();
   const auto tcells = target.cells();
@@ -175,26 +163,40 @@ template <class Lanes>
     CellKey klo, khi;
     target.keysAround(lo, hi, r_max + reach_to_target, klo, khi);
     if (!(klo == last_lo && khi == last_hi)) {
-      // The target members in those cells, in one list.
+      // The target members in those cells, as ranges (cells adjacent in memory merged).
       found.clear();
+      std::size_t members = 0;
       for (std::int64_t z = klo.z; z <= khi.z; ++z) {
         for (std::int64_t y = klo.y; y <= khi.y; ++y) {
           for (std::int64_t x = klo.x; x <= khi.x; ++x) {
             const std::int32_t c = target.find({x, y, z});
             if (c < 0) continue;
-            for (std::int32_t t = tcells[c].begin; t < tcells[c].end; ++t) found.push_back(t);
+            members += static_cast<std::size_t>(tcells[c].end - tcells[c].begin);
+            if (!found.empty() && found.back().end == tcells[c].begin) {
+              found.back().end = tcells[c].end;
+            } else {
+              found.push_back({tcells[c].begin, tcells[c].end});
+            }
           }
         }
       }
       last_lo = klo;
       last_hi = khi;
-      survivors.resize(found.size());
+      survivors.resize(members + kLanes - 1);  // the last lanes of a range write past it
     }
-    // Members that can reach the run's box, kept without a branch on the outcome.
+    // Members that can reach the run's box, in the order of `found`, kept without a branch on
+    // the outcome; lanes past a range are masked off.
+    const QueryBox box{{lo.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), hi.z()}, r_max};
     std::size_t kept = 0;
-    for (const std::int32_t t : found) {
-      survivors[kept] = t;
-      kept += static_cast<std::size_t>(boxWithinReach(probeOf(tcoords, t), lo, hi, r_max, margin));
+    for (const AcrossScratch::Range& range : found) {
+      for (std::int32_t t = range.begin; t < range.end; t += kLanes) {
+        const std::int32_t valid = std::min(range.end - t, kLanes);
+        const std::uint32_t hits = Lanes::nearBox(tcoords, t, box, margin) & ((1u << valid) - 1u);
+        for (std::int32_t l = 0; l < kLanes; ++l) {
+          survivors[kept] = t + l;
+          kept += (hits >> l) & 1u;
+        }
+      }
     }
     for (std::size_t k = 0; k < kept; ++k) {
       const std::int32_t t = survivors[k];

@@ -9,6 +9,7 @@
 // that need it (a target attribute, not a build flag) and chosen at run time where the CPU has it.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -50,6 +51,25 @@ inline bool near(const Probe& a, const Coords& b, std::int32_t k, double margin)
   return withinReach(a.x, a.y, a.z, a.r, b.x[k], b.y[k], b.z[k], b.r[k], margin);
 }
 
+/// The centres and largest radius of a run of queries (the cross-level search).
+struct QueryBox {
+  double lo[3], hi[3];
+  double r_max;
+};
+
+/// Whether member k of `t` can be within reach of any sphere of radius <= box.r_max centred in
+/// the box. Never false when withinReach() would be true for such a sphere: each term below is,
+/// in floating point, at most the corresponding term of withinReach(). The vector versions do
+/// the same operations (maxpd for std::max: the same values for finite inputs).
+inline bool nearBox(const Coords& t, std::int32_t k, const QueryBox& box, double margin) {
+  // Distance to the box along each axis (0 inside).
+  const double dx = std::max(std::max(box.lo[0] - t.x[k], t.x[k] - box.hi[0]), 0.0);
+  const double dy = std::max(std::max(box.lo[1] - t.y[k], t.y[k] - box.hi[1]), 0.0);
+  const double dz = std::max(std::max(box.lo[2] - t.z[k], t.z[k] - box.hi[2]), 0.0);
+  const double reach = box.r_max + t.r[k] + margin;
+  return dx * dx + dy * dy + dz * dz <= reach * reach;
+}
+
 /// near() for members k and k + 1 of `b`: bit l for member k + l.
 struct TwoLanes {
   static constexpr std::int32_t kLanes = 2;
@@ -66,6 +86,30 @@ struct TwoLanes {
 #else
     return static_cast<std::uint32_t>(detail::near(a, b, k, margin)) |
            static_cast<std::uint32_t>(detail::near(a, b, k + 1, margin)) << 1;
+#endif
+  }
+
+  /// nearBox() for members k and k + 1 of `t`: bit l for member k + l.
+  static std::uint32_t nearBox(const Coords& t, std::int32_t k, const QueryBox& box,
+                               double margin) {
+#if defined(__SSE2__)
+    const __m128d zero = _mm_setzero_pd();
+    auto axis = [&](const double* c, double lo, double hi) {
+      const __m128d v = _mm_loadu_pd(c + k);
+      return _mm_max_pd(_mm_max_pd(_mm_sub_pd(_mm_set1_pd(lo), v), _mm_sub_pd(v, _mm_set1_pd(hi))),
+                        zero);
+    };
+    const __m128d dx = axis(t.x, box.lo[0], box.hi[0]);
+    const __m128d dy = axis(t.y, box.lo[1], box.hi[1]);
+    const __m128d dz = axis(t.z, box.lo[2], box.hi[2]);
+    const __m128d reach =
+        _mm_add_pd(_mm_add_pd(_mm_set1_pd(box.r_max), _mm_loadu_pd(t.r + k)), _mm_set1_pd(margin));
+    const __m128d d2 =
+        _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
+    return static_cast<std::uint32_t>(_mm_movemask_pd(_mm_cmple_pd(d2, _mm_mul_pd(reach, reach))));
+#else
+    return static_cast<std::uint32_t>(detail::nearBox(t, k, box, margin)) |
+           static_cast<std::uint32_t>(detail::nearBox(t, k + 1, box, margin)) << 1;
 #endif
   }
 };
@@ -107,6 +151,20 @@ struct FourLanes {
         _mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_mul_pd(reach, reach), _CMP_LE_OS)));
   }
 
+  /// nearBox() for members k .. k + 3 of `t`: bit l for member k + l.
+  [[gnu::target("avx2")]] static std::uint32_t nearBox(const Coords& t, std::int32_t k,
+                                                       const QueryBox& box, double margin) {
+    const __m256d dx = gap(t.x + k, box.lo[0], box.hi[0]);
+    const __m256d dy = gap(t.y + k, box.lo[1], box.hi[1]);
+    const __m256d dz = gap(t.z + k, box.lo[2], box.hi[2]);
+    const __m256d reach = _mm256_add_pd(
+        _mm256_add_pd(_mm256_set1_pd(box.r_max), _mm256_loadu_pd(t.r + k)), _mm256_set1_pd(margin));
+    const __m256d d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                     _mm256_mul_pd(dz, dz));
+    return static_cast<std::uint32_t>(
+        _mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_mul_pd(reach, reach), _CMP_LE_OS)));
+  }
+
   /// Writes the pairs (a_pos, k + l) of the lanes l set in `hits` (4 bits), in lane order, at
   /// `w` and returns the end of them: the four pairs are built in one register, the hits moved
   /// to its front by a permutation chosen by the mask, and all 32 bytes stored (room for four
@@ -123,6 +181,15 @@ struct FourLanes {
         _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompress[hits].data()));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(w), _mm256_permutevar8x32_epi32(pairs, order));
     return w + ((0x4332322132212110ull >> (4 * hits)) & 0xF);  // + the number of bits set
+  }
+
+ private:
+  // Distance along one axis from four coordinates at c to [lo, hi] (0 inside).
+  [[gnu::target("avx2")]] static __m256d gap(const double* c, double lo, double hi) {
+    const __m256d v = _mm256_loadu_pd(c);
+    return _mm256_max_pd(
+        _mm256_max_pd(_mm256_sub_pd(_mm256_set1_pd(lo), v), _mm256_sub_pd(v, _mm256_set1_pd(hi))),
+        _mm256_setzero_pd());
   }
 };
 #endif
