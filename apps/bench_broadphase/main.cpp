@@ -5,7 +5,7 @@
 //
 //   bench_broadphase [--n 1000,2000,...] [--layout pockets|sprinkle] [--big-fraction 0.1]
 //                    [--repeats 10] [--rounds 5] [--margin 0] [--shuffle | --sort-cells]
-//                    [--ground]
+//                    [--ground] [--lanes 2|4]
 //                    [--methods multilevel,nbs] [--nbs-max-n N] [--json FILE]
 #include <time.h>  // clock_gettime (POSIX)
 
@@ -23,6 +23,7 @@
 #include "cube_layer.h"
 #include "polydem/broadphase/broad_phase.h"
 #include "polydem/broadphase/multilevel_grid.h"
+#include "polydem/broadphase/sphere_tests.h"
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
 
@@ -42,6 +43,7 @@ struct Options {
   std::vector<std::string> methods = {"multilevel", "nbs"};
   long nbs_max_n = std::numeric_limits<long>::max();
   std::string json;
+  int lanes = 0;  // 0: the default width
 };
 
 std::vector<std::string> splitList(const std::string& s) {
@@ -81,6 +83,10 @@ Options parse(int argc, char** argv) {
       o.scene.shuffle = true;
     } else if (arg == "--sort-cells") {
       o.scene.sort_cells = true;
+    } else if (arg == "--lanes") {
+      // Width of the sphere tests (default: the widest the CPU runs); 2 measures the SSE2 path.
+      o.lanes = std::stoi(value());
+      if (o.lanes != 2 && o.lanes != 4) throw Error("bench_broadphase: --lanes is 2 or 4");
     } else if (arg == "--ground") {
       o.scene.ground = true;
     } else if (arg == "--methods") {
@@ -178,6 +184,10 @@ std::string levelsText(const BroadPhase& bp) {
 }
 
 int run(const Options& o) {
+  if (o.lanes != 0) {
+    polydem::broadphase::detail::setTestLanes(
+        static_cast<polydem::broadphase::detail::TestLanes>(o.lanes));
+  }
   const auto& sc = o.scene;
   std::printf(
       "P-BROADPHASE (Zhao 5.5, table 7): cubes of 1.0 m and 0.1 m edge, %.0f%% big by "
@@ -187,8 +197,8 @@ int run(const Options& o) {
       sc.ground ? ", ground slab" : "", o.margin);
   std::printf(
       "CPU time of one detection: the fastest of %d rounds of %d detections; ms/10 is "
-      "ten times that\n\n",
-      o.rounds, o.repeats);
+      "ten times that; %d-lane sphere tests\n\n",
+      o.rounds, o.repeats, static_cast<int>(polydem::broadphase::detail::testLanes()));
   std::printf("%8s %9s", "N", "pairs");
   for (const auto& m : o.methods) {
     std::printf(" | %10s %8s %8s %7s", (m + " ms").c_str(), "ms/10", "ns/part", "growth");
@@ -238,7 +248,8 @@ int run(const Options& o) {
                          {"big_fraction", sc.big_fraction},
                          {"ground", sc.ground},
                          {"shuffled", sc.shuffle},
-                         {"sorted_cells", sc.sort_cells}});
+                         {"sorted_cells", sc.sort_cells},
+                         {"lanes", static_cast<int>(polydem::broadphase::detail::testLanes())}});
     }
     std::printf("%8d %9zu", n, pairs);
     for (std::size_t k = 0; k < o.methods.size(); ++k) {

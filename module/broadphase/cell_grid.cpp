@@ -54,13 +54,6 @@ void prefetchMember(const SphereSet& spheres, std::int32_t m) {
 
 void CellGrid::build(const SphereSet& spheres, std::span<const std::int32_t> members, double reach,
                      const SceneBounds& bounds, bool lookup) {
-  max_radius_ = 0.0;
-  min_radius_ = members.empty() ? 0.0 : std::numeric_limits<double>::infinity();
-  for (const std::int32_t m : members) {
-    max_radius_ = std::max(max_radius_, spheres.radii[m]);
-    min_radius_ = std::min(min_radius_, spheres.radii[m]);
-  }
-
   // Edge: at least the reach, never so small that the cell coordinates of the scene overflow,
   // and enlarged by the rounding slack of (x - x0) * (1 / edge) over the whole extent (a centre
   // is at most `cells_across` cells from the origin, each product has 3 roundings).
@@ -82,7 +75,12 @@ void CellGrid::build(const SphereSet& spheres, std::span<const std::int32_t> mem
   box_cells_ = double(nx_) * double(ny_) * double(nz_);
   key_bits_ = box_cells_ < 0x1.0p62 ? std::bit_width(static_cast<std::uint64_t>(box_cells_)) : 0;
 
+  // The largest and smallest radius are taken in gather(), which reads every member's radius
+  // anyway: one pass less over the SphereSet.
+  max_radius_ = 0.0;
+  min_radius_ = std::numeric_limits<double>::infinity();
   sortMembers(spheres, members);
+  if (members.empty()) min_radius_ = 0.0;
   if (lookup) buildLookup();
 }
 
@@ -136,7 +134,10 @@ void CellGrid::gather(const SphereSet& spheres, std::size_t p, std::int32_t m) {
   x_[p] = c.x();
   y_[p] = c.y();
   z_[p] = c.z();
-  r_[p] = spheres.radii[m];
+  const double r = spheres.radii[m];
+  r_[p] = r;
+  max_radius_ = std::max(max_radius_, r);
+  min_radius_ = std::min(min_radius_, r);
   meta_[p] = {spheres.uids[m], m, spheres.active[m]};
 }
 

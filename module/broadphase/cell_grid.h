@@ -34,16 +34,16 @@
 namespace polydem::broadphase::detail {
 
 /// The members' centres and radii as the inner loops read them: four parallel arrays in cell
-/// order, so that two consecutive members load as one 16-byte vector per coordinate. Each array
-/// has one entry of padding past the last member (kPad): a two-lane test may read it, and its
-/// outcome is discarded.
+/// order, so that two or four consecutive members load as one vector per coordinate
+/// (sphere_tests.h). Each array has three entries of padding past the last member (kPad): a
+/// four-lane test may read them, and their outcomes are discarded.
 struct Coords {
   const double* x;
   const double* y;
   const double* z;
   const double* r;
 };
-inline constexpr std::size_t kPad = 1;
+inline constexpr std::size_t kPad = 3;
 
 /// What a pair needs besides the geometry: its canonical order and whether it counts.
 struct Meta {

@@ -2,71 +2,40 @@
 
 #include <algorithm>
 #include <bit>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
-#include "polydem/broadphase/overlap.h"
+#include "polydem/broadphase/sphere_tests.h"
 
 namespace polydem::broadphase::detail {
 
 namespace {
 
-// A member of one grid held as the fixed side of a run of tests.
-struct Probe {
-  double x, y, z, r;
-};
-
-inline Probe probeOf(const Coords& c, std::int32_t k) {
-  return {c.x[k], c.y[k], c.z[k], c.r[k]};
-}
-
-inline bool near(const Probe& a, const Coords& b, std::int32_t k, double margin) {
-  return withinReach(a.x, a.y, a.z, a.r, b.x[k], b.y[k], b.z[k], b.r[k], margin);
-}
-
-// near() for members k and k + 1 of `b` at once: bit 0 for k, bit 1 for k + 1. The same IEEE
-// operations in the same order as withinReach() ((dx^2 + dy^2) + dz^2 against
-// ((r_a + r_b) + margin)^2, no FMA), lane by lane, so the same outcomes bit for bit; with SSE2
-// (every x86-64) one vector instruction does each operation for both.
-inline std::uint32_t near2(const Probe& a, const Coords& b, std::int32_t k, double margin) {
-#if defined(__SSE2__)
-  const __m128d dx = _mm_sub_pd(_mm_set1_pd(a.x), _mm_loadu_pd(b.x + k));
-  const __m128d dy = _mm_sub_pd(_mm_set1_pd(a.y), _mm_loadu_pd(b.y + k));
-  const __m128d dz = _mm_sub_pd(_mm_set1_pd(a.z), _mm_loadu_pd(b.z + k));
-  const __m128d reach =
-      _mm_add_pd(_mm_add_pd(_mm_set1_pd(a.r), _mm_loadu_pd(b.r + k)), _mm_set1_pd(margin));
-  const __m128d d2 =
-      _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
-  return static_cast<std::uint32_t>(_mm_movemask_pd(_mm_cmple_pd(d2, _mm_mul_pd(reach, reach))));
-#else
-  return static_cast<std::uint32_t>(near(a, b, k, margin)) |
-         static_cast<std::uint32_t>(near(a, b, k + 1, margin)) << 1;
-#endif
-}
-
 // Tests member a (at position a_pos of its grid) against the contiguous members [begin, end)
 // of the same grid or another one and writes the positions (a_pos, k) of the pairs found, to be
 // resolved later (PairWriter::resolve). Two ways, the same pairs in the same order:
-//  - kWritePerTest: two members at a time (near2()); each writes its pair and the end advances
-//    by the outcome, with no branch at all: best where a fair share of the tests hit (the
-//    multi-level grids, whose cells fit their members: about one test in six);
-//  - kMaskPerBlock: each block of 64 is tested (two at a time) into a bit mask, then only the
-//    hits are written:
-//    best where hits are rare (NBS cells sized for the largest member: one test in fifty).
+//  - kWritePerTest: Lanes::kLanes members at a time (sphere_tests.h); each writes its pair and the
+//    end advances by the outcome, with no branch at all: best where a fair share of the tests
+//    hit (the multi-level grids, whose cells fit their members: about one test in six);
+//  - kMaskPerBlock: each block of 64 is tested (kLanes at a time) into a bit mask, then only the
+//    hits are written: best where hits are rare (NBS cells sized for the largest member: one
+//    test in fifty).
 // A mispredicted branch on a test's outcome (hard to predict: a third hit among neighbours of one
-// size) costs more than either.
+// size) costs more than either. Lanes past `end` read the next cell or the padding (kPad).
+//
+// The searches below are templates on Lanes, always inlined, so that the four-lane versions are
+// compiled as a whole inside the entry points compiled for AVX2 (at the end of this file).
 enum class Emit { kWritePerTest, kMaskPerBlock };
 
-template <Emit kEmit>
-inline void testRange(const Probe& a, std::int32_t a_pos, const Coords& b, std::int32_t begin,
-                      std::int32_t end, double margin, PairWriter& out) {
+template <Emit kEmit, class Lanes>
+[[gnu::always_inline]] inline void testRange(const Probe& a, std::int32_t a_pos, const Coords& b,
+                                             std::int32_t begin, std::int32_t end, double margin,
+                                             PairWriter& out) {
+  constexpr std::int32_t kLanes = Lanes::kLanes;
   if (begin >= end) return;
-  CandidatePair* w = out.room(static_cast<std::size_t>(end - begin) + 1);
-  if constexpr (kEmit == Emit::kWritePerTest) {
+  CandidatePair* w = out.room(static_cast<std::size_t>(end - begin) + kLanes - 1);
+  if constexpr (kEmit == Emit::kWritePerTest && kLanes == 2) {
     std::uint32_t last = 0;
     for (std::int32_t k = begin; k < end; k += 2) {
-      const std::uint32_t hits = near2(a, b, k, margin);
+      const std::uint32_t hits = Lanes::near(a, b, k, margin);
       *w = {a_pos, k};
       w += hits & 1u;
       *w = {a_pos, k + 1};
@@ -76,14 +45,21 @@ inline void testRange(const Probe& a, std::int32_t a_pos, const Coords& b, std::
     // For an odd count the last lane lay past the range (next cell or padding): drop its pair,
     // the last one written.
     w -= last & static_cast<std::uint32_t>(end - begin);
+  } else if constexpr (kEmit == Emit::kWritePerTest) {
+    for (std::int32_t k = begin; k < end; k += kLanes) {
+      // Lanes past the range (the last group only) are masked off.
+      const std::int32_t valid = std::min(end - k, kLanes);
+      const std::uint32_t hits = Lanes::near(a, b, k, margin) & ((1u << valid) - 1u);
+      w = Lanes::writeHits(w, a_pos, k, hits);
+    }
   } else {
     for (std::int32_t block = begin; block < end; block += 64) {
       const std::int32_t n = std::min<std::int32_t>(64, end - block);
       std::uint64_t hits = 0;
-      for (std::int32_t k = 0; k < n; k += 2) {
-        hits |= static_cast<std::uint64_t>(near2(a, b, block + k, margin)) << k;
+      for (std::int32_t k = 0; k < n; k += kLanes) {
+        hits |= static_cast<std::uint64_t>(Lanes::near(a, b, block + k, margin)) << k;
       }
-      // For an odd n the last lane lay past the block: drop its bit.
+      // Lanes past the block (n not a multiple of kLanes) are dropped.
       hits &= n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1;
       for (; hits != 0; hits &= hits - 1) {
         *w++ = {a_pos, block + std::countr_zero(hits)};
@@ -91,19 +67,6 @@ inline void testRange(const Probe& a, std::int32_t a_pos, const Coords& b, std::
     }
   }
   out.keep(w);
-}
-
-// Whether a sphere (centre t, radius t.r) can be within reach of any sphere of radius <= r_max
-// centred in the box [lo, hi]. Never false when withinReach() would be true for such a sphere:
-// each term below is, in floating point, at most the corresponding term of withinReach().
-inline bool boxWithinReach(const Probe& t, const Vec3& lo, const Vec3& hi, double r_max,
-                           double margin) {
-  // Distance to the box along each axis (0 inside); max() compiles to branch-free maxsd.
-  const double dx = std::max(std::max(lo.x() - t.x, t.x - hi.x()), 0.0);
-  const double dy = std::max(std::max(lo.y() - t.y, t.y - hi.y()), 0.0);
-  const double dz = std::max(std::max(lo.z() - t.z, t.z - hi.z()), 0.0);
-  const double reach = r_max + t.r + margin;
-  return dx * dx + dy * dy + dz * dz <= reach * reach;
 }
 
 // Advances `cursor` to the first cell at or after `from` and returns the end of the run of
@@ -125,8 +88,9 @@ inline std::size_t rowRun(std::span<const CellGrid::Cell> cells, const CellKey& 
 // order too, so one cursor per offset walks the cell array once: no search, no hashing.
 constexpr std::int64_t kForwardRows[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
 
-template <Emit kEmit>
-void searchWithinCells(const CellGrid& grid, double margin, PairWriter& out) {
+template <Emit kEmit, class Lanes>
+[[gnu::always_inline]] inline void searchWithinCells(const CellGrid& grid, double margin,
+                                                     PairWriter& out) {
   const Coords coords = grid.coords();
   const Meta* meta = grid.meta().data();
   const auto cells = grid.cells();
@@ -141,7 +105,7 @@ void searchWithinCells(const CellGrid& grid, double margin, PairWriter& out) {
       block_end = cells[c + 1].end;
     }
     for (std::int32_t a = cell.begin; a < cell.end; ++a) {
-      testRange<kEmit>(probeOf(coords, a), a, coords, a + 1, block_end, margin, out);
+      testRange<kEmit, Lanes>(probeOf(coords, a), a, coords, a + 1, block_end, margin, out);
     }
     for (std::size_t r = 0; r < 4; ++r) {
       const CellKey from{key.x - 1, key.y + kForwardRows[r][0], key.z + kForwardRows[r][1]};
@@ -149,27 +113,20 @@ void searchWithinCells(const CellGrid& grid, double margin, PairWriter& out) {
       if (end == cursor[r]) continue;
       const std::int32_t begin = cells[cursor[r]].begin, stop = cells[end - 1].end;
       for (std::int32_t a = cell.begin; a < cell.end; ++a) {
-        testRange<kEmit>(probeOf(coords, a), a, coords, begin, stop, margin, out);
+        testRange<kEmit, Lanes>(probeOf(coords, a), a, coords, begin, stop, margin, out);
       }
     }
     out.resolve(first_pair, meta, meta);  // while this cell's members are in the cache
   }
 }
 
-}  // namespace
-
-void searchWithin(const CellGrid& grid, double margin, PairWriter& out) {
-  searchWithinCells<Emit::kWritePerTest>(grid, margin, out);
-}
-
-void searchWithinSparse(const CellGrid& grid, double margin, PairWriter& out) {
-  searchWithinCells<Emit::kMaskPerBlock>(grid, margin, out);
-}
-
-void searchAcross(const CellGrid& target, const CellGrid& queries, double margin, PairWriter& out,
-                  AcrossScratch& scratch) {
-  std::vector<std::int32_t>& found = scratch.found;
+template <class Lanes>
+[[gnu::always_inline]] inline void searchAcrossRuns(const CellGrid& target, const CellGrid& queries,
+                                                    double margin, PairWriter& out,
+                                                    AcrossScratch& scratch) {
+  std::vector<AcrossScratch::Range>& found = scratch.found;
   std::vector<std::int32_t>& survivors = scratch.survivors;
+  constexpr std::int32_t kLanes = Lanes::kLanes;
   const Coords tcoords = target.coords();
   const Meta* tmeta = target.meta().data();
   const auto tcells = target.cells();
@@ -206,54 +163,146 @@ void searchAcross(const CellGrid& target, const CellGrid& queries, double margin
     CellKey klo, khi;
     target.keysAround(lo, hi, r_max + reach_to_target, klo, khi);
     if (!(klo == last_lo && khi == last_hi)) {
-      // The target members in those cells, in one list.
+      // The target members in those cells, as ranges (cells adjacent in memory merged).
       found.clear();
+      std::size_t members = 0;
       for (std::int64_t z = klo.z; z <= khi.z; ++z) {
         for (std::int64_t y = klo.y; y <= khi.y; ++y) {
           for (std::int64_t x = klo.x; x <= khi.x; ++x) {
             const std::int32_t c = target.find({x, y, z});
             if (c < 0) continue;
-            for (std::int32_t t = tcells[c].begin; t < tcells[c].end; ++t) found.push_back(t);
+            members += static_cast<std::size_t>(tcells[c].end - tcells[c].begin);
+            if (!found.empty() && found.back().end == tcells[c].begin) {
+              found.back().end = tcells[c].end;
+            } else {
+              found.push_back({tcells[c].begin, tcells[c].end});
+            }
           }
         }
       }
       last_lo = klo;
       last_hi = khi;
-      survivors.resize(found.size());
+      survivors.resize(members + kLanes - 1);  // the last lanes of a range write past it
     }
-    // Members that can reach the run's box, kept without a branch on the outcome.
+    // Members that can reach the run's box, in the order of `found`, kept without a branch on
+    // the outcome; lanes past a range are masked off.
+    const QueryBox box{{lo.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), hi.z()}, r_max};
     std::size_t kept = 0;
-    for (const std::int32_t t : found) {
-      survivors[kept] = t;
-      kept += static_cast<std::size_t>(boxWithinReach(probeOf(tcoords, t), lo, hi, r_max, margin));
+    for (const AcrossScratch::Range& range : found) {
+      for (std::int32_t t = range.begin; t < range.end; t += kLanes) {
+        const std::int32_t valid = std::min(range.end - t, kLanes);
+        const std::uint32_t hits = Lanes::nearBox(tcoords, t, box, margin) & ((1u << valid) - 1u);
+        for (std::int32_t l = 0; l < kLanes; ++l) {
+          survivors[kept] = t + l;
+          kept += (hits >> l) & 1u;
+        }
+      }
     }
     for (std::size_t k = 0; k < kept; ++k) {
       const std::int32_t t = survivors[k];
-      testRange<Emit::kWritePerTest>(probeOf(tcoords, t), t, qcoords, qbegin, qend, margin, out);
+      testRange<Emit::kWritePerTest, Lanes>(probeOf(tcoords, t), t, qcoords, qbegin, qend, margin,
+                                            out);
     }
     out.resolve(first_pair, tmeta, qmeta);
   }
 }
 
-void searchWithinDirect(const CellGrid& grid, double margin, PairWriter& out) {
+template <class Lanes>
+[[gnu::always_inline]] inline void searchWithinAll(const CellGrid& grid, double margin,
+                                                   PairWriter& out) {
   const auto n = static_cast<std::int32_t>(grid.size());
   const Coords coords = grid.coords();
   const std::size_t first_pair = out.mark();
   for (std::int32_t a = 0; a < n; ++a) {
-    testRange<Emit::kWritePerTest>(probeOf(coords, a), a, coords, a + 1, n, margin, out);
+    testRange<Emit::kWritePerTest, Lanes>(probeOf(coords, a), a, coords, a + 1, n, margin, out);
   }
   out.resolve(first_pair, grid.meta().data(), grid.meta().data());
 }
 
-void searchAcrossDirect(const CellGrid& target, const CellGrid& queries, double margin,
-                        PairWriter& out) {
+template <class Lanes>
+[[gnu::always_inline]] inline void searchAcrossAll(const CellGrid& target, const CellGrid& queries,
+                                                   double margin, PairWriter& out) {
   const auto n = static_cast<std::int32_t>(queries.size());
   const Coords tcoords = target.coords();
   const std::size_t first_pair = out.mark();
   for (std::int32_t t = 0; t < static_cast<std::int32_t>(target.size()); ++t) {
-    testRange<Emit::kWritePerTest>(probeOf(tcoords, t), t, queries.coords(), 0, n, margin, out);
+    testRange<Emit::kWritePerTest, Lanes>(probeOf(tcoords, t), t, queries.coords(), 0, n, margin,
+                                          out);
   }
   out.resolve(first_pair, target.meta().data(), queries.meta().data());
+}
+
+#if POLYDEM_BROADPHASE_AVX2
+// The four-lane searches, compiled for AVX2 as a whole (the templates above are inlined here).
+// Called only where testLanes() is kFour, which needs a CPU with AVX2.
+[[gnu::target("avx2")]] void searchWithinFour(const CellGrid& grid, double margin,
+                                              PairWriter& out) {
+  searchWithinCells<Emit::kWritePerTest, FourLanes>(grid, margin, out);
+}
+[[gnu::target("avx2")]] void searchWithinSparseFour(const CellGrid& grid, double margin,
+                                                    PairWriter& out) {
+  searchWithinCells<Emit::kMaskPerBlock, FourLanes>(grid, margin, out);
+}
+[[gnu::target("avx2")]] void searchAcrossFour(const CellGrid& target, const CellGrid& queries,
+                                              double margin, PairWriter& out,
+                                              AcrossScratch& scratch) {
+  searchAcrossRuns<FourLanes>(target, queries, margin, out, scratch);
+}
+[[gnu::target("avx2")]] void searchWithinDirectFour(const CellGrid& grid, double margin,
+                                                    PairWriter& out) {
+  searchWithinAll<FourLanes>(grid, margin, out);
+}
+[[gnu::target("avx2")]] void searchAcrossDirectFour(const CellGrid& target, const CellGrid& queries,
+                                                    double margin, PairWriter& out) {
+  searchAcrossAll<FourLanes>(target, queries, margin, out);
+}
+#endif
+
+bool fourLanes() {
+#if POLYDEM_BROADPHASE_AVX2
+  return testLanes() == TestLanes::kFour;
+#else
+  return false;
+#endif
+}
+
+}  // namespace
+
+void searchWithin(const CellGrid& grid, double margin, PairWriter& out) {
+#if POLYDEM_BROADPHASE_AVX2
+  if (fourLanes()) return searchWithinFour(grid, margin, out);
+#endif
+  searchWithinCells<Emit::kWritePerTest, TwoLanes>(grid, margin, out);
+}
+
+void searchWithinSparse(const CellGrid& grid, double margin, PairWriter& out) {
+#if POLYDEM_BROADPHASE_AVX2
+  if (fourLanes()) return searchWithinSparseFour(grid, margin, out);
+#endif
+  searchWithinCells<Emit::kMaskPerBlock, TwoLanes>(grid, margin, out);
+}
+
+void searchAcross(const CellGrid& target, const CellGrid& queries, double margin, PairWriter& out,
+                  AcrossScratch& scratch) {
+#if POLYDEM_BROADPHASE_AVX2
+  if (fourLanes()) return searchAcrossFour(target, queries, margin, out, scratch);
+#endif
+  searchAcrossRuns<TwoLanes>(target, queries, margin, out, scratch);
+}
+
+void searchWithinDirect(const CellGrid& grid, double margin, PairWriter& out) {
+#if POLYDEM_BROADPHASE_AVX2
+  if (fourLanes()) return searchWithinDirectFour(grid, margin, out);
+#endif
+  searchWithinAll<TwoLanes>(grid, margin, out);
+}
+
+void searchAcrossDirect(const CellGrid& target, const CellGrid& queries, double margin,
+                        PairWriter& out) {
+#if POLYDEM_BROADPHASE_AVX2
+  if (fourLanes()) return searchAcrossDirectFour(target, queries, margin, out);
+#endif
+  searchAcrossAll<TwoLanes>(target, queries, margin, out);
 }
 
 }  // namespace polydem::broadphase::detail

@@ -18,12 +18,16 @@ void searchWithin(const CellGrid& grid, double margin, PairWriter& out);
 void searchWithinSparse(const CellGrid& grid, double margin, PairWriter& out);
 
 /// Every pair (q, t) within reach, q a member of `queries` and t a member of `target` (built
-/// with lookup). Taken a cell of `queries` at a time: the target cells around the box of that
-/// cell's centres are looked up once (and reused while consecutive cells need the same ones), a
-/// target member is first tested against the box, and only the members that can reach it are
-/// tested against each query of the cell. `scratch` is kept by the caller between calls.
+/// with lookup). Taken a run of cells of `queries` at a time: the target cells around the box of
+/// the run's centres are looked up once (and reused while consecutive runs need the same ones),
+/// their members are first tested against the box, and only the members that can reach it are
+/// tested against each query of the run. `scratch` is kept by the caller between calls.
 struct AcrossScratch {
-  std::vector<std::int32_t> found, survivors;
+  struct Range {
+    std::int32_t begin, end;  // target members, contiguous
+  };
+  std::vector<Range> found;             // the members of the target cells looked up
+  std::vector<std::int32_t> survivors;  // those that pass the box test
 };
 void searchAcross(const CellGrid& target, const CellGrid& queries, double margin, PairWriter& out,
                   AcrossScratch& scratch);

@@ -10,6 +10,7 @@
 
 #include "broadphase/scenes.h"
 #include "polydem/broadphase/overlap.h"
+#include "polydem/broadphase/sphere_tests.h"
 #include "polydem/core/error.h"
 
 namespace polydem::broadphase {
@@ -57,22 +58,64 @@ std::vector<CandidatePair> checkedSorted(const Scene& s, std::vector<CandidatePa
   return pairs;
 }
 
-std::vector<CandidatePair> run(const std::string& name, const BroadPhaseParams& params,
-                               const Scene& s, double margin) {
+// The pairs as the method returns them (its order).
+std::vector<CandidatePair> runUnsorted(const std::string& name, const BroadPhaseParams& params,
+                                       const Scene& s, double margin) {
   auto bp = makeBroadPhase(name, params);
   std::vector<CandidatePair> out = {{-1, -1}};  // must be cleared
   bp->findPairs(s.view(), margin, out);
   const auto stale = std::remove(out.begin(), out.end(), CandidatePair{-1, -1});
   EXPECT_TRUE(stale == out.end()) << name << " did not clear its output";
   out.erase(stale, out.end());
-  return checkedSorted(s, out, margin);
+  return out;
 }
 
-// Every grid finds exactly the pairs of the reference; returns how many there are.
+std::vector<CandidatePair> run(const std::string& name, const BroadPhaseParams& params,
+                               const Scene& s, double margin) {
+  return checkedSorted(s, runUnsorted(name, params, s, margin), margin);
+}
+
+// The sphere-test widths this CPU runs: two lanes (SSE2) always, four with AVX2.
+std::vector<detail::TestLanes> laneWidths() {
+  std::vector<detail::TestLanes> widths = {detail::TestLanes::kTwo};
+  if (detail::widestTestLanes() == detail::TestLanes::kFour) {
+    widths.push_back(detail::TestLanes::kFour);
+  }
+  return widths;
+}
+
+// Runs the searches with `lanes`-wide sphere tests while it lives.
+class LanesScope {
+ public:
+  explicit LanesScope(detail::TestLanes lanes) : saved_(detail::testLanes()) {
+    detail::setTestLanes(lanes);
+  }
+  ~LanesScope() { detail::setTestLanes(saved_); }
+  LanesScope(const LanesScope&) = delete;
+  LanesScope& operator=(const LanesScope&) = delete;
+
+ private:
+  detail::TestLanes saved_;
+};
+
+// Every grid finds exactly the pairs of the reference, with every width of sphere test, and in
+// the same order whatever the width; returns how many there are.
 std::size_t expectSameAsReference(const Scene& s, double margin, const std::string& what) {
   const auto reference = run("all-pairs", {}, s, margin);
   for (const Method& m : gridMethods()) {
-    EXPECT_EQ(run(m.name, m.params, s, margin), reference) << what << ": " << describe(m);
+    std::vector<CandidatePair> two_lanes;
+    for (const detail::TestLanes lanes : laneWidths()) {
+      const LanesScope scope(lanes);
+      const std::string where =
+          what + ": " + describe(m) + ", " + std::to_string(static_cast<int>(lanes)) + " lanes";
+      const auto pairs = runUnsorted(m.name, m.params, s, margin);
+      EXPECT_EQ(checkedSorted(s, pairs, margin), reference) << where;
+      if (lanes == detail::TestLanes::kTwo) {
+        two_lanes = pairs;
+      } else {
+        EXPECT_EQ(pairs, two_lanes) << where << ": not in the order of two lanes";
+      }
+    }
   }
   return reference.size();
 }
@@ -315,6 +358,18 @@ TEST(BroadPhase, RepeatedCallsGiveTheSameOutput) {
     bp->findPairs(s.view(), 0.05, second);
     EXPECT_EQ(first, second) << name;
   }
+}
+
+TEST(BroadPhase, SphereTestWidths) {
+  EXPECT_EQ(detail::testLanes(), detail::widestTestLanes());  // the widest by default
+  if (detail::widestTestLanes() == detail::TestLanes::kTwo) {
+    EXPECT_THROW(detail::setTestLanes(detail::TestLanes::kFour), Error);
+  }
+  for (const detail::TestLanes lanes : laneWidths()) {
+    const LanesScope scope(lanes);
+    EXPECT_EQ(detail::testLanes(), lanes);
+  }
+  EXPECT_EQ(detail::testLanes(), detail::widestTestLanes());
 }
 
 TEST(BroadPhase, NamesAndErrors) {
