@@ -34,7 +34,6 @@
 
 #include "polydem/contact/face_contact.h"
 #include "polydem/dynamics/contact_law.h"
-#include "polydem/dynamics/sub_contact_lanes.h"
 #include "polydem/particles/contact_history.h"
 
 namespace polydem::dynamics {
@@ -61,18 +60,11 @@ struct PairForce {
 /// One sub-contact's history as it leaves the step.
 using SubState = particles::SubEntry;
 
-/// Working space of subContactForces, kept by the caller between pairs so that the law
-/// allocates nothing once warm.
+/// Working space of subContactForces, one entry per sub-contact, kept by the caller between
+/// pairs so that the law allocates nothing once warm.
 struct SubContactScratch {
-  SubContactLanes lanes;             // the sub-contacts in compression, as lane arrays
-  std::vector<std::uint32_t> index;  // per lane: its position in FaceContact::subs
-  /// A lane that carries no shear of its own: a newcomer (no history: its share of the vanished
-  /// sub-contacts' shear) or a history without a normal (no shear yet).
-  struct Uncarried {
-    std::uint32_t lane = 0;
-    bool newcomer = false;
-  };
-  std::vector<Uncarried> uncarried;
+  std::vector<Vec3> carried;         // the shear a sub-contact brings into the step
+  std::vector<std::uint8_t> origin;  // where that shear comes from (sub_contact_law.cpp)
 };
 
 /// Advances the sub-contacts `fc` of one touching pair by one step. `old_keys`/`old` are the
