@@ -72,19 +72,10 @@ std::pair<std::size_t, std::size_t> ContactHistory::subRange(const PairKey& key)
   return {first, it == keys_.end() || *it != key ? first : sub_end_[k]};
 }
 
-void ContactHistory::appendSorted(const PairKey& key, const PairHistory& h) {
-  if (!keys_.empty() && !(keys_.back() < key)) {
-    throw Error("ContactHistory::appendSorted: keys must be strictly increasing");
-  }
-  keys_.push_back(key);
-  entries_.push_back(h);
-  sub_end_.push_back(subs_);
-}
-
 void ContactHistory::appendSubs(const PairKey& pair, std::span<const SubEntry> subs) {
   if (subs.empty()) return;
   if (keys_.empty() || keys_.back() != pair) {
-    throw Error("ContactHistory::appendSubs: sub-contacts of a pair other than the last appended");
+    refuse("appendSubs: sub-contacts of a pair other than the last appended");
   }
   const SubSlots slots = openSubs(subs.size());
   for (std::size_t i = 0; i < subs.size(); ++i) {
@@ -94,34 +85,13 @@ void ContactHistory::appendSubs(const PairKey& pair, std::span<const SubEntry> s
   closeSubs(subs.size());
 }
 
-SubSlots ContactHistory::openSubs(std::size_t count) {
-  if (keys_.empty() || open_ > 0) {
-    throw Error("ContactHistory::openSubs: no pair appended, or slots still open");
-  }
-  const std::size_t first = subs_;
-  if (sub_keys_.size() < first + count) {
-    sub_keys_.resize(first + count);
-    sub_entries_.resize(first + count);
-  }
-  for (std::size_t i = first; i < first + count; ++i) sub_keys_[i].pair = keys_.back();
-  open_ = count;
-  return {{sub_keys_.data() + first, count}, {sub_entries_.data() + first, count}};
+void ContactHistory::refuse(const char* what) {
+  throw Error(cat("ContactHistory::", what));
 }
 
-void ContactHistory::closeSubs(std::size_t used) {
-  const std::size_t first = subs_, last = first + used;
-  // The whole block of the pair, with what an earlier openSubs of the same pair kept.
-  const std::size_t block = subBegin(keys_.size() - 1);
-  bool increasing = used <= open_;
-  for (std::size_t i = std::max(first, block + 1); increasing && i < last; ++i) {
-    increasing = sub_keys_[i - 1].feature < sub_keys_[i].feature;
-  }
-  open_ = 0;
-  if (!increasing) {
-    throw Error("ContactHistory::closeSubs: more than were opened, or features not increasing");
-  }
-  subs_ = last;
-  sub_end_.back() = last;
+void ContactHistory::growSubs(std::size_t size) {
+  sub_keys_.resize(size);
+  sub_entries_.resize(size);
 }
 
 void ContactHistory::indexSubs() {
@@ -163,20 +133,6 @@ void ContactHistory::copyPair(std::size_t pair_index, HistoryRecords& records) c
                           sub_keys_.begin() + last);
   records.sub_entries.insert(records.sub_entries.end(), sub_entries_.begin() + first,
                              sub_entries_.begin() + last);
-}
-
-const PairHistory* ContactHistory::Cursor::seek(const PairKey& key) {
-  while (pos_ < h_.keys_.size() && h_.keys_[pos_] < key) ++pos_;
-  if (pos_ < h_.keys_.size() && h_.keys_[pos_] == key) return &h_.entries_[pos_];
-  return nullptr;
-}
-
-std::pair<std::span<const SubKey>, std::span<const SubHistory>> ContactHistory::Cursor::subs(
-    const PairKey& key) {
-  // Every sub-contact has its pair's entry (indexSubs), so a pair without one has none.
-  if (seek(key) == nullptr) return {};
-  const std::size_t first = h_.subBegin(pos_), count = h_.sub_end_[pos_] - first;
-  return {{h_.sub_keys_.data() + first, count}, {h_.sub_entries_.data() + first, count}};
 }
 
 }  // namespace polydem::particles

@@ -14,6 +14,7 @@
 // inputs, so both copies stay bit-for-bit equal.
 #pragma once
 
+#include <algorithm>
 #include <span>
 #include <utility>
 #include <vector>
@@ -124,10 +125,18 @@ class ContactHistory {
   class Cursor {
    public:
     explicit Cursor(const ContactHistory& h) : h_(h) {}
-    const PairHistory* seek(const PairKey& key);
+    const PairHistory* seek(const PairKey& key) {
+      while (pos_ < h_.keys_.size() && h_.keys_[pos_] < key) ++pos_;
+      return pos_ < h_.keys_.size() && h_.keys_[pos_] == key ? &h_.entries_[pos_] : nullptr;
+    }
     /// The sub-contacts of `key` (keys and entries, parallel), for keys visited in increasing
     /// order.
-    std::pair<std::span<const SubKey>, std::span<const SubHistory>> subs(const PairKey& key);
+    std::pair<std::span<const SubKey>, std::span<const SubHistory>> subs(const PairKey& key) {
+      // Every sub-contact has its pair's entry (indexSubs), so a pair without one has none.
+      if (seek(key) == nullptr) return {};
+      const std::size_t first = h_.subBegin(pos_), count = h_.sub_end_[pos_] - first;
+      return {{h_.sub_keys_.data() + first, count}, {h_.sub_entries_.data() + first, count}};
+    }
 
    private:
     const ContactHistory& h_;
@@ -135,6 +144,13 @@ class ContactHistory {
   };
 
  private:
+  /// Throws Error("ContactHistory::" + what); out of line, away from the step's inline calls.
+  [[noreturn]] static void refuse(const char* what);
+  /// Room for `size` sub-contacts (slots constructed once, then kept).
+  void growSubs(std::size_t size);
+  /// Whether the features of the last pair's block are strictly increasing up to `last`,
+  /// checking from `first` on (and the one before it, if the pair has it).
+  bool increasingFrom(std::size_t first, std::size_t last) const;
   /// First sub-contact of pair `k` (the end of the block of pair k - 1).
   std::size_t subBegin(std::size_t k) const { return k == 0 ? 0 : sub_end_[k - 1]; }
   /// Recomputes sub_end_ from the two sorted tables; throws if a sub-contact has no pair entry.
@@ -150,5 +166,43 @@ class ContactHistory {
   std::size_t subs_ = 0;
   std::size_t open_ = 0;  // slots handed out by openSubs, not yet closed
 };
+
+// The calls made for every pair of every step, inline.
+
+inline void ContactHistory::appendSorted(const PairKey& key, const PairHistory& h) {
+  if (!keys_.empty() && !(keys_.back() < key))
+    refuse("appendSorted: keys must be strictly increasing");
+  keys_.push_back(key);
+  entries_.push_back(h);
+  sub_end_.push_back(subs_);
+}
+
+inline SubSlots ContactHistory::openSubs(std::size_t count) {
+  if (keys_.empty() || open_ > 0) refuse("openSubs: no pair appended, or slots still open");
+  const std::size_t first = subs_;
+  if (sub_keys_.size() < first + count) growSubs(first + count);
+  const PairKey pair = keys_.back();
+  for (std::size_t i = first; i < first + count; ++i) sub_keys_[i].pair = pair;
+  open_ = count;
+  return {{sub_keys_.data() + first, count}, {sub_entries_.data() + first, count}};
+}
+
+inline bool ContactHistory::increasingFrom(std::size_t first, std::size_t last) const {
+  // The whole block of the pair, with what an earlier openSubs of the same pair kept.
+  const std::size_t block = subBegin(keys_.size() - 1);
+  for (std::size_t i = std::max(first, block + 1); i < last; ++i) {
+    if (!(sub_keys_[i - 1].feature < sub_keys_[i].feature)) return false;
+  }
+  return true;
+}
+
+inline void ContactHistory::closeSubs(std::size_t used) {
+  const std::size_t first = subs_, last = first + used;
+  const bool valid = used <= open_ && increasingFrom(first, last);
+  open_ = 0;
+  if (!valid) refuse("closeSubs: more than were opened, or features not increasing");
+  subs_ = last;
+  sub_end_.back() = last;
+}
 
 }  // namespace polydem::particles
