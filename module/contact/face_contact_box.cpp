@@ -35,10 +35,19 @@ FaceContactBuilder::Facing FaceContactBuilder::boxFacing(const Body& body, const
   Facing f;
   double best_cos = kCosFacing;
   const int faces = static_cast<int>(body.shape->faces().size());
-  for (int i = 0; i < faces; ++i) {
-    const Vec3 nf = body.faceNormal(i);
-    const double c = nf.dot(direction);
-    if (c > best_cos) f.face = i, best_cos = c, f.normal = nf;
+  if (body.face_normals.empty()) {
+    for (int i = 0; i < faces; ++i) {
+      const Vec3 nf = body.faceNormal(i);
+      const double c = nf.dot(direction);
+      if (c > best_cos) f.face = i, best_cos = c, f.normal = nf;
+    }
+  } else {  // the world normals kept for the step: compare, then copy the one chosen
+    const Vec3* normals = body.face_normals.data();
+    for (int i = 0; i < faces; ++i) {
+      const double c = normals[i].dot(direction);
+      if (c > best_cos) f.face = i, best_cos = c;
+    }
+    if (f.face >= 0) f.normal = normals[f.face];
   }
   if (f.face >= 0) f.base = &body.vertices[body.shape->faces()[f.face].vertices[0]];
   return f;
@@ -65,10 +74,11 @@ bool FaceContactBuilder::boxFaceFace(const Body& a, const Body& b, const Contact
   const Vec3& x0 = *world_b_[0];
   const Vec3 u = *world_b_[1] - x0, v = *world_b_[3] - x0;
   const double uu = u.squaredNorm(), vv = v.squaredNorm();
-  const Vec3 du = u / uu, dv = v / vv;
+  const Vec3 du = u * (1.0 / uu), dv = v * (1.0 / vv);
   const Vec3& nb = fb.normal;
   const double nn = n.dot(nb);  // > cos 20 deg: both faces face
-  const double n_u = n.dot(du) / nn, n_v = n.dot(dv) / nn;
+  const double per_nn = 1.0 / nn;
+  const double n_u = n.dot(du) * per_nn, n_v = n.dot(dv) * per_nn;
   // A's face seen from its back, reversed (as project() does): corner i is the face's vertex
   // 3 - i, and edge i joins corners i and i + 1 (the face's edge 2 - i, edge 3 for i = 3). A
   // corner x moves along n onto B's plane, x - s n with s = (x - x0) . nb / (n . nb).
@@ -91,7 +101,7 @@ bool FaceContactBuilder::boxFaceFace(const Body& a, const Body& b, const Contact
   // areas are kept by the affine map), in unit-square coordinates.
   Vec2 middle = Vec2::Zero();
   for (int i = 0; i < m; ++i) middle += box_overlap_[i].p;
-  middle /= static_cast<double>(m);
+  middle *= 1.0 / static_cast<double>(m);
   double twice = 0.0, extent2 = 0.0;
   shares_.resize(m);
   for (int i = 0; i < m; ++i) {

@@ -14,28 +14,35 @@ int SquareClipper::clip(const LabelledQuad& a, const LabelledSquare& b, double d
                i};
   }
   int n = 4;
-  std::array<double, kMaxCorners> h;
-  for (int k = 0; k < 4; ++k) {
+  // Line k's pass, with k a constant so that the line's distance is one subtraction.
+  const auto pass = [&]<int k>() {
     // A corner within the merge distance of line k is put on it (h = 0, kept, no crossing made):
     // where a corner lies on an edge line (aligned equal blocks), the labels and corners are then
     // decided by that tolerance and not by the round-off of h.
     const double side2 = k % 2 == 0 ? dv2 : du2;  // line k's distance is h |V| or h |U|
     int out_count = 0;
     for (int i = 0; i < n; ++i) {
-      h[i] = squareSide(poly[i].corner.p, k);
-      if (h[i] * h[i] * side2 <= merge2) {
-        h[i] = 0.0;
+      double hi = squareSide(poly[i].corner.p, k);
+      if (hi * hi * side2 <= merge2) {
+        hi = 0.0;
         onSquareSide(poly[i].corner.p, k);
       }
-      out_count += h[i] < 0.0;
+      h_[i] = hi;
+      out_count += hi < 0.0;
     }
-    if (out_count == 0) continue;
-    if (out_count == n) return 0;
-    if (n + out_count > kMaxCorners) return -1;  // a pass adds at most one corner per outside one
+    if (out_count == 0) return true;
+    if (out_count == n) {
+      n = 0;
+      return false;
+    }
+    if (n + out_count > kMaxCorners) {  // a pass adds at most one corner per outside one
+      n = -1;
+      return false;
+    }
     int kept_count = 0;
     for (int i = 0; i < n; ++i) {
       const int j = i + 1 == n ? 0 : i + 1;
-      const double hi = h[i], hj = h[j];
+      const double hi = h_[i], hj = h_[j];
       const Working& wi = poly[i];
       if (hi >= 0.0) {
         Working& kept = next[kept_count++];
@@ -46,7 +53,7 @@ int SquareClipper::clip(const LabelledQuad& a, const LabelledSquare& b, double d
       Working& x = next[kept_count++];
       x.corner.p = wi.corner.p + (hi / (hi - hj)) * (poly[j].corner.p - wi.corner.p);
       onSquareSide(x.corner.p, k);  // the crossing lies on line k: that coordinate is exact
-      if (wi.carrier >= 0) {  // an edge of A crosses B's edge k
+      if (wi.carrier >= 0) {        // an edge of A crosses B's edge k
         x.corner.a = feature(FeatureType::kEdge, a.edge[wi.carrier]);
         x.corner.b = feature(FeatureType::kEdge, b.edge[k]);
         x.corner.side_a = wi.carrier;
@@ -64,6 +71,11 @@ int SquareClipper::clip(const LabelledQuad& a, const LabelledSquare& b, double d
     }
     std::swap(poly, next);
     n = kept_count;
+    return true;
+  };
+  if (!(pass.operator()<0>() && pass.operator()<1>() && pass.operator()<2>() &&
+        pass.operator()<3>())) {
+    return n;  // 0: no overlap; -1: too many corners
   }
   int m = 0;
   for (int i = 0; i < n; ++i) {

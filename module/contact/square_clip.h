@@ -74,6 +74,7 @@ class SquareClipper {
     std::int32_t carrier;  // the edge leaving this corner: >= 0 A's quad edge, < 0 line -1-k
   };
   std::array<Working, kMaxCorners> poly_, next_;
+  std::array<double, kMaxCorners> h_;
 };
 
 }  // namespace polydem::contact
