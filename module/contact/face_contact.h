@@ -19,7 +19,8 @@
 //   - anything else (vertex-vertex, vertex-edge, vertex-face, crossing edges) keeps the kernel's
 //     single point, weight 1.
 // Every sub-contact has its own gap, which may be negative (that corner is apart: no force).
-// Tolerances are relative to the pair's size.
+// Tolerances are relative to the pair's size. Two rectangular boxes face to face take a faster
+// path with the same model (face_contact_box.cpp); everything else the general one.
 #pragma once
 
 #include <array>

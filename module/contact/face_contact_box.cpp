@@ -15,6 +15,7 @@
 // corner on an edge line within round-off) a corner may be labelled as a crossing by one path and
 // as a vertex by the other. A pair of boxes always takes this path, so its keys are consistent
 // from step to step.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
