@@ -187,7 +187,7 @@ bool FaceContactBuilder::edgeFace(const Body& edge_body, const Body& face_body, 
   return true;
 }
 
-void FaceContactBuilder::finish(const Body& a, const Body& b, const Vec3& n) {
+void FaceContactBuilder::sortPending() {
   // Canonical order, and one sub-contact per feature pair: a degenerate clip (a corner exactly on
   // an edge line) can meet the same pair of features twice; their weights are merged, and only
   // the first of them becomes a sub-contact. The corners are sorted as small (feature, weight,
@@ -214,8 +214,13 @@ void FaceContactBuilder::finish(const Body& a, const Body& b, const Vec3& n) {
       pending_[kept++] = pending_[i];
     }
   }
-  subs_.resize(kept);
-  for (std::size_t i = 0; i < kept; ++i) {
+  pending_.resize(kept);
+}
+
+void FaceContactBuilder::finish(const Body& a, const Body& b, const Vec3& n) {
+  sortPending();
+  subs_.resize(pending_.size());
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
     fromCorner(a, b, overlap_[pending_[i].corner], n, pending_[i].weight, subs_[i]);
   }
 }
@@ -224,12 +229,15 @@ FaceContact FaceContactBuilder::build(const Body& a, const Body& b, const Contac
   const Vec3& n = c.normal;
   scale_ = pairLengthScale(a, b);
   area_ = 0.0;
+  ContactArea kind = ContactArea::kPoint;
+  if (box_path_ && a.shape->box() && b.shape->box() && boxFaceFace(a, b, c, kind)) {
+    return conclude(c, kind);
+  }
   const Vec3 u = (std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
   frame_ = {c.point, u, n.cross(u)};
   const int ia = supportIndex(a, -n), ib = supportIndex(b, n);
   facing_a_ = facingSide(a, -n, ia);
   facing_b_ = facingSide(b, n, ib);
-  ContactArea kind = ContactArea::kPoint;
   if (facing_a_.face >= 0 && facing_b_.face >= 0) {
     if (faceFace(a, b, c)) kind = ContactArea::kFace;
   } else if (facing_b_.face >= 0) {
@@ -239,6 +247,10 @@ FaceContact FaceContactBuilder::build(const Body& a, const Body& b, const Contac
     const int eb = flatEdge(b, n, ib);
     if (eb >= 0 && edgeFace(b, a, eb, false, c)) kind = ContactArea::kLine;
   }
+  return conclude(c, kind);
+}
+
+FaceContact FaceContactBuilder::conclude(const Contact& c, ContactArea kind) {
   if (kind != ContactArea::kPoint) {
     // A penetrating pair whose chosen features are all apart (a corner of one body in the
     // other's edge region): the kernel's point is the better answer.
@@ -247,7 +259,7 @@ FaceContact FaceContactBuilder::build(const Body& a, const Body& b, const Contac
     if (!any && c.depth > 0.0) kind = ContactArea::kPoint;
   }
   if (kind == ContactArea::kPoint) {
-    subs_.assign(1, SubContact{0, c.point, n, c.depth, 1.0});
+    subs_.assign(1, SubContact{0, c.point, c.normal, c.depth, 1.0});
     area_ = 0.0;
   }
   return {kind, area_, subs_};

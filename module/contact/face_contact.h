@@ -19,15 +19,18 @@
 //   - anything else (vertex-vertex, vertex-edge, vertex-face, crossing edges) keeps the kernel's
 //     single point, weight 1.
 // Every sub-contact has its own gap, which may be negative (that corner is apart: no force).
-// Tolerances are relative to the pair's size.
+// Tolerances are relative to the pair's size. Two rectangular boxes face to face take a faster
+// path with the same model (face_contact_box.cpp); everything else the general one.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "polydem/contact/contact.h"
 #include "polydem/contact/labelled_clip.h"
+#include "polydem/contact/square_clip.h"
 
 namespace polydem::contact {
 
@@ -70,6 +73,10 @@ struct FaceContact {
 /// pair allocates nothing once warm.
 class FaceContactBuilder {
  public:
+  /// `box_path`: two rectangular boxes whose faces face each other take the box-face path
+  /// (face_contact_box.cpp); false sends every pair through the general path (for tests).
+  explicit FaceContactBuilder(bool box_path = true) : box_path_(box_path) {}
+
   /// The sub-contacts of the touching contact `c` of A and B (c.normal from B into A).
   /// Each sub-contact's gap is measured along the normal of the face its vertex meets (a vertex
   /// of A inside B's face: B's face normal; a vertex of B inside A's face: minus A's), which makes
@@ -93,6 +100,11 @@ class FaceContactBuilder {
   };
 
   static Facing facingSide(const Body& body, const Vec3& direction, int support);
+  /// A box's facing face: of all its faces, the one whose normal is closest to `direction`,
+  /// within the facing angle. For a rectangular box that is facingSide()'s face: a face within
+  /// 20 degrees of `direction` contains the deepest vertex, and no two faces are within 40
+  /// degrees of each other, so there is no tie.
+  static Facing boxFacing(const Body& body, const Vec3& direction);
   bool faceFace(const Body& a, const Body& b, const Contact& c);
   bool edgeFace(const Body& edge_body, const Body& face_body, int edge, bool edge_is_a,
                 const Contact& c);
@@ -108,6 +120,17 @@ class FaceContactBuilder {
   void fromCorner(const Body& a, const Body& b, const LabelledCorner& k, const Vec3& n,
                   double weight, SubContact& s) const;
   void finish(const Body& a, const Body& b, const Vec3& n);
+  /// The kind and sub-contacts of a built pair: the kernel's point where no sub-contact is
+  /// penetrating while the pair is.
+  FaceContact conclude(const Contact& c, ContactArea kind);
+  /// Sorts pending_ by feature and merges entries of the same feature (their weights summed).
+  void sortPending();
+  /// The face contact of two rectangular boxes (face_contact_box.cpp): false if a body has no
+  /// facing face (the general path decides then), else true with `kind` kFace or kPoint.
+  bool boxFaceFace(const Body& a, const Body& b, const Contact& c, ContactArea& kind);
+  /// Fills `s` with the sub-contact of box-path corner `k` of weight `weight`.
+  void fromBoxCorner(const Body& a, const Body& b, const LabelledCorner& k, const Vec3& n,
+                     double weight, SubContact& s) const;
   /// The point of `body`'s edge `e` that projects onto `p`. `side` is the edge's position in
   /// `polygon` (the body's projected face), whose corners are its projected ends; -1: not there.
   Vec3 lift(const Body& body, int e, int side, const LabelledPolygon& polygon, const Vec2& p) const;
@@ -131,6 +154,14 @@ class FaceContactBuilder {
   std::vector<Pending> pending_;
   std::vector<SubContact> subs_;
   LabelledClipper clipper_;
+  // The box path: A's quad and B's square, B's corners in the world (face order) and A's
+  // (the quad's order), and the clip.
+  bool box_path_ = true;
+  LabelledQuad quad_;
+  LabelledSquare square_;
+  std::array<const Vec3*, 4> world_a_{}, world_b_{};
+  std::array<LabelledCorner, SquareClipper::kMaxCorners> box_overlap_;
+  SquareClipper square_clipper_;
 };
 
 }  // namespace polydem::contact

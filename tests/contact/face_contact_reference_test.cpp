@@ -105,7 +105,7 @@ void faceOnFace(const geometry::ConvexPolyhedron& sa, const geometry::ConvexPoly
 TEST(FaceContactReference, RandomBoxesAndParallelepipedsGiveTheSameSubContacts) {
   std::mt19937_64 rng(151);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  FaceContactBuilder now;
+  FaceContactBuilder now(false);  // the general path, which the reference is
   reference::ReferenceFaceContactBuilder before;
   Tally tally;
   const double deg = std::numbers::pi / 180.0;
@@ -166,7 +166,7 @@ TEST(FaceContactReference, RandomBoxesAndParallelepipedsGiveTheSameSubContacts) 
 // corners with zero or round-off-sized distances to its lines; the labels must still agree.
 TEST(FaceContactReference, DegenerateClipsGiveTheSameSubContacts) {
   std::mt19937_64 rng(152);
-  FaceContactBuilder now;
+  FaceContactBuilder now(false);  // the general path, which the reference is
   reference::ReferenceFaceContactBuilder before;
   Tally tally;
   const double shifts[] = {0.0, 0.25, 0.5, -0.5, 0.125, 1e-3, -1e-3, 1e-12};
