@@ -18,6 +18,7 @@
 #include <random>
 #include <vector>
 
+#include "box_face_pairs.h"
 #include "contact_test_util.h"
 #include "polydem/contact/face_contact.h"
 #include "polydem/contact/support.h"
@@ -26,15 +27,8 @@
 namespace polydem::contact {
 namespace {
 
+using testing::boxShape;
 using testing::Placed;
-
-Mat3 about(const Vec3& axis, double angle) {
-  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-}
-
-geometry::ConvexPolyhedron boxShape(const Vec3& half) {
-  return geometry::ConvexPolyhedron::fromPoints(geometry::shapes::boxAround(Vec3::Zero(), half));
-}
 
 // The two paths compute in different frames (B's face plane against the plane normal to n), so
 // their results differ by round-off, relative to the pair's size `size`:
@@ -133,32 +127,19 @@ void print(const char* what, const Tally& t) {
       t.worst_weight, t.worst_gap, t.worst_point);
 }
 
-// Face `ia` of box A turned onto face `ib` of box B (B's face at z = 0 looking up, A's looking
-// down), A turned about z by `spin`, tilted about a horizontal axis by `tilt`, slid by `slide` and
-// sunk by `depth`; the pair then scaled, turned and moved. The contact normal is B's face normal.
+// Face `ia` of `sa` on face `ib` of `sb`, placed as testing::placeFaceOnFace says, both builders
+// compared.
 void faceOnFace(const geometry::ConvexPolyhedron& sa, const geometry::ConvexPolyhedron& sb, int ia,
                 int ib, double spin, const Vec3& tilt_axis, double tilt, const Vec2& slide,
                 double depth, double scale, const Mat3& turn, const Vec3& shift,
                 FaceContactBuilder& box, FaceContactBuilder& general, Tally& tally) {
-  const auto& fa = sa.faces()[ia];
-  const auto& fb = sb.faces()[ib];
-  const Mat3 rb = Eigen::Quaterniond::FromTwoVectors(fb.normal, Vec3::UnitZ()).toRotationMatrix();
-  const Mat3 ra = about(tilt_axis, tilt) * about(Vec3::UnitZ(), spin) *
-                  Eigen::Quaterniond::FromTwoVectors(fa.normal, -Vec3::UnitZ()).toRotationMatrix();
-  const Vec3 point(slide.x(), slide.y(), 0.0);
-  const Vec3 xa = point - ra * fa.centroid - depth * Vec3::UnitZ();
-  const Vec3 xb = -(rb * fb.centroid);
-  Placed a(geometry::ConvexPolyhedron(sa), shift + scale * (turn * xa), turn * ra);
-  Placed b(geometry::ConvexPolyhedron(sb), shift + scale * (turn * xb), turn * rb);
-  ASSERT_NE(a.shape().box(), nullptr);
-  ASSERT_NE(b.shape().box(), nullptr);
-  Contact c;
-  c.touching = true;
-  c.normal = turn * Vec3::UnitZ();
-  c.point = shift + scale * (turn * point);
-  c.depth = scale * depth;
-  const double size = pairLengthScale(a.body(), b.body());
-  expectSame(a.body(), b.body(), c, shift.norm() + 4.0 * size, false, box, general, tally);
+  testing::placeFaceOnFace(
+      sa, sb, ia, ib, spin, tilt_axis, tilt, slide, depth, scale, turn, shift,
+      [&](const Placed& a, const Placed& b, const Contact& c, double, double reach) {
+        ASSERT_NE(a.shape().box(), nullptr);
+        ASSERT_NE(b.shape().box(), nullptr);
+        expectSame(a.body(), b.body(), c, reach, false, box, general, tally);
+      });
 }
 
 TEST(FaceContactBox, RandomBoxPairsGiveTheGeneralPathsSubContacts) {
@@ -224,30 +205,11 @@ TEST(FaceContactBox, DegenerateClipsGiveTheSameCorners) {
   std::mt19937_64 rng(1516);
   FaceContactBuilder box(true), general(false);
   Tally tally;
-  const double shifts[] = {0.0, 0.25, 0.5, -0.5, 0.125, 1e-3, -1e-3, 1e-12};
-  for (const Vec3& half_a : {Vec3(0.5, 0.5, 0.5), Vec3(0.25, 0.5, 0.5), Vec3(0.5, 0.375, 0.5)}) {
-    for (double sx : shifts) {
-      for (double sy : shifts) {
-        for (int motion = 0; motion < 4; ++motion) {
-          const double scale = motion == 0 ? 1.0 : std::pow(10.0, -3.0 + 2.0 * motion);
-          const Mat3 turn = motion < 2 ? Mat3::Identity() : testing::randomRotation(rng);
-          const Vec3 shift =
-              motion == 3 ? Vec3(500.0 * scale * testing::randomUnit(rng)) : Vec3::Zero();
-          const Vec3 xa(sx, sy, 1.0 - 1e-3 - (0.5 - half_a.z()));
-          Placed a(boxShape(scale * half_a), shift + scale * (turn * xa), turn);
-          Placed b(boxShape(scale * Vec3(0.5, 0.5, 0.5)), shift, turn);
-          Contact c;
-          c.touching = true;
-          c.normal = turn * Vec3::UnitZ();
-          c.point = shift + scale * (turn * Vec3(0.5 * sx, 0.5 * sy, 0.5));
-          c.depth = scale * 1e-3;
-          const double size = pairLengthScale(a.body(), b.body());
-          expectSame(a.body(), b.body(), c, shift.norm() + 2.0 * size, true, box, general, tally);
-          if (::testing::Test::HasFatalFailure()) return;
-        }
-      }
-    }
-  }
+  testing::forEachDegenerateBoxFacePair(
+      rng, [&](const Body& a, const Body& b, const Contact& c, double, double reach) {
+        expectSame(a, b, c, reach, true, box, general, tally);
+        return !::testing::Test::HasFatalFailure();
+      });
   print("degenerate clips", tally);
   EXPECT_GT(tally.faces, 700);
 }

@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "box_face_pairs.h"
 #include "contact_test_util.h"
 #include "face_contact_reference.h"
 #include "polydem/contact/face_contact.h"
@@ -21,15 +22,8 @@
 namespace polydem::contact {
 namespace {
 
+using testing::boxShape;
 using testing::Placed;
-
-Mat3 about(const Vec3& axis, double angle) {
-  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-}
-
-geometry::ConvexPolyhedron boxShape(const Vec3& half) {
-  return geometry::ConvexPolyhedron::fromPoints(geometry::shapes::boxAround(Vec3::Zero(), half));
-}
 
 // A parallelepiped with edges e1, e2, e3 (not necessarily orthogonal), centred at the origin.
 geometry::ConvexPolyhedron parallelepiped(const Vec3& e1, const Vec3& e2, const Vec3& e3) {
@@ -70,32 +64,18 @@ void expectSame(const Body& a, const Body& b, const Contact& c, double size, dou
   }
 }
 
-// A random face of A turned onto a random face of B (B's face at z = 0 looking up, A's looking
-// down), A turned about z, tilted about a horizontal axis by `tilt`, slid in the plane and sunk by
-// `depth`; then the whole pair scaled by `scale`, turned by `turn` and moved by `shift`. The
-// contact normal is B's face normal (+z before the motion), the point the slide.
+// Face `ia` of `sa` on face `ib` of `sb`, placed as testing::placeFaceOnFace says, both builders
+// compared.
 void faceOnFace(const geometry::ConvexPolyhedron& sa, const geometry::ConvexPolyhedron& sb, int ia,
                 int ib, double spin, const Vec3& tilt_axis, double tilt, const Vec2& slide,
                 double depth, double scale, const Mat3& turn, const Vec3& shift,
                 FaceContactBuilder& now, reference::ReferenceFaceContactBuilder& before,
                 Tally& tally) {
-  const auto& fa = sa.faces()[ia];
-  const auto& fb = sb.faces()[ib];
-  const Mat3 rb = Eigen::Quaterniond::FromTwoVectors(fb.normal, Vec3::UnitZ()).toRotationMatrix();
-  const Mat3 ra = about(tilt_axis, tilt) * about(Vec3::UnitZ(), spin) *
-                  Eigen::Quaterniond::FromTwoVectors(fa.normal, -Vec3::UnitZ()).toRotationMatrix();
-  const Vec3 point(slide.x(), slide.y(), 0.0);
-  const Vec3 xa = point - ra * fa.centroid - depth * Vec3::UnitZ();
-  const Vec3 xb = -(rb * fb.centroid);
-  Placed a(geometry::ConvexPolyhedron(sa), shift + scale * (turn * xa), turn * ra);
-  Placed b(geometry::ConvexPolyhedron(sb), shift + scale * (turn * xb), turn * rb);
-  Contact c;
-  c.touching = true;
-  c.normal = turn * Vec3::UnitZ();
-  c.point = shift + scale * (turn * point);
-  c.depth = scale * depth;
-  const double size = pairLengthScale(a.body(), b.body());
-  expectSame(a.body(), b.body(), c, size, shift.norm() + 4.0 * size, now, before, tally);
+  testing::placeFaceOnFace(
+      sa, sb, ia, ib, spin, tilt_axis, tilt, slide, depth, scale, turn, shift,
+      [&](const Placed& a, const Placed& b, const Contact& c, double size, double reach) {
+        expectSame(a.body(), b.body(), c, size, reach, now, before, tally);
+      });
 }
 
 // Random boxes and sheared parallelepipeds (1e-3 to 1e3 m, up to 1,000 sizes from the origin)
@@ -169,30 +149,11 @@ TEST(FaceContactReference, DegenerateClipsGiveTheSameSubContacts) {
   FaceContactBuilder now(false);  // the general path, which the reference is
   reference::ReferenceFaceContactBuilder before;
   Tally tally;
-  const double shifts[] = {0.0, 0.25, 0.5, -0.5, 0.125, 1e-3, -1e-3, 1e-12};
-  for (const Vec3& half_a : {Vec3(0.5, 0.5, 0.5), Vec3(0.25, 0.5, 0.5), Vec3(0.5, 0.375, 0.5)}) {
-    for (double sx : shifts) {
-      for (double sy : shifts) {
-        for (int motion = 0; motion < 4; ++motion) {
-          const double scale = motion == 0 ? 1.0 : std::pow(10.0, -3.0 + 2.0 * motion);
-          const Mat3 turn = motion < 2 ? Mat3::Identity() : testing::randomRotation(rng);
-          const Vec3 shift =
-              motion == 3 ? Vec3(500.0 * scale * testing::randomUnit(rng)) : Vec3::Zero();
-          const Vec3 xa(sx, sy, 1.0 - 1e-3 - (0.5 - half_a.z()));
-          Placed a(boxShape(scale * half_a), shift + scale * (turn * xa), turn);
-          Placed b(boxShape(scale * Vec3(0.5, 0.5, 0.5)), shift, turn);
-          Contact c;
-          c.touching = true;
-          c.normal = turn * Vec3::UnitZ();
-          c.point = shift + scale * (turn * Vec3(0.5 * sx, 0.5 * sy, 0.5));
-          c.depth = scale * 1e-3;
-          const double size = pairLengthScale(a.body(), b.body());
-          expectSame(a.body(), b.body(), c, size, shift.norm() + 2.0 * size, now, before, tally);
-          if (::testing::Test::HasFatalFailure()) return;
-        }
-      }
-    }
-  }
+  testing::forEachDegenerateBoxFacePair(
+      rng, [&](const Body& a, const Body& b, const Contact& c, double size, double reach) {
+        expectSame(a, b, c, size, reach, now, before, tally);
+        return !::testing::Test::HasFatalFailure();
+      });
   std::printf("pairs %d: face %d, line %d, point %d\n", tally.pairs, tally.faces, tally.lines,
               tally.points);
   EXPECT_GT(tally.faces, 150);
