@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "contact_test_util.h"
@@ -81,6 +82,45 @@ void placeFaceOnFace(const geometry::ConvexPolyhedron& sa, const geometry::Conve
   c.depth = scale * depth;
   const double size = pairLengthScale(a.body(), b.body());
   visit(a, b, c, size, shift.norm() + 4.0 * size);
+}
+
+/// The tilt of trial `trial`'s face pair, in turn: none, 1e-9, 1e-4, within the facing angle (up
+/// to 19 degrees), beyond it (21 to 40 degrees: edge-face or one point), up to 5 degrees.
+inline double randomTilt(int trial, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double deg = std::numbers::pi / 180.0;
+  switch (trial % 6) {
+    case 0:
+      return 0.0;
+    case 1:
+      return 1e-9 * u(rng);
+    case 2:
+      return 1e-4 * u(rng);
+    case 3:
+      return 19.0 * deg * u(rng);
+    case 4:
+      return (21.0 + 19.0 * (0.5 + 0.5 * u(rng))) * deg;
+    default:
+      return 5.0 * deg * u(rng);
+  }
+}
+
+/// How trial `trial`'s pair is sunk and moved: a depth of 1e-9 to 1e-3, a scale of 1e-3 to 1e3,
+/// turned at random on odd trials, moved 500 to 1,000 sizes from the origin.
+struct PairMotion {
+  double depth, scale;
+  Mat3 turn;
+  Vec3 shift;
+};
+
+inline PairMotion randomPairMotion(int trial, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  PairMotion m;
+  m.depth = std::pow(10.0, -3.0 - 6.0 * (0.5 + 0.5 * u(rng)));
+  m.scale = std::pow(10.0, 3.0 * u(rng));
+  m.turn = trial % 2 == 0 ? Mat3::Identity() : randomRotation(rng);
+  m.shift = m.scale * 1000.0 * (0.5 + 0.5 * u(rng)) * randomUnit(rng);
+  return m;
 }
 
 }  // namespace polydem::contact::testing

@@ -147,7 +147,6 @@ TEST(FaceContactBox, RandomBoxPairsGiveTheGeneralPathsSubContacts) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   FaceContactBuilder box(true), general(false);
   Tally tally;
-  const double deg = std::numbers::pi / 180.0;
   for (int trial = 0; trial < 8000; ++trial) {
     // Cubes, and boxes of other proportions (up to 10:1).
     const auto shape = [&](bool cube) {
@@ -158,36 +157,14 @@ TEST(FaceContactBox, RandomBoxPairsGiveTheGeneralPathsSubContacts) {
     const int ia = static_cast<int>(rng() % sa.faces().size());
     const int ib = static_cast<int>(rng() % sb.faces().size());
     const double spin = trial % 5 == 0 ? 0.0 : std::numbers::pi * u(rng);
-    double tilt = 0.0;
-    switch (trial % 6) {
-      case 0:
-        break;
-      case 1:
-        tilt = 1e-9 * u(rng);
-        break;
-      case 2:
-        tilt = 1e-4 * u(rng);
-        break;
-      case 3:
-        tilt = 19.0 * deg * u(rng);  // within the facing angle
-        break;
-      case 4:
-        tilt = (21.0 + 19.0 * (0.5 + 0.5 * u(rng))) * deg;  // beyond: edge-face or one point
-        break;
-      default:
-        tilt = 5.0 * deg * u(rng);
-        break;
-    }
+    const double tilt = testing::randomTilt(trial, rng);
     // Full overlaps (small slides), partial ones, and corners barely touching (large slides).
     const double reach = 1.2 * (std::sqrt(sa.faces()[ia].area) + std::sqrt(sb.faces()[ib].area));
     const double slide_size = trial % 7 == 0 ? 0.05 : trial % 7 == 1 ? 0.45 : 0.3;
     const Vec2 slide = slide_size * reach * Vec2(u(rng), u(rng));
-    const double depth = std::pow(10.0, -3.0 - 6.0 * (0.5 + 0.5 * u(rng)));
-    const double scale = std::pow(10.0, 3.0 * u(rng));
-    const Mat3 turn = trial % 2 == 0 ? Mat3::Identity() : testing::randomRotation(rng);
-    const Vec3 shift = scale * 1000.0 * (0.5 + 0.5 * u(rng)) * testing::randomUnit(rng);
-    faceOnFace(sa, sb, ia, ib, spin, Vec3(u(rng), u(rng), 0.0), tilt, slide, depth, scale, turn,
-               shift, box, general, tally);
+    const testing::PairMotion m = testing::randomPairMotion(trial, rng);
+    faceOnFace(sa, sb, ia, ib, spin, Vec3(u(rng), u(rng), 0.0), tilt, slide, m.depth, m.scale,
+               m.turn, m.shift, box, general, tally);
     if (::testing::Test::HasFatalFailure()) return;
   }
   print("random box pairs", tally);

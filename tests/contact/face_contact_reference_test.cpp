@@ -88,7 +88,6 @@ TEST(FaceContactReference, RandomBoxesAndParallelepipedsGiveTheSameSubContacts) 
   FaceContactBuilder now(false);  // the general path, which the reference is
   reference::ReferenceFaceContactBuilder before;
   Tally tally;
-  const double deg = std::numbers::pi / 180.0;
   for (int trial = 0; trial < 6000; ++trial) {
     auto shape = [&](bool sheared) {
       const Vec3 half(0.5 + 0.4 * u(rng), 0.5 + 0.4 * u(rng), 0.5 + 0.4 * u(rng));
@@ -101,35 +100,12 @@ TEST(FaceContactReference, RandomBoxesAndParallelepipedsGiveTheSameSubContacts) 
     const int ia = static_cast<int>(rng() % sa.faces().size());
     const int ib = static_cast<int>(rng() % sb.faces().size());
     const double spin = trial % 5 == 0 ? 0.0 : std::numbers::pi * u(rng);
-    double tilt = 0.0;
-    switch (trial % 6) {
-      case 0:
-        tilt = 0.0;
-        break;
-      case 1:
-        tilt = 1e-9 * u(rng);
-        break;
-      case 2:
-        tilt = 1e-4 * u(rng);
-        break;
-      case 3:
-        tilt = 19.0 * deg * u(rng);
-        break;
-      case 4:
-        tilt = (21.0 + 19.0 * (0.5 + 0.5 * u(rng))) * deg;
-        break;
-      default:
-        tilt = 5.0 * deg * u(rng);
-        break;
-    }
+    const double tilt = testing::randomTilt(trial, rng);
     const double reach = 1.2 * (std::sqrt(sa.faces()[ia].area) + std::sqrt(sb.faces()[ib].area));
     const Vec2 slide = (trial % 7 == 0 ? 0.05 : 0.5) * reach * Vec2(u(rng), u(rng));
-    const double depth = std::pow(10.0, -3.0 - 6.0 * (0.5 + 0.5 * u(rng)));
-    const double scale = std::pow(10.0, 3.0 * u(rng));
-    const Mat3 turn = trial % 2 == 0 ? Mat3::Identity() : testing::randomRotation(rng);
-    const Vec3 shift = scale * 1000.0 * (0.5 + 0.5 * u(rng)) * testing::randomUnit(rng);
-    faceOnFace(sa, sb, ia, ib, spin, Vec3(u(rng), u(rng), 0.0), tilt, slide, depth, scale, turn,
-               shift, now, before, tally);
+    const testing::PairMotion m = testing::randomPairMotion(trial, rng);
+    faceOnFace(sa, sb, ia, ib, spin, Vec3(u(rng), u(rng), 0.0), tilt, slide, m.depth, m.scale,
+               m.turn, m.shift, now, before, tally);
     if (::testing::Test::HasFatalFailure()) return;
   }
   std::printf("pairs %d: face %d, line %d, point %d\n", tally.pairs, tally.faces, tally.lines,
