@@ -26,9 +26,10 @@ struct CellBuffers {
   std::vector<potential::CellFace> faces;
 
   std::span<const int> region_begin, region_neighbours;
+  potential::RegionFacets facets;
 
   potential::Cell cell() const {
-    return {planes, corners, loops, faces, region_begin, region_neighbours};
+    return {planes, corners, loops, faces, region_begin, region_neighbours, facets};
   }
 };
 
@@ -65,6 +66,10 @@ void buildCell(const Body& body, const Vec3& origin, CellBuffers& out) {
   const geometry::FaceRegions& regions = body.shape->faceRegions();
   out.region_begin = regions.begin;
   out.region_neighbours = regions.neighbours;
+  // Where the regions lie: their corners in affine coordinates over four of the body's vertices
+  // (out.corners), and the tolerance of the facet test, far above the round-off of both.
+  out.facets = {regions.corner_begin, regions.corners, regions.facets, regions.basis,
+                1e-9 * body.shape->lengthScale()};
   out.corners.resize(body.vertices.size());
   for (std::size_t i = 0; i < body.vertices.size(); ++i) out.corners[i] = body.vertices[i] - origin;
 }

@@ -3,6 +3,8 @@
 // potential phi = min over the planes of the terms (docs/kernels/distance-potential.md).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <span>
 
 #include "polydem/core/types.h"
@@ -25,6 +27,18 @@ struct CellFace {
   int begin = 0, end = 0;
 };
 
+/// Where a cell's regions lie (optional, geometry::FaceRegions): region k's corners in affine
+/// coordinates over four of the cell's corners, and per neighbour (parallel to
+/// Cell::region_neighbours) the mask of region k's corners on their shared facet.
+struct RegionFacets {
+  std::span<const int> corner_begin;  // empty: no region is located
+  std::span<const Vec3> corners;
+  std::span<const std::uint64_t> masks;
+  std::array<int, 4> basis{};  // indices into Cell::corners
+  double tolerance = 0.0;      // how far from a plane a point still counts as on it (m)
+  static constexpr int kMaskedCorners = 64;  // as geometry::FaceRegions: larger regions unmasked
+};
+
 /// A convex cell. `planes` are all its planes (they bound it and define its potential); `faces`
 /// are the faces on the body's surface: faces shared by two cells of one body (FDEM's internal
 /// tetrahedron faces) are left out, since their two contributions cancel exactly.
@@ -37,6 +51,8 @@ struct Cell {
   std::span<const CellFace> faces;
   std::span<const int> region_begin;
   std::span<const int> region_neighbours;
+  // A default, so that cells built without it (FDEM's) need not name it.
+  RegionFacets facets = {};
 };
 
 }  // namespace polydem::contact::potential

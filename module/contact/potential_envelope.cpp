@@ -108,20 +108,50 @@ bool EnvelopeIntegrator::cut(std::size_t n_out, int label) {
   return true;
 }
 
+EnvelopeIntegrator::Sides EnvelopeIntegrator::sides(int k) const {
+  Sides s;
+  if (!located_) return s;
+  const RegionFacets& f = cell_->facets;
+  const int first = f.corner_begin[k], count = f.corner_begin[k + 1] - first;
+  if (count > RegionFacets::kMaskedCorners) return s;
+  s.above = s.below = 0;
+  const double tol = f.tolerance;
+  for (int i = 0; i < count; ++i) {
+    const double h = h0_ + dh_.dot(f.corners[first + i]);
+    s.above |= static_cast<std::uint64_t>(h >= -tol) << i;
+    s.below |= static_cast<std::uint64_t>(h <= tol) << i;
+  }
+  return s;
+}
+
 bool EnvelopeIntegrator::buildRegion(int k, std::span<const int> others) {
+  // A region whose corners all lie beyond the piece's plane on one side misses the piece.
+  const Sides s = sides(k);
+  if (s.above == 0 || s.below == 0) return false;
+  const std::uint64_t* facets =
+      located_ ? cell_->facets.masks.data() + cell_->region_begin[k] : nullptr;
   const std::size_t n = corners_.size();
   reserve(n + others.size());
   std::copy(corners_.begin(), corners_.end(), poly_.begin());
   std::fill_n(labels_.begin(), n, -1);
   poly_n_ = n;
   const Term tk = term(k);
-  for (int l : others) {
+  for (std::size_t i = 0; i < others.size(); ++i) {
+    const int l = others[i];
     // A neighbour that is no candidate of the pair bounds region k nowhere in the overlap, when
     // region k meets the piece (the walk visits only such k): on the segment of the piece from
     // a point of region k to a point outside, the first bisector crossed is that of a
     // neighbour m with term_m = term_k = phi <= the pair's bound at the crossing, so m is a
     // candidate, and term_k > term_m from there on: m's clip removes the point already.
     if (l == k || (skip_non_candidates_ && !is_candidate_[l])) continue;
+    // Nor does a neighbour whose facet with k misses the piece's plane (within the tolerance),
+    // wherever region k comes within the tolerance of that plane (the test above): from a point
+    // x0 of region k that near the plane to a point y of the piece outside region k, the segment
+    // leaves region k at a point x of its facet with some m, no farther from the plane than x0;
+    // so m's facet meets the plane, m is clipped, and term_k > term_m at y, since term_k -
+    // term_m is linear along the segment, zero at x and positive just past it. The clips of
+    // the facets that meet the plane thus cut region k out exactly.
+    if (facets != nullptr && ((facets[i] & s.above) == 0 || (facets[i] & s.below) == 0)) continue;
     // Zhao eq. 8: term_k - term_l <= 0 (a plane below term_k at no corner leaves it whole).
     const Term& tl = term(l);
     if (!clip(tk.g - tl.g, tk.a - tl.a, l)) return false;
@@ -165,6 +195,15 @@ void EnvelopeIntegrator::integrate(std::span<const Vec2> corners, const PieceFra
   frame_ = &frame;
   cell_ = &cell;
   is_candidate_ = is_candidate;
+  // The piece's plane at the basis corners of the cell's located regions.
+  located_ = !cell.facets.corner_begin.empty() && !cell.region_begin.empty();
+  if (located_) {
+    const auto h = [&](int i) {
+      return frame.normal.dot(cell.corners[cell.facets.basis[i]] - frame.origin);
+    };
+    h0_ = h(0);
+    dh_ = Vec3(h(1) - h0_, h(2) - h0_, h(3) - h0_);
+  }
   ++piece_;  // a fresh stamp: no term is made yet
   const std::size_t m = cell.planes.size();
   if (stamp_.size() < m) {

@@ -9,8 +9,10 @@
 // has one, else every candidate.
 // Only regions that exist are built: a walk starts at the plane smallest at the piece's centre,
 // each region's polygon remembers which plane made each of its edges, and those planes are
-// visited next. Should the walk miss a region (two bisectors meeting the piece's plane in one
-// line, so that an edge carries only one of their labels), the regions' areas fall short of the
+// visited next. Where the cell's regions are located (RegionFacets), region k is clipped only by
+// the neighbours whose shared facet with k meets the piece's plane: the others cannot bound
+// region k in that plane. Should the walk miss a region (two bisectors meeting the piece's plane in
+// one line, so that an edge carries only one of their labels), the regions' areas fall short of the
 // piece's and every candidate plane gets its region built.
 #pragma once
 
@@ -23,10 +25,11 @@
 namespace polydem::contact::potential {
 
 /// The plane of a piece: x = origin + u e1 + v e2 (e1, e2 orthonormal, e1 x e2 the face's
-/// outward normal).
+/// outward normal `normal`).
 struct PieceFrame {
   Vec3 origin = Vec3::Zero();
   Vec3 e1 = Vec3::UnitX(), e2 = Vec3::UnitY();
+  Vec3 normal = Vec3::UnitZ();
   Vec2 toPlane(const Vec3& x) const { return Vec2(e1.dot(x - origin), e2.dot(x - origin)); }
   Vec3 toSpace(const Vec2& y) const { return origin + y.x() * e1 + y.y() * e2; }
 };
@@ -68,6 +71,12 @@ class EnvelopeIntegrator {
   // Region k on the piece: the piece clipped by term_k <= term_l for the planes l in `others`.
   // Returns false when nothing is left.
   bool buildRegion(int k, std::span<const int> others);
+  // Which corners of region k lie (within the tolerance) on or above the piece's plane, and on
+  // or below it; every bit set when the region is not located.
+  struct Sides {
+    std::uint64_t above = ~std::uint64_t{0}, below = ~std::uint64_t{0};
+  };
+  Sides sides(int k) const;
   // The planes that may bound region k: its listed neighbours, or every candidate.
   std::span<const int> others(int k) const;
   // Integrates the regions of queue_[from ..] and of the planes their edges lead to; returns the
@@ -87,6 +96,11 @@ class EnvelopeIntegrator {
   const Cell* cell_ = nullptr;
   std::span<const char> is_candidate_;
   bool skip_non_candidates_ = true;  // region k is known to meet the piece
+  // The piece plane's signed distance at the cell's basis corners: h(x) = h0 + dh.(a, b, c) at
+  // the point of affine coordinates (a, b, c).
+  double h0_ = 0.0;
+  Vec3 dh_ = Vec3::Zero();
+  bool located_ = false;
 
   std::vector<Term> terms_;
   std::vector<std::uint64_t> stamp_;   // stamp_[l] == piece_: term l is made for this piece

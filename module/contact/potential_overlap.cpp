@@ -99,6 +99,7 @@ void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other, bool on_a,
     frame.origin /= static_cast<double>(poly.size());
     frame.e1 = fp.normal.unitOrthogonal();
     frame.e2 = fp.normal.cross(frame.e1);
+    frame.normal = fp.normal;
     Piece piece;
     piece.begin = static_cast<int>(pool_.size());
     for (const Vec3& x : poly) {

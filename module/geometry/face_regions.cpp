@@ -136,11 +136,42 @@ class Polytope {
   double radius_ = 0.0;
 };
 
+// Four vertices spanning the shape: vertex 0, the vertex farthest from it, the one farthest from
+// their line, the one farthest from the plane of the three (a well-conditioned affine basis).
+std::array<int, 4> affineBasis(const std::vector<Vec3>& v) {
+  std::array<int, 4> b{0, 0, 0, 0};
+  auto farthest = [&](auto distance) {
+    int best = 0;
+    double most = -1.0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const double d = distance(v[i]);
+      if (d > most) {
+        most = d;
+        best = static_cast<int>(i);
+      }
+    }
+    return best;
+  };
+  b[1] = farthest([&](const Vec3& x) { return (x - v[b[0]]).squaredNorm(); });
+  const Vec3 axis = (v[b[1]] - v[b[0]]).normalized();
+  b[2] = farthest([&](const Vec3& x) { return axis.cross(x - v[b[0]]).squaredNorm(); });
+  const Vec3 normal = axis.cross(v[b[2]] - v[b[0]]);
+  b[3] = farthest([&](const Vec3& x) { return std::abs(normal.dot(x - v[b[0]])); });
+  return b;
+}
+
+// What is kept of one region: its neighbours, its corners and which lie on each facet.
+struct RegionOut {
+  std::vector<int>& neighbours;
+  std::vector<Vec3>& corners;  // in the shape's frame (turned into affine coordinates later)
+  std::vector<std::uint64_t>& facets;
+};
+
 // The neighbours of face k's region: clip the prism over face k by d_k <= d_l for every l (the
 // faces sharing an edge with k first: they shrink the polytope most), then keep every l whose
-// bisector comes within `touch` of what is left.
-void regionNeighbours(const ConvexPolyhedron& p, int k, double merge, double touch,
-                      Polytope& polytope, std::vector<int>& order, std::vector<int>& out) {
+// bisector comes within `touch` of what is left, with the corners on it.
+void buildRegion(const ConvexPolyhedron& p, int k, double merge, double touch, Polytope& polytope,
+                 std::vector<int>& order, RegionOut out) {
   const auto& faces = p.faces();
   const int m = static_cast<int>(faces.size());
   // Region k is no deeper than the inradius below face k; a little more keeps round-off out.
@@ -163,13 +194,31 @@ void regionNeighbours(const ConvexPolyhedron& p, int k, double merge, double tou
     const Face& fl = faces[order[i]];
     polytope.clip(fl.normal - fk.normal, fk.offset - fl.offset, merge);
   }
+  // The polytope lists a corner once per face it bounds: keep one of each (a near twin within
+  // 1e-10 of the length scale moves a facet's hull by far less than the kernel's tolerance).
+  const std::size_t first = out.corners.size();
+  const double twin = 1e-10 * p.lengthScale();
+  for (const Vec3& x : polytope.corners()) {
+    const bool seen = std::any_of(out.corners.begin() + first, out.corners.end(),
+                                  [&](const Vec3& y) { return (x - y).norm() <= twin; });
+    if (!seen) out.corners.push_back(x);
+  }
+  const std::span<const Vec3> corners(out.corners.data() + first, out.corners.size() - first);
+  const bool masked = corners.size() <= FaceRegions::kMaskedCorners;
   for (int l = 0; l < m; ++l) {
     if (l == k) continue;
     const Vec3 w = faces[l].normal - fk.normal;
     const double c = fk.offset - faces[l].offset;
     double highest = -INFINITY;
-    for (const Vec3& x : polytope.corners()) highest = std::max(highest, w.dot(x) + c);
-    if (highest >= -touch) out.push_back(l);
+    std::uint64_t on = 0;
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+      const double h = w.dot(corners[i]) + c;
+      highest = std::max(highest, h);
+      if (masked && h >= -touch) on |= std::uint64_t{1} << i;
+    }
+    if (highest < -touch) continue;
+    out.neighbours.push_back(l);
+    out.facets.push_back(masked ? on : ~std::uint64_t{0});
   }
 }
 
@@ -187,11 +236,21 @@ FaceRegions computeFaceRegions(const ConvexPolyhedron& polyhedron) {
   const int m = static_cast<int>(polyhedron.faces().size());
   Polytope polytope;
   std::vector<int> order;
+  regions.corner_begin.push_back(0);
   for (int k = 0; k < m; ++k) {
-    regionNeighbours(polyhedron, k, 1e-12 * scale, 1e-9 * scale, polytope, order,
-                     regions.neighbours);
+    buildRegion(polyhedron, k, 1e-12 * scale, 1e-9 * scale, polytope, order,
+                {regions.neighbours, regions.corners, regions.facets});
     regions.begin.push_back(static_cast<int>(regions.neighbours.size()));
+    regions.corner_begin.push_back(static_cast<int>(regions.corners.size()));
   }
+  // The corners in affine coordinates over four vertices, which any similarity keeps.
+  const auto& v = polyhedron.vertices();
+  regions.basis = affineBasis(v);
+  const Vec3& v0 = v[regions.basis[0]];
+  Mat3 frame;
+  for (int i = 0; i < 3; ++i) frame.col(i) = v[regions.basis[i + 1]] - v0;
+  const Mat3 to_affine = frame.inverse();
+  for (Vec3& x : regions.corners) x = to_affine * (x - v0);
   return regions;
 }
 

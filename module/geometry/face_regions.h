@@ -6,14 +6,22 @@
 // bound R_k: then R_k = {d_k >= 0} intersected with {d_k <= d_l} over those l only, and a polygon
 // inside P is split into regions by a handful of clips instead of one per face.
 //
-// The partition does not change under rigid motions or uniform scaling, so it is computed once
-// per shape (on first use) and shared by its copies.
+// Each region is also kept as its corners and, per neighbour, the corners on their shared facet:
+// a plane that meets no point of the facet of k and l cannot be where a polygon in that plane
+// leaves region k for region l, and the kernel skips l's clip there.
+//
+// The partition does not change under rigid motions or uniform scaling (nor do affine
+// coordinates), so it is computed once per shape (on first use) and shared by its copies.
 #pragma once
 
+#include <array>
 #include <atomic>
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <vector>
+
+#include "polydem/core/types.h"
 
 namespace polydem::geometry {
 
@@ -28,6 +36,19 @@ struct FaceRegions {
   std::span<const int> of(int k) const {
     return std::span<const int>(neighbours).subspan(begin[k], begin[k + 1] - begin[k]);
   }
+
+  // Where the regions lie, in affine coordinates (a, b, c) over four vertices of the shape:
+  // x = v0 + a (v1 - v0) + b (v2 - v0) + c (v3 - v0), vi = vertices[basis[i]]. They hold in any
+  // frame the shape is moved or scaled to, so copies can share them.
+  std::array<int, 4> basis{};
+  std::vector<int> corner_begin;  // corners of region k: corners[corner_begin[k] .. [k + 1])
+  std::vector<Vec3> corners;      // affine coordinates, no two within 1e-10 of the length scale
+  /// Parallel to `neighbours`: bit i set when corner i of region k lies (within 1e-9 of the
+  /// length scale) on the bisector with that neighbour, so that the facet the two regions share
+  /// lies in the corners' convex hull. Only for regions of at most kMaskedCorners corners; the
+  /// others have every bit set (no facet is ever skipped there).
+  std::vector<std::uint64_t> facets;
+  static constexpr int kMaskedCorners = 64;
 };
 
 /// Builds each region by clipping the polyhedron by the bisector half-spaces (O(faces^2) clips

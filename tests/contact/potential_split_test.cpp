@@ -22,7 +22,8 @@ using testing::RandomPair;
 using testing::randomPair;
 
 // One cell for the whole body, as the distance-potential kernel builds it, with or without the
-// shape's nearest-face partition.
+// shape's nearest-face partition (with: its neighbours and located regions, so that a region is
+// clipped only by the neighbours whose shared facet meets the piece's plane).
 struct BodyCell {
   std::vector<potential::CellPlane> planes;
   std::vector<Vec3> corners;
@@ -30,6 +31,7 @@ struct BodyCell {
   std::vector<potential::CellFace> faces;
   bool partition = true;
   const geometry::FaceRegions* regions = nullptr;
+  double tolerance = 0.0;
 
   BodyCell(const Body& body, const Vec3& origin, bool with_partition) : partition(with_partition) {
     const double inv_r = 1.0 / body.shape->inradius();
@@ -43,10 +45,17 @@ struct BodyCell {
     }
     for (const Vec3& v : body.vertices) corners.push_back(v - origin);
     regions = &body.shape->faceRegions();
+    tolerance = 1e-9 * body.shape->lengthScale();
   }
   potential::Cell cell() const {
-    if (!partition) return {planes, corners, loops, faces, {}, {}};
-    return {planes, corners, loops, faces, regions->begin, regions->neighbours};
+    if (!partition) return {planes, corners, loops, faces, {}, {}, {}};
+    return {planes,
+            corners,
+            loops,
+            faces,
+            regions->begin,
+            regions->neighbours,
+            {regions->corner_begin, regions->corners, regions->facets, regions->basis, tolerance}};
   }
 };
 

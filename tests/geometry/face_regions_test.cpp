@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "polydem/geometry/convex_polyhedron.h"
@@ -91,6 +92,96 @@ TEST(FaceRegions, NeighboursDecideTheRegionOnIrregularAndRandomShapes) {
     for (const Edge& e : p.edges()) EXPECT_TRUE(lists(p.faceRegions(), e.f0, e.f1));
     expectNeighboursDecideTheRegion(p, ++seed);
   }
+}
+
+// The area of the convex hull of points lying in one plane with normal w.
+double hullArea(std::vector<Vec3> points, const Vec3& w) {
+  if (points.size() < 3) return 0.0;
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& x : points) centre += x;
+  centre /= static_cast<double>(points.size());
+  const Vec3 e1 = w.unitOrthogonal(), e2 = w.cross(e1);
+  std::sort(points.begin(), points.end(), [&](const Vec3& a, const Vec3& b) {
+    return std::atan2((a - centre).dot(e2), (a - centre).dot(e1)) <
+           std::atan2((b - centre).dot(e2), (b - centre).dot(e1));
+  });
+  double twice = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    twice += (points[i] - centre).cross(points[(i + 1) % points.size()] - centre).dot(w);
+  }
+  return 0.5 * std::abs(twice);
+}
+
+// The located regions (corners in affine coordinates, facets as masks of corners) of p: every
+// corner lies in its region, the regions' hulls fill p, and each facet's corners lie on the
+// bisector and span the same polygon as the other region's corners of that facet.
+void expectRegionsLocated(const ConvexPolyhedron& p) {
+  const FaceRegions& r = p.faceRegions();
+  const int m = static_cast<int>(p.faces().size());
+  const double tol = 1e-9 * p.lengthScale();
+  const auto& v = p.vertices();
+  const Vec3& v0 = v[r.basis[0]];
+  auto where = [&](const Vec3& a) {
+    return Vec3(v0 + a.x() * (v[r.basis[1]] - v0) + a.y() * (v[r.basis[2]] - v0) +
+                a.z() * (v[r.basis[3]] - v0));
+  };
+  auto corners = [&](int k) {
+    std::vector<Vec3> out;
+    for (int i = r.corner_begin[k]; i < r.corner_begin[k + 1]; ++i)
+      out.push_back(where(r.corners[i]));
+    return out;
+  };
+  auto facet = [&](int k, int l) {
+    const auto n = r.of(k);
+    const std::uint64_t mask =
+        r.facets[r.begin[k] + (std::find(n.begin(), n.end(), l) - n.begin())];
+    std::vector<Vec3> out;
+    const auto c = corners(k);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      if (mask >> i & 1) out.push_back(c[i]);
+    }
+    return out;
+  };
+  ASSERT_EQ(static_cast<int>(r.corner_begin.size()), m + 1);
+  ASSERT_EQ(r.facets.size(), r.neighbours.size());
+  double volume = 0.0;
+  for (int k = 0; k < m; ++k) {
+    const auto c = corners(k);
+    ASSERT_LE(c.size(), static_cast<std::size_t>(FaceRegions::kMaskedCorners)) << "face " << k;
+    for (const Vec3& x : c) {
+      EXPECT_GE(depth(p, k, x), -tol);
+      for (int l = 0; l < m; ++l) EXPECT_LE(depth(p, k, x), depth(p, l, x) + tol) << k << " " << l;
+    }
+    volume += ConvexPolyhedron::fromPoints(c).volume();
+    for (int l : r.of(k)) {
+      ASSERT_TRUE(lists(r, l, k)) << k << " " << l;
+      const auto mine = facet(k, l);
+      EXPECT_FALSE(mine.empty()) << k << " " << l;
+      for (const Vec3& x : mine) EXPECT_NEAR(depth(p, k, x), depth(p, l, x), tol) << k << " " << l;
+      // Seen from either side, the facet is the same polygon (either may have extra corners on
+      // its edges, where a third region touches it).
+      const Vec3 w = (p.faces()[l].normal - p.faces()[k].normal).normalized();
+      EXPECT_NEAR(hullArea(mine, w), hullArea(facet(l, k), w), tol * p.lengthScale())
+          << k << " " << l;
+    }
+  }
+  EXPECT_NEAR(volume, p.volume(), 1e-9 * p.volume());
+}
+
+TEST(FaceRegions, RegionCornersFillTheShapeAndFacetsLieOnTheBisectors) {
+  std::vector<std::vector<Vec3>> clouds = {
+      shapes::cube(1.0),
+      {{0, 0, 0}, {1.6, 0, 0}, {0.3, 1.1, 0}, {0.5, 0.4, 0.9}},
+      shapes::box({-2, -0.5, -0.3}, {2, 0.5, 0.3}),
+      shapes::ridgePrism({-1, 0, 0}, {1, 0, 0}, 0.5, 1.0),
+  };
+  for (int n : {8, 15, 40}) clouds.push_back(shapes::randomConvex(n, 300 + n, {1, 0.7, 0.5}, 0.2));
+  for (const auto& cloud : clouds) expectRegionsLocated(ConvexPolyhedron::fromPoints(cloud));
+  // Computed before a move and a change of unit, the affine coordinates still hold.
+  const auto p = ConvexPolyhedron::fromPoints(shapes::randomConvex(30, 5, {1, 0.8, 0.6}, 0.2));
+  p.faceRegions();
+  const Mat3 turn = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  expectRegionsLocated(p.transformed(turn, Vec3(1e3, -2e3, 5e2)).scaled(1e-3));
 }
 
 TEST(FaceRegions, SameUnderRigidMotionAndUnitAndSharedByCopies) {
