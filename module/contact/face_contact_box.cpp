@@ -140,8 +140,10 @@ bool FaceContactBuilder::boxFaceFace(const Body& a, const Body& b, const Contact
   return true;
 }
 
-void FaceContactBuilder::fromBoxCorner(const Body& a, const Body& b, const LabelledCorner& k,
-                                       const Vec3& n, double weight, SubContact& s) const {
+[[gnu::always_inline]] inline void FaceContactBuilder::fromBoxCorner(const Body& a, const Body& b,
+                                                                     const LabelledCorner& k,
+                                                                     const Vec3& n, double weight,
+                                                                     SubContact& s) const {
   s.weight = weight;
   s.feature = featureKey(k.a, k.b);
   if (featureType(k.a) == FeatureType::kVertex) {  // A's vertex inside B's face, as fromCorner()
