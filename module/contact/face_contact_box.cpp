@@ -34,7 +34,8 @@ const double kCosFacing = std::cos(kFacingAngleDeg * std::numbers::pi / 180.0);
 
 }  // namespace
 
-FaceContactBuilder::Facing FaceContactBuilder::boxFacing(const Body& body, const Vec3& direction) {
+[[gnu::always_inline]] inline FaceContactBuilder::Facing FaceContactBuilder::boxFacing(
+    const Body& body, const Vec3& direction) {
   // A face within the facing angle (20 deg) of `direction` lies along the box axis a_k closest to
   // it, on the side of the sign of a_k . direction: |a_k . direction| >= cos 20 deg there, and
   // <= sin 20 deg along the other two axes. So that face, from the shape's table, is the only
