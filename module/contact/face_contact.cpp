@@ -200,6 +200,7 @@ void FaceContactBuilder::sortPending() {
     std::sort(pending_.begin(), pending_.end(), before);
   } else {
     for (std::size_t i = 1; i < pending_.size(); ++i) {
+      if (!before(pending_[i], pending_[i - 1])) continue;  // in place already: not moved
       const Pending p = pending_[i];
       std::size_t j = i;
       for (; j > 0 && before(p, pending_[j - 1]); --j) pending_[j] = pending_[j - 1];
@@ -211,7 +212,8 @@ void FaceContactBuilder::sortPending() {
     if (kept > 0 && pending_[kept - 1].feature == pending_[i].feature) {
       pending_[kept - 1].weight += pending_[i].weight;
     } else {
-      pending_[kept++] = pending_[i];
+      if (kept != i) pending_[kept] = pending_[i];  // most clips merge nothing: no self-copies
+      ++kept;
     }
   }
   pending_.resize(kept);

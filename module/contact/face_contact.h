@@ -101,9 +101,10 @@ class FaceContactBuilder {
 
   static Facing facingSide(const Body& body, const Vec3& direction, int support);
   /// A box's facing face: of all its faces, the one whose normal is closest to `direction`,
-  /// within the facing angle. For a rectangular box that is facingSide()'s face: a face within
-  /// 20 degrees of `direction` contains the deepest vertex, and no two faces are within 40
-  /// degrees of each other, so there is no tie.
+  /// within the facing angle, found from the box's three axes (face_contact_box.cpp). For a
+  /// rectangular box that is facingSide()'s face: a face within 20 degrees of `direction`
+  /// contains the deepest vertex, and no two faces are within 40 degrees of each other, so there
+  /// is no tie.
   static Facing boxFacing(const Body& body, const Vec3& direction);
   bool faceFace(const Body& a, const Body& b, const Contact& c);
   bool edgeFace(const Body& edge_body, const Body& face_body, int edge, bool edge_is_a,

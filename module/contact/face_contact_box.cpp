@@ -2,7 +2,8 @@
 // rectangular boxes (geometry/box_frame.h) whose faces face each other, which is every contact of
 // a dense pack of aligned blocks. The model is the general path's (the same facing faces, corner
 // labels and keys, weights rule, gaps along the same normals), computed with less work:
-//   - the facing faces are found among the six faces' world normals (no support scan);
+//   - the facing face of each box is the face along its axis closest to the normal, from the
+//     shape's table (BoxFrame::face), with no search over faces or support scan;
 //   - A's face is projected along the contact normal n onto the plane of B's face and written in
 //     coordinates (alpha, beta) in which B's rectangle x0 + alpha U + beta V is the unit square:
 //     three dot products a corner, and B's corners need no projection;
@@ -22,6 +23,7 @@
 #include "polydem/contact/face_contact.h"
 #include "polydem/contact/square_clip.h"
 #include "polydem/core/tolerance.h"
+#include "polydem/geometry/box_frame.h"
 #include "polydem/geometry/polygon.h"
 
 namespace polydem::contact {
@@ -32,25 +34,29 @@ const double kCosFacing = std::cos(kFacingAngleDeg * std::numbers::pi / 180.0);
 
 }  // namespace
 
-FaceContactBuilder::Facing FaceContactBuilder::boxFacing(const Body& body, const Vec3& direction) {
-  Facing f;
-  double best_cos = kCosFacing;
-  const int faces = static_cast<int>(body.shape->faces().size());
-  if (body.face_normals.empty()) {
-    for (int i = 0; i < faces; ++i) {
-      const Vec3 nf = body.faceNormal(i);
-      const double c = nf.dot(direction);
-      if (c > best_cos) f.face = i, best_cos = c, f.normal = nf;
-    }
-  } else {  // the world normals kept for the step: compare, then copy the one chosen
-    const Vec3* normals = body.face_normals.data();
-    for (int i = 0; i < faces; ++i) {
-      const double c = normals[i].dot(direction);
-      if (c > best_cos) f.face = i, best_cos = c;
-    }
-    if (f.face >= 0) f.normal = normals[f.face];
+[[gnu::always_inline]] inline FaceContactBuilder::Facing FaceContactBuilder::boxFacing(
+    const Body& body, const Vec3& direction) {
+  // A face within the facing angle (20 deg) of `direction` lies along the box axis a_k closest to
+  // it, on the side of the sign of a_k . direction: |a_k . direction| >= cos 20 deg there, and
+  // <= sin 20 deg along the other two axes. So that face, from the shape's table, is the only
+  // candidate, and its own cosine decides as in a search over all six faces (no two faces are
+  // within 40 degrees of each other, so the search never had a tie to break).
+  const geometry::BoxFrame& box = *body.shape->box();
+  const auto& axis_faces = body.shape->axisFaces();
+  int k = 0;
+  double c = 0.0;
+  for (int m = 0; m < 3; ++m) {
+    const double cm = body.faceNormal(axis_faces[m]).dot(direction);
+    if (std::abs(cm) > std::abs(c)) k = m, c = cm;
   }
-  if (f.face >= 0) f.base = &body.vertices[body.shape->faces()[f.face].vertices[0]];
+  Facing f;
+  const int face = box.face[2 * k + (c > 0.0 ? 0 : 1)];
+  // The face +a_k is axis_faces[k] itself: its cosine is c, the value the search computed.
+  const double cos_face = c > 0.0 ? c : body.faceNormal(face).dot(direction);
+  if (!(cos_face > kCosFacing)) return f;
+  f.face = face;
+  f.normal = body.faceNormal(face);
+  f.base = &body.vertices[body.shape->faces()[face].vertices[0]];
   return f;
 }
 
@@ -135,8 +141,10 @@ bool FaceContactBuilder::boxFaceFace(const Body& a, const Body& b, const Contact
   return true;
 }
 
-void FaceContactBuilder::fromBoxCorner(const Body& a, const Body& b, const LabelledCorner& k,
-                                       const Vec3& n, double weight, SubContact& s) const {
+[[gnu::always_inline]] inline void FaceContactBuilder::fromBoxCorner(const Body& a, const Body& b,
+                                                                     const LabelledCorner& k,
+                                                                     const Vec3& n, double weight,
+                                                                     SubContact& s) const {
   s.weight = weight;
   s.feature = featureKey(k.a, k.b);
   if (featureType(k.a) == FeatureType::kVertex) {  // A's vertex inside B's face, as fromCorner()

@@ -50,6 +50,19 @@ std::optional<BoxFrame> findBoxFrame(const ConvexPolyhedron& p) {
     box.edge_sign[i] = e.dot(box.axis[k]) > 0.0 ? 1.0 : -1.0;
     skew = std::max(skew, e.cross(box.axis[k]).norm());
   }
+  // Each face along its own axis and sign. Not counted in the skew: a box's face normals are its
+  // axes (or their opposites) within round-off, and the skew decides the box test's bounds.
+  box.face.fill(-1);
+  for (int f = 0; f < 6; ++f) {
+    const Vec3& n = p.faces()[f].normal;
+    int k = 0;
+    for (int m = 1; m < 3; ++m) {
+      if (std::abs(n.dot(box.axis[m])) > std::abs(n.dot(box.axis[k]))) k = m;
+    }
+    const int slot = 2 * k + (n.dot(box.axis[k]) > 0.0 ? 0 : 1);
+    if (box.face[slot] >= 0) return std::nullopt;
+    box.face[slot] = f;
+  }
   box.skew = skew;
   if (!(skew <= BoxFrame::kMaxSkew)) return std::nullopt;
   return box;

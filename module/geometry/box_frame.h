@@ -26,6 +26,9 @@ struct BoxFrame {
   std::array<double, 3> edge_sign;
   /// The vertex at centre + sum_k s_k h_k a_k, with s_k = +1 where bit k of the index is set.
   std::array<int, 8> corner;
+  /// The face whose outward normal is +a_k (face[2k]) or -a_k (face[2k + 1]): a box's facing
+  /// face is found from its three axes instead of a search over its faces.
+  std::array<int, 6> face;
   /// The largest of |a_i . a_j| (i != j), |e x a| over the unit axis edges e and their axes, and
   /// | |(v - centre) . a_k| - h_k | / max h over the corners v: how far from a rectangular box.
   double skew = 0.0;

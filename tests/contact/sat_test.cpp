@@ -523,6 +523,18 @@ TEST(Sat, BoxFrameOfShapes) {
       EXPECT_NEAR(e.dot(frame->axis[frame->edge_axis[i]]) * frame->edge_sign[i],
                   2.0 * frame->half[frame->edge_axis[i]], 1e-14);
     }
+    // The face table: +a_k is the axis face itself, every face once, along its own axis and sign.
+    std::vector<int> seen(6, 0);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(frame->face[2 * k], shape->axisFaces()[k]);
+      for (int side = 0; side < 2; ++side) {
+        const int f = frame->face[2 * k + side];
+        ASSERT_TRUE(f >= 0 && f < 6);
+        ++seen[f];
+        EXPECT_NEAR(shape->faces()[f].normal.dot(frame->axis[k]), side == 0 ? 1.0 : -1.0, 1e-14);
+      }
+    }
+    EXPECT_EQ(seen, std::vector<int>(6, 1));
   }
   EXPECT_EQ(boxShape(1.0, 1.0, 1.0, 0.3).box(), nullptr);
   EXPECT_EQ(smallShape(1, 1.0).box(), nullptr);  // a tetrahedron
