@@ -129,13 +129,26 @@ class ContactHistory {
       while (pos_ < h_.keys_.size() && h_.keys_[pos_] < key) ++pos_;
       return pos_ < h_.keys_.size() && h_.keys_[pos_] == key ? &h_.entries_[pos_] : nullptr;
     }
+    /// A pair's entries: its own (null if none) and its sub-contacts (keys and entries, parallel).
+    struct Found {
+      const PairHistory* pair = nullptr;
+      std::span<const SubKey> sub_keys;
+      std::span<const SubHistory> subs;
+    };
+    /// The entries of `key`, found by one step of the walk (the contact phase needs both; asking
+    /// seek and subs apart walked and compared twice), for keys visited in increasing order.
+    Found find(const PairKey& key) {
+      const PairHistory* pair = seek(key);
+      // Every sub-contact has its pair's entry (indexSubs), so a pair without one has none.
+      if (pair == nullptr) return {};
+      const std::size_t first = h_.subBegin(pos_), count = h_.sub_end_[pos_] - first;
+      return {pair, {h_.sub_keys_.data() + first, count}, {h_.sub_entries_.data() + first, count}};
+    }
     /// The sub-contacts of `key` (keys and entries, parallel), for keys visited in increasing
     /// order.
     std::pair<std::span<const SubKey>, std::span<const SubHistory>> subs(const PairKey& key) {
-      // Every sub-contact has its pair's entry (indexSubs), so a pair without one has none.
-      if (seek(key) == nullptr) return {};
-      const std::size_t first = h_.subBegin(pos_), count = h_.sub_end_[pos_] - first;
-      return {{h_.sub_keys_.data() + first, count}, {h_.sub_entries_.data() + first, count}};
+      const Found found = find(key);
+      return {found.sub_keys, found.subs};
     }
 
    private:
@@ -146,7 +159,8 @@ class ContactHistory {
  private:
   /// Throws Error("ContactHistory::" + what); out of line, away from the step's inline calls.
   [[noreturn]] static void refuse(const char* what);
-  /// Room for `size` sub-contacts (slots constructed once, then kept).
+  /// Room for at least `size` sub-contacts (slots constructed once, then kept), grown
+  /// geometrically.
   void growSubs(std::size_t size);
   /// Whether the features of the last pair's block are strictly increasing up to `last`,
   /// checking from `first` on (and the one before it, if the pair has it).
