@@ -14,22 +14,24 @@ namespace polydem::sim {
   PairFrame frame;
   if (!filter_.accept(storage, shapes, c, setup.margin, frame)) return {};
   const double t_half = setup.time - 0.5 * setup.dt;
-  // A body's motion in the pair's frame: a driven body's prescribed velocity field at t - dt/2.
-  auto motion = [&](std::size_t i, const Vec3& position) {
+  // A body's velocities in the pair's frame: a driven body's prescribed velocity field at
+  // t - dt/2.
+  struct Velocities {
+    Vec3 linear, angular;
+  };
+  auto velocities = [&](std::size_t i, const Vec3& position) {
     const auto& p = storage[i];
     if (p.isDriven()) {
       const auto state = dynamics::driverState((*setup.drivers)[p.driver], t_half);
-      return PairMotion{position, dynamics::materialPointVelocity(state, position),
-                        state.angular_velocity};
+      return Velocities{dynamics::materialPointVelocity(state, position), state.angular_velocity};
     }
-    return PairMotion{position, p.velocity, storage.angularVelocity(i)};
+    return Velocities{p.velocity, storage.angularVelocity(i)};
   };
 
   const auto& pa = storage[c.a];
   const auto& pb = storage[c.b];
-  particles::PairHistory h;
-  if (const auto* previous = old.seek(c.key)) h = *previous;
-  const auto [old_sub_keys, old_subs] = old.subs(c.key);
+  const auto last = old.find(c.key);
+  particles::PairHistory h = last.pair ? *last.pair : particles::PairHistory{};
   const contact::Body body_a{&shapes[pa.shape].polyhedron, frame.xa, storage.rotation(c.a),
                              frame.va, storage.worldFaceNormals(c.a)};
   const contact::Body body_b{&shapes[pb.shape].polyhedron, frame.xb, storage.rotation(c.b),
@@ -37,12 +39,13 @@ namespace polydem::sim {
   const ModelledContact modelled = model_.evaluate(
       *setup.kernel, setup.model, setup.overlap_centroid, body_a, body_b, &h.kernel);
 
-  const PairMotion a = motion(c.a, frame.xa), b = motion(c.b, frame.xb);
+  const Velocities a = velocities(c.a, frame.xa), b = velocities(c.b, frame.xb);
+  const dynamics::PairKinematics kin{frame.xa, a.linear, a.angular, frame.xb, b.linear, b.angular};
   const double ma = storage.mass(c.a), mb = storage.mass(c.b);
   const double m_eff = pa.isFree() && pb.isFree() ? ma * mb / (ma + mb) : (pa.isFree() ? ma : mb);
   const auto& law = (*setup.law)[pa.material * setup.materials + pb.material];
-  return {law_.apply(c.key, modelled, body_a, body_b, a, b, m_eff, setup.dt, law, h, old_sub_keys,
-                     old_subs, next),
+  return {law_.apply(c.key, modelled, body_a, body_b, kin, m_eff, setup.dt, law, h, last.sub_keys,
+                     last.subs, next),
           frame.xa,
           frame.xb,
           modelled.contact.status,
@@ -71,11 +74,11 @@ std::int64_t ContactPhase::runEarly(const ContactSetup& setup,
 
 void ContactPhase::takeEarlyHistory(const particles::PairKey& key,
                                     particles::ContactHistory::Cursor& early) {
-  if (const auto* h = early.seek(key)) next_.appendSorted(key, *h);
-  const auto [sub_keys, subs] = early.subs(key);
+  const auto found = early.find(key);
+  if (found.pair) next_.appendSorted(key, *found.pair);
   sub_scratch_.clear();
-  for (std::size_t s = 0; s < subs.size(); ++s)
-    sub_scratch_.push_back({sub_keys[s].feature, subs[s]});
+  for (std::size_t s = 0; s < found.subs.size(); ++s)
+    sub_scratch_.push_back({found.sub_keys[s].feature, found.subs[s]});
   next_.appendSubs(key, sub_scratch_);
 }
 

@@ -14,13 +14,6 @@
 
 namespace polydem::sim {
 
-/// A body's centroid and velocities in the pair's canonical frame (velocities at t - dt/2).
-struct PairMotion {
-  Vec3 position;
-  Vec3 velocity_half;
-  Vec3 angular_velocity;
-};
-
 /// What the law gives for one pair: the force on A (B gets minus it) and where it acts.
 struct PairLawResult {
   bool touching = false;
@@ -36,12 +29,15 @@ struct PairLawResult {
 
 class PairLaw {
  public:
-  /// The law for pair `key` whose last history is `h` (sub-contacts: old_keys/old) with
-  /// coefficients `law`, effective mass `m_eff`; appends the new history to `next`.
+  /// The law for pair `key` whose last history is `h` (sub-contacts: old_keys/old) with the
+  /// centroids and velocities `kin` of the pair's frame, coefficients `law`, effective mass
+  /// `m_eff`; appends the new history to `next`. `h` is the caller's working copy (its kernel
+  /// warm start already updated) and is changed into the new history: taken by value, it was
+  /// copied once more per pair.
   PairLawResult apply(const particles::PairKey& key, const ModelledContact& modelled,
-                      const contact::Body& a, const contact::Body& b, const PairMotion& ma,
-                      const PairMotion& mb, double m_eff, double dt,
-                      const dynamics::LawCoefficients& law, particles::PairHistory h,
+                      const contact::Body& a, const contact::Body& b,
+                      const dynamics::PairKinematics& kin, double m_eff, double dt,
+                      const dynamics::LawCoefficients& law, particles::PairHistory& h,
                       std::span<const particles::SubKey> old_keys,
                       std::span<const particles::SubHistory> old, particles::ContactHistory& next);
 
