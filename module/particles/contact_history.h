@@ -101,7 +101,10 @@ class ContactHistory {
   std::pair<std::size_t, std::size_t> subRange(const PairKey& key) const;
 
   /// Appends an entry whose key is larger than every key so far (building in sorted order).
-  void appendSorted(const PairKey& key, const PairHistory& h);
+  /// Returns it, to be updated in place until the next append (the contact phase appends last
+  /// step's entry and lets the kernel and the law write into it, instead of copying a working
+  /// history in and out).
+  PairHistory& appendSorted(const PairKey& key, const PairHistory& h);
   /// Appends the sub-contacts of pair `pair` (features strictly increasing, above those it has);
   /// `pair` must be the pair appended last.
   void appendSubs(const PairKey& pair, std::span<const SubEntry> subs);
@@ -183,12 +186,13 @@ class ContactHistory {
 
 // The calls made for every pair of every step, inline.
 
-inline void ContactHistory::appendSorted(const PairKey& key, const PairHistory& h) {
+inline PairHistory& ContactHistory::appendSorted(const PairKey& key, const PairHistory& h) {
   if (!keys_.empty() && !(keys_.back() < key))
     refuse("appendSorted: keys must be strictly increasing");
   keys_.push_back(key);
   entries_.push_back(h);
   sub_end_.push_back(subs_);
+  return entries_.back();
 }
 
 inline SubSlots ContactHistory::openSubs(std::size_t count) {

@@ -2,11 +2,10 @@
 
 namespace polydem::sim {
 
-PairLawResult PairLaw::apply(const particles::PairKey& key, const ModelledContact& modelled,
-                             const contact::Body& a, const contact::Body& b,
-                             const dynamics::PairKinematics& kin, double m_eff, double dt,
-                             const dynamics::LawCoefficients& law, particles::PairHistory& h,
-                             std::span<const particles::SubKey> old_keys,
+PairLawResult PairLaw::apply(const ModelledContact& modelled, const contact::Body& a,
+                             const contact::Body& b, const dynamics::PairKinematics& kin,
+                             double m_eff, double dt, const dynamics::LawCoefficients& law,
+                             particles::PairHistory& h, std::span<const particles::SubKey> old_keys,
                              std::span<const particles::SubHistory> old,
                              particles::ContactHistory& next) {
   const contact::Contact& contact = modelled.contact;
@@ -17,7 +16,6 @@ PairLawResult PairLaw::apply(const particles::PairKey& key, const ModelledContac
     h.shear_force.setZero();
     h.normal = contact.normal;
     h.touching = 1;
-    next.appendSorted(key, h);
     // The law writes the sub-contacts it keeps straight into the next step's table.
     const auto f = dynamics::subContactForces(fc, old_keys, old, kin, m_eff, dt, law,
                                               next.openSubs(fc.subs.size()), scratch_);
@@ -39,7 +37,6 @@ PairLawResult PairLaw::apply(const particles::PairKey& key, const ModelledContac
                                                                    kin.wa, kin.xb, kin.vb, kin.wb)
                                       : Vec3::Zero();
   const auto f = dynamics::contactForce(contact, v_rel, m_eff, dt, law, h);
-  next.appendSorted(key, h);
   if (!contact.touching) return r;
   r.touching = true;
   r.point = contact.point;
