@@ -63,6 +63,8 @@ PairForce subContactForces(const contact::FaceContact& fc,
   const double dashpot =
       k.damping_ratio > 0.0 && kn > 0.0 ? 2.0 * k.damping_ratio * std::sqrt(m_eff * kn) : 0.0;
   const Vec3 spin = 0.5 * (kin.wa + kin.wb);
+  // Hoisted (0.5 * dt * x is (0.5 * dt) * x): recomputed per sub-contact in the loop otherwise.
+  const double half_dt = 0.5 * dt;
   const std::size_t m = fc.subs.size();
   grow(scratch.carried, m);
   grow(scratch.origin, m);
@@ -84,7 +86,7 @@ PairForce subContactForces(const contact::FaceContact& fc,
       origin[i] = kOpen;
     } else if (previous && previous->normal.squaredNorm() > 0.0) {
       const Vec3 rotated = rotateShear(previous->shear_force, previous->normal, s.normal);
-      carried[i] = spinShear(rotated, s.normal, 0.5 * dt * spin.dot(s.normal));
+      carried[i] = spinShear(rotated, s.normal, half_dt * spin.dot(s.normal));
       origin[i] = kCarried;
     } else if (!previous) {
       given.newcomer_weight += s.weight;
@@ -97,9 +99,11 @@ PairForce subContactForces(const contact::FaceContact& fc,
 
   // Pass 2, in key order: the springs' forces and their sums. The sums live in locals until the
   // end: the kept histories are written through pointers, which the compiler must otherwise
-  // assume may alias `out`.
+  // assume may alias `out`. The sum of the points, needed only when no sub-contact is in
+  // compression, is taken after the loop (the same sum in the same order), which keeps three
+  // registers free in it.
   Vec3 force = Vec3::Zero(), torque_a = Vec3::Zero(), torque_b = Vec3::Zero();
-  Vec3 centre_sum = Vec3::Zero(), shear_sum = Vec3::Zero(), point_sum = Vec3::Zero();
+  Vec3 centre_sum = Vec3::Zero(), shear_sum = Vec3::Zero();
   double normal_sum = 0.0, energy = 0.0;
   std::size_t loaded = 0;
   bool sliding = false;
@@ -107,7 +111,6 @@ PairForce subContactForces(const contact::FaceContact& fc,
   const double tan_friction = k.tan_friction, cohesion = k.cohesion;
   for (std::size_t i = 0; i < m; ++i) {
     const auto& s = fc.subs[i];
-    point_sum += s.point;
     if (origin[i] == kOpen) continue;
 
     const Vec3& n = s.normal;
@@ -141,8 +144,10 @@ PairForce subContactForces(const contact::FaceContact& fc,
     if (ks > 0.0) energy += 0.5 * shear.squaredNorm() / (w * ks);
     centre_sum += f_normal * s.point;
     shear_sum += shear;
+    // Field by field: an aggregate assigned whole was built on the stack first.
     kept.keys[loaded].feature = s.feature;
-    kept.entries[loaded] = {shear, n};
+    kept.entries[loaded].shear_force = shear;
+    kept.entries[loaded].normal = n;
     ++loaded;
   }
   out.force = force;
@@ -153,8 +158,13 @@ PairForce subContactForces(const contact::FaceContact& fc,
   out.loaded = static_cast<int>(loaded);
   out.sliding = sliding;
   out.shear = shear_sum.norm();
-  out.centre = out.normal > 0.0 ? Vec3(centre_sum / out.normal)
-                                : Vec3(point_sum / static_cast<double>(fc.subs.size()));
+  if (out.normal > 0.0) {
+    out.centre = centre_sum / out.normal;
+  } else {
+    Vec3 point_sum = Vec3::Zero();
+    for (const auto& s : fc.subs) point_sum += s.point;
+    out.centre = point_sum / static_cast<double>(fc.subs.size());
+  }
   return out;
 }
 

@@ -101,7 +101,10 @@ class ContactHistory {
   std::pair<std::size_t, std::size_t> subRange(const PairKey& key) const;
 
   /// Appends an entry whose key is larger than every key so far (building in sorted order).
-  void appendSorted(const PairKey& key, const PairHistory& h);
+  /// Returns it, to be updated in place until the next append (the contact phase appends last
+  /// step's entry and lets the kernel and the law write into it, instead of copying a working
+  /// history in and out).
+  PairHistory& appendSorted(const PairKey& key, const PairHistory& h);
   /// Appends the sub-contacts of pair `pair` (features strictly increasing, above those it has);
   /// `pair` must be the pair appended last.
   void appendSubs(const PairKey& pair, std::span<const SubEntry> subs);
@@ -129,13 +132,26 @@ class ContactHistory {
       while (pos_ < h_.keys_.size() && h_.keys_[pos_] < key) ++pos_;
       return pos_ < h_.keys_.size() && h_.keys_[pos_] == key ? &h_.entries_[pos_] : nullptr;
     }
+    /// A pair's entries: its own (null if none) and its sub-contacts (keys and entries, parallel).
+    struct Found {
+      const PairHistory* pair = nullptr;
+      std::span<const SubKey> sub_keys;
+      std::span<const SubHistory> subs;
+    };
+    /// The entries of `key`, found by one step of the walk (the contact phase needs both; asking
+    /// seek and subs apart walked and compared twice), for keys visited in increasing order.
+    Found find(const PairKey& key) {
+      const PairHistory* pair = seek(key);
+      // Every sub-contact has its pair's entry (indexSubs), so a pair without one has none.
+      if (pair == nullptr) return {};
+      const std::size_t first = h_.subBegin(pos_), count = h_.sub_end_[pos_] - first;
+      return {pair, {h_.sub_keys_.data() + first, count}, {h_.sub_entries_.data() + first, count}};
+    }
     /// The sub-contacts of `key` (keys and entries, parallel), for keys visited in increasing
     /// order.
     std::pair<std::span<const SubKey>, std::span<const SubHistory>> subs(const PairKey& key) {
-      // Every sub-contact has its pair's entry (indexSubs), so a pair without one has none.
-      if (seek(key) == nullptr) return {};
-      const std::size_t first = h_.subBegin(pos_), count = h_.sub_end_[pos_] - first;
-      return {{h_.sub_keys_.data() + first, count}, {h_.sub_entries_.data() + first, count}};
+      const Found found = find(key);
+      return {found.sub_keys, found.subs};
     }
 
    private:
@@ -146,7 +162,8 @@ class ContactHistory {
  private:
   /// Throws Error("ContactHistory::" + what); out of line, away from the step's inline calls.
   [[noreturn]] static void refuse(const char* what);
-  /// Room for `size` sub-contacts (slots constructed once, then kept).
+  /// Room for at least `size` sub-contacts (slots constructed once, then kept), grown
+  /// geometrically.
   void growSubs(std::size_t size);
   /// Whether the features of the last pair's block are strictly increasing up to `last`,
   /// checking from `first` on (and the one before it, if the pair has it).
@@ -169,12 +186,13 @@ class ContactHistory {
 
 // The calls made for every pair of every step, inline.
 
-inline void ContactHistory::appendSorted(const PairKey& key, const PairHistory& h) {
+inline PairHistory& ContactHistory::appendSorted(const PairKey& key, const PairHistory& h) {
   if (!keys_.empty() && !(keys_.back() < key))
     refuse("appendSorted: keys must be strictly increasing");
   keys_.push_back(key);
   entries_.push_back(h);
   sub_end_.push_back(subs_);
+  return entries_.back();
 }
 
 inline SubSlots ContactHistory::openSubs(std::size_t count) {

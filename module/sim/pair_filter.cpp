@@ -42,8 +42,10 @@ std::span<const Vec3> verticesAt(const ParticleStorage& s, const particles::Shap
 void PairFilter::prepare(const ParticleStorage& storage) {
   box_lo_.resize(storage.size());
   box_hi_.resize(storage.size());
+  unshifted_.resize(storage.size());
   for (std::size_t i = 0; i < storage.size(); ++i) {
     bounds(storage.worldVertices(i), box_lo_[i], box_hi_[i]);
+    unshifted_[i] = storage.shift(i).isZero(0.0);
   }
 }
 
@@ -56,7 +58,8 @@ bool PairFilter::accept(const ParticleStorage& storage, const particles::ShapeTa
   const Vec3 xb = storage[c.b].position + (storage.shift(c.b) - storage.shift(c.a));
   const double reach = sa.circumradius + sb.circumradius + margin;
   if ((xb - xa).squaredNorm() > reach * reach) return false;
-  const bool unshifted = storage.shift(c.a).isZero(0.0) && storage.shift(c.b).isZero(0.0);
+  // Tested per particle in prepare(): six comparisons per candidate pair otherwise.
+  const bool unshifted = unshifted_[c.a] && unshifted_[c.b];
   const auto va =
       unshifted ? storage.worldVertices(c.a) : verticesAt(storage, shapes, c.a, xa, scratch_a_);
   const auto vb =

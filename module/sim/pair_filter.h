@@ -5,6 +5,7 @@
 // spheres, then the bounding boxes, come within the margin.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -21,14 +22,15 @@ struct PairFrame {
 
 class PairFilter {
  public:
-  /// Each particle's bounding box once per step, for the box test of unshifted pairs.
+  /// Each particle's bounding box, and whether it has no periodic image shift, once per step.
   void prepare(const particles::ParticleStorage& storage);
   /// Whether `pair` is evaluated with `margin` (absolute); if so, `frame` holds its placement.
   bool accept(const particles::ParticleStorage& storage, const particles::ShapeTable& shapes,
               const OrderedPair& pair, double margin, PairFrame& frame);
 
  private:
-  std::vector<Vec3> box_lo_, box_hi_;  // per storage index, this step
+  std::vector<Vec3> box_lo_, box_hi_;    // per storage index, this step
+  std::vector<std::uint8_t> unshifted_;  // per storage index: the image shift is zero
   std::vector<Vec3> scratch_a_, scratch_b_;
 };
 

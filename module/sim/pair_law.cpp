@@ -2,11 +2,10 @@
 
 namespace polydem::sim {
 
-PairLawResult PairLaw::apply(const particles::PairKey& key, const ModelledContact& modelled,
-                             const contact::Body& a, const contact::Body& b, const PairMotion& ma,
-                             const PairMotion& mb, double m_eff, double dt,
-                             const dynamics::LawCoefficients& law, particles::PairHistory h,
-                             std::span<const particles::SubKey> old_keys,
+PairLawResult PairLaw::apply(const ModelledContact& modelled, const contact::Body& a,
+                             const contact::Body& b, const dynamics::PairKinematics& kin,
+                             double m_eff, double dt, const dynamics::LawCoefficients& law,
+                             particles::PairHistory& h, std::span<const particles::SubKey> old_keys,
                              std::span<const particles::SubHistory> old,
                              particles::ContactHistory& next) {
   const contact::Contact& contact = modelled.contact;
@@ -14,12 +13,9 @@ PairLawResult PairLaw::apply(const particles::PairKey& key, const ModelledContac
   if (modelled.split && contact.touching) {
     // Sub-contacts: a spring at every corner of the face overlap, each with its own history.
     const auto fc = face_.build(a, b, contact);
-    const dynamics::PairKinematics kin{ma.position, ma.velocity_half, ma.angular_velocity,
-                                       mb.position, mb.velocity_half, mb.angular_velocity};
     h.shear_force.setZero();
     h.normal = contact.normal;
     h.touching = 1;
-    next.appendSorted(key, h);
     // The law writes the sub-contacts it keeps straight into the next step's table.
     const auto f = dynamics::subContactForces(fc, old_keys, old, kin, m_eff, dt, law,
                                               next.openSubs(fc.subs.size()), scratch_);
@@ -37,13 +33,10 @@ PairLawResult PairLaw::apply(const particles::PairKey& key, const ModelledContac
     r.energy = f.energy;
     return r;
   }
-  const Vec3 v_rel = contact.touching
-                         ? dynamics::relativeVelocity(contact.point, ma.position, ma.velocity_half,
-                                                      ma.angular_velocity, mb.position,
-                                                      mb.velocity_half, mb.angular_velocity)
-                         : Vec3::Zero();
+  const Vec3 v_rel = contact.touching ? dynamics::relativeVelocity(contact.point, kin.xa, kin.va,
+                                                                   kin.wa, kin.xb, kin.vb, kin.wb)
+                                      : Vec3::Zero();
   const auto f = dynamics::contactForce(contact, v_rel, m_eff, dt, law, h);
-  next.appendSorted(key, h);
   if (!contact.touching) return r;
   r.touching = true;
   r.point = contact.point;

@@ -1,6 +1,6 @@
 // Operator 5 of the contact phase (contact_phase.h): the contact law. Turns a pair's modelled
 // contact into forces on A (dynamics/contact_law.h for a single point, dynamics/sub_contact_law.h
-// for sub-contacts) and appends the pair's new history, in key order, to the next step's table.
+// for sub-contacts) and writes the pair's new history into its entry of the next step's table.
 #pragma once
 
 #include <span>
@@ -13,13 +13,6 @@
 #include "polydem/sim/contact_model.h"
 
 namespace polydem::sim {
-
-/// A body's centroid and velocities in the pair's canonical frame (velocities at t - dt/2).
-struct PairMotion {
-  Vec3 position;
-  Vec3 velocity_half;
-  Vec3 angular_velocity;
-};
 
 /// What the law gives for one pair: the force on A (B gets minus it) and where it acts.
 struct PairLawResult {
@@ -36,12 +29,14 @@ struct PairLawResult {
 
 class PairLaw {
  public:
-  /// The law for pair `key` whose last history is `h` (sub-contacts: old_keys/old) with
-  /// coefficients `law`, effective mass `m_eff`; appends the new history to `next`.
-  PairLawResult apply(const particles::PairKey& key, const ModelledContact& modelled,
-                      const contact::Body& a, const contact::Body& b, const PairMotion& ma,
-                      const PairMotion& mb, double m_eff, double dt,
-                      const dynamics::LawCoefficients& law, particles::PairHistory h,
+  /// The law for a pair with the centroids and velocities `kin` of its frame, coefficients
+  /// `law`, effective mass `m_eff`. `h` is the pair's entry, appended last to `next` by the
+  /// caller with last step's history (sub-contacts: old_keys/old) and the kernel's new warm
+  /// start; the law turns it into the new history in place and appends the pair's sub-contacts
+  /// to `next`.
+  PairLawResult apply(const ModelledContact& modelled, const contact::Body& a,
+                      const contact::Body& b, const dynamics::PairKinematics& kin, double m_eff,
+                      double dt, const dynamics::LawCoefficients& law, particles::PairHistory& h,
                       std::span<const particles::SubKey> old_keys,
                       std::span<const particles::SubHistory> old, particles::ContactHistory& next);
 
