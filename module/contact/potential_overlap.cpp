@@ -16,8 +16,8 @@ bool outsideBox(std::span<const Vec3> corners, std::span<const int> loop, const 
                 const Vec3& hi) {
   for (int axis = 0; axis < 3; ++axis) {
     bool below = true, above = true;
-    for (int i : loop) {
-      const double x = corners[i][axis];
+    for (std::size_t k = 0; k < loop.size() && (below || above); ++k) {
+      const double x = corners[loop[k]][axis];
       below = below && x < lo[axis];
       above = above && x > hi[axis];
     }
@@ -50,7 +50,8 @@ const std::uint64_t* OverlapIntegrator::outsideMask(const Cell& own, const Cell&
 }
 
 void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other, bool on_a, const Vec3& lo,
-                                  const Vec3& hi) {
+                                  const Vec3& hi, const std::uint64_t* usable,
+                                  std::uint64_t* reaching) {
   // For each corner of own, the set of the other's planes it lies outside of, computed once: a
   // face with all corners outside one plane is skipped, and the others are clipped by the planes
   // some corner is outside of, which is all it takes (a plane holding all corners of a face holds
@@ -60,7 +61,12 @@ void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other, bool on_a,
   known_.assign(own.corners.size(), 0);
   all_out_.resize(words_);
   any_out_.resize(words_);
+  const std::size_t own_words = (own.planes.size() + 63) / 64;
+  missed_.assign(own_words, 0);
+  met_.assign(own_words, 0);
   for (const CellFace& face : own.faces) {
+    const std::uint64_t plane_bit = std::uint64_t{1} << (face.plane & 63);
+    missed_[face.plane >> 6] |= plane_bit;  // until the face is found to reach the other cell
     // The box holds the overlap: a face beyond one of its sides has no part in it.
     const std::span<const int> loop = own.loops.subspan(face.begin, face.end - face.begin);
     if (outsideBox(own.corners, loop, lo, hi)) continue;
@@ -76,6 +82,10 @@ void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other, bool on_a,
     bool outside = false;
     for (std::size_t w = 0; w < words_; ++w) outside = outside || all_out_[w] != 0;
     if (outside) continue;
+    met_[face.plane >> 6] |= plane_bit;
+    if (usable != nullptr) {
+      for (std::size_t w = 0; w < words_; ++w) any_out_[w] &= usable[w];
+    }
     // Zhao steps 1-2 (eqs. 6-7): the part of this face inside the other cell. Clipped in space,
     // so that the clip sees the very distances the masks were made of (a face touching a plane
     // to round-off is kept or dropped consistently).
@@ -111,6 +121,11 @@ void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other, bool on_a,
     piece.on_a = on_a;
     piece.frame = frame;
     pieces_.push_back(piece);
+  }
+  // A plane with no face of own, or with a face that was not shown to miss the other cell, may
+  // bound the overlap.
+  if (reaching != nullptr) {
+    for (std::size_t w = 0; w < own_words; ++w) reaching[w] = ~missed_[w] | met_[w];
   }
 }
 
@@ -166,8 +181,16 @@ PairInfo OverlapIntegrator::add(const Cell& a, const Cell& b, const Vec3& lo, co
   pieces_.clear();
   PairInfo info;
   if (excludesBox(a, lo, hi) || excludesBox(b, lo, hi)) return info;
-  clipFaces(a, b, true, lo, hi);
-  clipFaces(b, a, false, lo, hi);
+  // B's faces are clipped only by the planes of A whose faces may reach B, once a piece of A's
+  // surface inside B shows that the overlap V is not empty. Exact: let x be a point of B's face
+  // inside every plane of A but k, outside k, and y a point of V; the segment from x to y lies in
+  // B and inside every plane of A but k, so where it crosses plane k it is on A's face k, inside
+  // B: a face of A that misses B (beyond the box, or all corners outside one plane of B) bounds no
+  // point of V. Skipped clips are those that cut nothing (same polygon) up to round-off at
+  // corners lying on such a plane.
+  reach_a_.resize((a.planes.size() + 63) / 64);
+  clipFaces(a, b, true, lo, hi, nullptr, reach_a_.data());
+  clipFaces(b, a, false, lo, hi, pieces_.empty() ? nullptr : reach_a_.data(), nullptr);
   if (pieces_.empty()) return info;
   info.found = true;
   const PoolSummary pool = summarisePool();

@@ -55,7 +55,8 @@ class OverlapIntegrator {
   /// Adds the overlap of `a` and `b` (the force is on A) to `sums`, appends the corners of its
   /// boundary pieces to `corners`. Faces of either cell lying wholly outside the box [lo, hi]
   /// (which must contain the overlap) are skipped; the others are clipped by the planes of the
-  /// other cell that separate their corners.
+  /// other cell that separate their corners (B's faces only by A's planes whose faces may meet B,
+  /// once A gave a piece).
   PairInfo add(const Cell& a, const Cell& b, const Vec3& lo, const Vec3& hi, OverlapSums& sums,
                std::vector<Vec3>& corners);
 
@@ -70,7 +71,10 @@ class OverlapIntegrator {
   static bool excludesBox(const Cell& cell, const Vec3& lo, const Vec3& hi);
   // Bit k set: corner v of own lies outside the other's plane k (computed once per pair).
   const std::uint64_t* outsideMask(const Cell& own, const Cell& other, int v);
-  void clipFaces(const Cell& own, const Cell& other, bool on_a, const Vec3& lo, const Vec3& hi);
+  // Appends the pieces of own's faces inside other. `usable` (or null: all): the other's planes
+  // to clip by. `reaching` (or null): set to own's planes whose faces may meet the other cell.
+  void clipFaces(const Cell& own, const Cell& other, bool on_a, const Vec3& lo, const Vec3& hi,
+                 const std::uint64_t* usable, std::uint64_t* reaching);
   // The mean and the box of pool_ (the overlap's boundary corners), shared by both cells.
   struct PoolSummary {
     Vec3 mean, lo, hi;
@@ -89,6 +93,7 @@ class OverlapIntegrator {
   std::vector<int> candidates_a_, candidates_b_;
   std::vector<char> is_candidate_a_, is_candidate_b_;
   std::vector<std::uint64_t> outside_, all_out_, any_out_;
+  std::vector<std::uint64_t> missed_, met_, reach_a_;  // per plane of a cell, as clipFaces says
   std::size_t words_ = 0;
   std::vector<char> known_;
 };

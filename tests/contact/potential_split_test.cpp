@@ -91,6 +91,36 @@ TEST(PotentialSplit, PartitionNeighboursGiveTheSameIntegralsAsEveryCandidate) {
   EXPECT_EQ(pairs, 18);
 }
 
+// B's faces are clipped only by the planes of A whose faces may meet B (once A gave a piece):
+// the boundary pieces must still cover exactly the overlap's surface, and separated pairs whose
+// boxes overlap must give none.
+TEST(PotentialSplit, BoundaryPiecesCoverTheOverlapsSurface) {
+  int overlapping = 0, separated = 0;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    for (double depth : {-0.05, 1e-4, 0.05, 0.6}) {
+      const RandomPair p = randomPair(seed, depth);
+      Vec3 lo, hi;
+      if (!potential::commonBox(p.a.body.vertices, p.b.body.vertices, lo, hi)) continue;
+      const auto sums = integrate(p.a.body, p.b.body, true);
+      const auto v =
+          testing::overlapPolyhedron(testing::worldShape(p.a.body), testing::worldShape(p.b.body));
+      if (depth < 0.0) {
+        EXPECT_FALSE(v.has_value()) << seed;
+        EXPECT_EQ(sums.area, 0.0) << seed;
+        ++separated;
+        continue;
+      }
+      ASSERT_TRUE(v.has_value()) << seed << " " << depth;
+      double area = 0.0;
+      for (const auto& f : v->faces()) area += f.area;
+      EXPECT_NEAR(sums.area, area, 1e-9 * area) << seed << " " << depth;
+      ++overlapping;
+    }
+  }
+  EXPECT_EQ(overlapping, 36);
+  EXPECT_GT(separated, 0);
+}
+
 TEST(PotentialSplit, KernelsAllocateNothingOnceWarm) {
   // Random pairs from shallow to deep, and cubes face on face in random poses.
   std::vector<RandomPair> pairs;
