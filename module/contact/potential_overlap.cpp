@@ -4,6 +4,9 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "polydem/core/tolerance.h"
 
@@ -36,15 +39,54 @@ bool OverlapIntegrator::excludesBox(const Cell& cell, const Vec3& lo, const Vec3
   return false;
 }
 
-const std::uint64_t* OverlapIntegrator::outsideMask(const Cell& own, const Cell& other, int v) {
+void OverlapIntegrator::loadPlanes(const Cell& other) {
+  // Padded to an even count with a plane 0.x - 0 (never outside), so that the distances of a
+  // corner go two at a time.
+  const std::size_t m = other.planes.size(), padded = m + (m & 1);
+  plane_x_.resize(padded);
+  plane_y_.resize(padded);
+  plane_z_.resize(padded);
+  plane_offset_.resize(padded);
+  for (std::size_t k = 0; k < m; ++k) {
+    const CellPlane& p = other.planes[k];
+    plane_x_[k] = p.normal.x();
+    plane_y_[k] = p.normal.y();
+    plane_z_[k] = p.normal.z();
+    plane_offset_[k] = p.offset;
+  }
+  if (padded > m) plane_x_[m] = plane_y_[m] = plane_z_[m] = plane_offset_[m] = 0.0;
+}
+
+const std::uint64_t* OverlapIntegrator::outsideMask(const Cell& own, int v) {
   std::uint64_t* mask = outside_.data() + static_cast<std::size_t>(v) * words_;
   if (known_[v]) return mask;
   known_[v] = 1;
-  std::fill(mask, mask + words_, 0);
+  // normal.x - offset with the products summed in the order of Eigen's dot, (n_x x + n_y y) +
+  // n_z z: the same bits as CellPlane's, two planes at a time where SSE2 is there.
   const Vec3& x = own.corners[v];
-  for (std::size_t k = 0; k < other.planes.size(); ++k) {
-    const CellPlane& p = other.planes[k];
-    if (p.normal.dot(x) - p.offset > 0.0) mask[k >> 6] |= std::uint64_t{1} << (k & 63);
+  const std::size_t n = plane_x_.size();
+  const double *px = plane_x_.data(), *py = plane_y_.data(), *pz = plane_z_.data(),
+               *po = plane_offset_.data();
+  for (std::size_t w = 0; w < words_; ++w) {
+    std::uint64_t bits = 0;
+    const std::size_t begin = 64 * w, end = std::min(n, begin + 64);
+#if defined(__SSE2__)
+    const __m128d x0 = _mm_set1_pd(x.x()), x1 = _mm_set1_pd(x.y()), x2 = _mm_set1_pd(x.z());
+    const __m128d zero = _mm_setzero_pd();
+    for (std::size_t k = begin; k < end; k += 2) {
+      const __m128d xy =
+          _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(px + k), x0), _mm_mul_pd(_mm_loadu_pd(py + k), x1));
+      const __m128d h =
+          _mm_sub_pd(_mm_add_pd(xy, _mm_mul_pd(_mm_loadu_pd(pz + k), x2)), _mm_loadu_pd(po + k));
+      bits |= static_cast<std::uint64_t>(_mm_movemask_pd(_mm_cmpgt_pd(h, zero))) << (k - begin);
+    }
+#else
+    for (std::size_t k = begin; k < end; ++k) {
+      const double h = (px[k] * x.x() + py[k] * x.y()) + pz[k] * x.z() - po[k];
+      bits |= static_cast<std::uint64_t>(h > 0.0) << (k - begin);
+    }
+#endif
+    mask[w] = bits;
   }
   return mask;
 }
@@ -57,6 +99,7 @@ void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other, bool on_a,
   // some corner is outside of, which is all it takes (a plane holding all corners of a face holds
   // the face).
   words_ = (other.planes.size() + 63) / 64;
+  loadPlanes(other);
   outside_.resize(own.corners.size() * words_);
   known_.assign(own.corners.size(), 0);
   all_out_.resize(words_);
@@ -73,7 +116,7 @@ void OverlapIntegrator::clipFaces(const Cell& own, const Cell& other, bool on_a,
     std::fill(all_out_.begin(), all_out_.end(), ~std::uint64_t{0});
     std::fill(any_out_.begin(), any_out_.end(), 0);
     for (int v : loop) {
-      const std::uint64_t* mask = outsideMask(own, other, v);
+      const std::uint64_t* mask = outsideMask(own, v);
       for (std::size_t w = 0; w < words_; ++w) {
         all_out_[w] &= mask[w];
         any_out_[w] |= mask[w];

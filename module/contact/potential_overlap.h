@@ -69,8 +69,10 @@ class OverlapIntegrator {
   };
   // Whether one plane of `cell` leaves the whole box [lo, hi] outside (then there is no overlap).
   static bool excludesBox(const Cell& cell, const Vec3& lo, const Vec3& hi);
+  // The other cell's planes by coordinate (plane_x_ ...), for outsideMask.
+  void loadPlanes(const Cell& other);
   // Bit k set: corner v of own lies outside the other's plane k (computed once per pair).
-  const std::uint64_t* outsideMask(const Cell& own, const Cell& other, int v);
+  const std::uint64_t* outsideMask(const Cell& own, int v);
   // Appends the pieces of own's faces inside other. `usable` (or null: all): the other's planes
   // to clip by. `reaching` (or null): set to own's planes whose faces may meet the other cell.
   void clipFaces(const Cell& own, const Cell& other, bool on_a, const Vec3& lo, const Vec3& hi,
@@ -96,6 +98,7 @@ class OverlapIntegrator {
   std::vector<std::uint64_t> missed_, met_, reach_a_;  // per plane of a cell, as clipFaces says
   std::size_t words_ = 0;
   std::vector<char> known_;
+  std::vector<double> plane_x_, plane_y_, plane_z_, plane_offset_;
 };
 
 /// The full result of a potential kernel for one pair, in world coordinates.
