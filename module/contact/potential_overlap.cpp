@@ -225,12 +225,12 @@ PairInfo OverlapIntegrator::add(const Cell& a, const Cell& b, const Vec3& lo, co
   PairInfo info;
   if (excludesBox(a, lo, hi) || excludesBox(b, lo, hi)) return info;
   // B's faces are clipped only by the planes of A whose faces may reach B, once a piece of A's
-  // surface inside B shows that the overlap V is not empty. Exact: let x be a point of B's face
-  // inside every plane of A but k, outside k, and y a point of V; the segment from x to y lies in
-  // B and inside every plane of A but k, so where it crosses plane k it is on A's face k, inside
-  // B: a face of A that misses B (beyond the box, or all corners outside one plane of B) bounds no
-  // point of V. Skipped clips are those that cut nothing (same polygon) up to round-off at
-  // corners lying on such a plane.
+  // surface inside B shows that the overlap V is not empty. Exact: let x be a point of a face of
+  // B inside A's planes but those of a set D, and y a point of V; along the segment x -> y (in B,
+  // inside A's planes not in D) the first point inside A lies on a plane of D and inside A's other
+  // planes: on a face of A, in B. So if every face of D misses B (beyond the box that holds V, or
+  // every corner outside one plane of B), x is in A already and the clips by D cut nothing (the
+  // same polygon), up to round-off at corners lying on such a plane.
   reach_a_.resize((a.planes.size() + 63) / 64);
   clipFaces(a, b, true, lo, hi, nullptr, reach_a_.data());
   clipFaces(b, a, false, lo, hi, pieces_.empty() ? nullptr : reach_a_.data(), nullptr);
