@@ -41,10 +41,8 @@ const particles::PairHistory kNoHistory{};
   // the law write into it in place.
   const auto last = old.find(c.key);
   particles::PairHistory& h = next.appendSorted(c.key, last.pair ? *last.pair : kNoHistory);
-  const contact::Body body_a{&shapes[pa.shape].polyhedron, frame.xa, storage.rotation(c.a),
-                             frame.va, storage.worldFaceNormals(c.a)};
-  const contact::Body body_b{&shapes[pb.shape].polyhedron, frame.xb, storage.rotation(c.b),
-                             frame.vb, storage.worldFaceNormals(c.b)};
+  const contact::Body& body_a = *frame.a;
+  const contact::Body& body_b = *frame.b;
   const ModelledContact modelled = model_.evaluate(
       *setup.kernel, setup.model, setup.overlap_centroid, body_a, body_b, &h.kernel);
 
@@ -69,7 +67,7 @@ std::int64_t ContactPhase::runEarly(const ContactSetup& setup,
   discardEarly();
   early_setup_ = setup;
   const auto pairs = order_.sort(storage, candidates);
-  filter_.prepare(storage);
+  filter_.prepare(storage, *setup.shapes);
   particles::ContactHistory::Cursor old(history);
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const OrderedPair& c = pairs[k];
@@ -109,7 +107,7 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
   forces.assign(storage.size(), dynamics::ForceAccumulator{});
   particles::ContactHistory::Cursor old(history), early_history(early_history_);
   std::size_t next_early = 0;
-  filter_.prepare(storage);
+  filter_.prepare(storage, *setup.shapes);
 
   auto localFree = [&](std::int32_t i) {
     return static_cast<std::size_t>(i) < storage.localCount() && storage[i].isFree();
@@ -140,7 +138,8 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
     const PairLawResult& r = e.r;
     sumPairForce(forces, local_a, local_b, r, e.xa, e.xb);
 
-    ContactRecord rec;
+    // Written in place: a record built on the stack and pushed cost one more copy of it per pair.
+    ContactRecord& rec = records_.emplace_back();
     rec.key = c.key;
     rec.a = local_a;
     rec.b = local_b;
@@ -162,7 +161,6 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
       rec.subcontacts = r.subcontacts;
     }
     countStatus(stats, e.status);
-    records_.push_back(rec);
   }
   discardEarly();
   std::swap(history, next_);
