@@ -184,9 +184,12 @@ class ContactHistory {
   std::size_t open_ = 0;  // slots handed out by openSubs, not yet closed
 };
 
-// The calls made for every pair of every step, inline.
+// The calls made for every pair of every step, inline. appendSorted is forced inline: GCC kept it a
+// call from the contact phase, 66 instructions a pair of the dense pack where inline it takes
+// ~49 (callgrind).
 
-inline PairHistory& ContactHistory::appendSorted(const PairKey& key, const PairHistory& h) {
+[[gnu::always_inline]] inline PairHistory& ContactHistory::appendSorted(const PairKey& key,
+                                                                        const PairHistory& h) {
   if (!keys_.empty() && !(keys_.back() < key))
     refuse("appendSorted: keys must be strictly increasing");
   keys_.push_back(key);

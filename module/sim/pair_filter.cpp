@@ -1,5 +1,7 @@
 #include "polydem/sim/pair_filter.h"
 
+#include <cstring>
+
 namespace polydem::sim {
 
 namespace {
@@ -39,13 +41,16 @@ std::span<const Vec3> verticesAt(const ParticleStorage& s, const particles::Shap
 
 }  // namespace
 
-void PairFilter::prepare(const ParticleStorage& storage) {
+void PairFilter::prepare(const ParticleStorage& storage, const particles::ShapeTable& shapes) {
+  bodies_.resize(storage.size());
   box_lo_.resize(storage.size());
   box_hi_.resize(storage.size());
   unshifted_.resize(storage.size());
   for (std::size_t i = 0; i < storage.size(); ++i) {
     bounds(storage.worldVertices(i), box_lo_[i], box_hi_[i]);
     unshifted_[i] = storage.shift(i).isZero(0.0);
+    bodies_[i] = {&shapes[storage[i].shape].polyhedron, storage[i].position, storage.rotation(i),
+                  storage.worldVertices(i), storage.worldFaceNormals(i)};
   }
 }
 
@@ -59,17 +64,33 @@ bool PairFilter::accept(const ParticleStorage& storage, const particles::ShapeTa
   const double reach = sa.circumradius + sb.circumradius + margin;
   if ((xb - xa).squaredNorm() > reach * reach) return false;
   // Tested per particle in prepare(): six comparisons per candidate pair otherwise.
-  const bool unshifted = unshifted_[c.a] && unshifted_[c.b];
-  const auto va =
-      unshifted ? storage.worldVertices(c.a) : verticesAt(storage, shapes, c.a, xa, scratch_a_);
-  const auto vb =
-      unshifted ? storage.worldVertices(c.b) : verticesAt(storage, shapes, c.b, xb, scratch_b_);
-  const bool boxes =
-      unshifted ? boxesOverlap(box_lo_[c.a], box_hi_[c.a], box_lo_[c.b], box_hi_[c.b], margin)
-                : boxesOverlap(va, vb, margin);
-  if (!boxes) return false;
-  frame = {xa, xb, va, vb};
+  if (unshifted_[c.a] && unshifted_[c.b]) {
+    if (!boxesOverlap(box_lo_[c.a], box_hi_[c.a], box_lo_[c.b], box_hi_[c.b], margin)) return false;
+    // B's frame position is its stored one plus a zero shift difference: the same bits unless a
+    // coordinate is a zero whose sign the addition changes; such a B gets a Body of its own.
+    if (std::memcmp(xb.data(), storage[c.b].position.data(), sizeof(double) * 3) == 0) {
+      frame = {xa, xb, &bodies_[c.a], &bodies_[c.b]};
+      return true;
+    }
+    placeOwn(storage, shapes, c, xb, storage.worldVertices(c.a), storage.worldVertices(c.b), frame);
+    return true;
+  }
+  const auto va = verticesAt(storage, shapes, c.a, xa, scratch_a_);
+  const auto vb = verticesAt(storage, shapes, c.b, xb, scratch_b_);
+  if (!boxesOverlap(va, vb, margin)) return false;
+  placeOwn(storage, shapes, c, xb, va, vb, frame);
   return true;
+}
+
+void PairFilter::placeOwn(const ParticleStorage& storage, const particles::ShapeTable& shapes,
+                          const OrderedPair& c, const Vec3& xb, std::span<const Vec3> va,
+                          std::span<const Vec3> vb, PairFrame& frame) {
+  const Vec3& xa = storage[c.a].position;
+  shifted_a_ = {&shapes[storage[c.a].shape].polyhedron, xa, storage.rotation(c.a), va,
+                storage.worldFaceNormals(c.a)};
+  shifted_b_ = {&shapes[storage[c.b].shape].polyhedron, xb, storage.rotation(c.b), vb,
+                storage.worldFaceNormals(c.b)};
+  frame = {xa, xb, &shifted_a_, &shifted_b_};
 }
 
 }  // namespace polydem::sim
