@@ -78,11 +78,9 @@ struct TwoLanes {
     const __m128d dx = _mm_sub_pd(_mm_set1_pd(a.x), _mm_loadu_pd(b.x + k));
     const __m128d dy = _mm_sub_pd(_mm_set1_pd(a.y), _mm_loadu_pd(b.y + k));
     const __m128d dz = _mm_sub_pd(_mm_set1_pd(a.z), _mm_loadu_pd(b.z + k));
-    const __m128d reach =
-        _mm_add_pd(_mm_add_pd(_mm_set1_pd(a.r), _mm_loadu_pd(b.r + k)), _mm_set1_pd(margin));
-    const __m128d d2 =
-        _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
-    return static_cast<std::uint32_t>(_mm_movemask_pd(_mm_cmple_pd(d2, _mm_mul_pd(reach, reach))));
+    return within(
+        dx, dy, dz,
+        _mm_add_pd(_mm_add_pd(_mm_set1_pd(a.r), _mm_loadu_pd(b.r + k)), _mm_set1_pd(margin)));
 #else
     return static_cast<std::uint32_t>(detail::near(a, b, k, margin)) |
            static_cast<std::uint32_t>(detail::near(a, b, k + 1, margin)) << 1;
@@ -102,16 +100,24 @@ struct TwoLanes {
     const __m128d dx = axis(t.x, box.lo[0], box.hi[0]);
     const __m128d dy = axis(t.y, box.lo[1], box.hi[1]);
     const __m128d dz = axis(t.z, box.lo[2], box.hi[2]);
-    const __m128d reach =
-        _mm_add_pd(_mm_add_pd(_mm_set1_pd(box.r_max), _mm_loadu_pd(t.r + k)), _mm_set1_pd(margin));
-    const __m128d d2 =
-        _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
-    return static_cast<std::uint32_t>(_mm_movemask_pd(_mm_cmple_pd(d2, _mm_mul_pd(reach, reach))));
+    return within(
+        dx, dy, dz,
+        _mm_add_pd(_mm_add_pd(_mm_set1_pd(box.r_max), _mm_loadu_pd(t.r + k)), _mm_set1_pd(margin)));
 #else
     return static_cast<std::uint32_t>(detail::nearBox(t, k, box, margin)) |
            static_cast<std::uint32_t>(detail::nearBox(t, k + 1, box, margin)) << 1;
 #endif
   }
+
+#if defined(__SSE2__)
+ private:
+  // Bit l set where dx^2 + dy^2 + dz^2 <= reach^2 in lane l, summed as withinReach() sums.
+  static std::uint32_t within(__m128d dx, __m128d dy, __m128d dz, __m128d reach) {
+    const __m128d d2 =
+        _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
+    return static_cast<std::uint32_t>(_mm_movemask_pd(_mm_cmple_pd(d2, _mm_mul_pd(reach, reach))));
+  }
+#endif
 };
 
 #if POLYDEM_BROADPHASE_AVX2
@@ -142,13 +148,9 @@ struct FourLanes {
     const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(a.x), _mm256_loadu_pd(b.x + k));
     const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(a.y), _mm256_loadu_pd(b.y + k));
     const __m256d dz = _mm256_sub_pd(_mm256_set1_pd(a.z), _mm256_loadu_pd(b.z + k));
-    const __m256d reach = _mm256_add_pd(
-        _mm256_add_pd(_mm256_set1_pd(a.r), _mm256_loadu_pd(b.r + k)), _mm256_set1_pd(margin));
-    const __m256d d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                                     _mm256_mul_pd(dz, dz));
-    // _CMP_LE_OS is SSE2's cmplepd: false for NaN, as the scalar <=.
-    return static_cast<std::uint32_t>(
-        _mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_mul_pd(reach, reach), _CMP_LE_OS)));
+    return within(dx, dy, dz,
+                  _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(a.r), _mm256_loadu_pd(b.r + k)),
+                                _mm256_set1_pd(margin)));
   }
 
   /// nearBox() for members k .. k + 3 of `t`: bit l for member k + l.
@@ -157,12 +159,9 @@ struct FourLanes {
     const __m256d dx = gap(t.x + k, box.lo[0], box.hi[0]);
     const __m256d dy = gap(t.y + k, box.lo[1], box.hi[1]);
     const __m256d dz = gap(t.z + k, box.lo[2], box.hi[2]);
-    const __m256d reach = _mm256_add_pd(
-        _mm256_add_pd(_mm256_set1_pd(box.r_max), _mm256_loadu_pd(t.r + k)), _mm256_set1_pd(margin));
-    const __m256d d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                                     _mm256_mul_pd(dz, dz));
-    return static_cast<std::uint32_t>(
-        _mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_mul_pd(reach, reach), _CMP_LE_OS)));
+    return within(dx, dy, dz,
+                  _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(box.r_max), _mm256_loadu_pd(t.r + k)),
+                                _mm256_set1_pd(margin)));
   }
 
   /// Writes the pairs (a_pos, k + l) of the lanes l set in `hits` (4 bits), in lane order, at
@@ -184,6 +183,15 @@ struct FourLanes {
   }
 
  private:
+  // Bit l set where dx^2 + dy^2 + dz^2 <= reach^2 in lane l, summed as withinReach() sums.
+  // _CMP_LE_OS is SSE2's cmplepd: false for NaN, as the scalar <=.
+  [[gnu::target("avx2")]] static std::uint32_t within(__m256d dx, __m256d dy, __m256d dz,
+                                                      __m256d reach) {
+    const __m256d d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                     _mm256_mul_pd(dz, dz));
+    return static_cast<std::uint32_t>(
+        _mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_mul_pd(reach, reach), _CMP_LE_OS)));
+  }
   // Distance along one axis from four coordinates at c to [lo, hi] (0 inside).
   [[gnu::target("avx2")]] static __m256d gap(const double* c, double lo, double hi) {
     const __m256d v = _mm256_loadu_pd(c);
