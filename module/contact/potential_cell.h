@@ -8,6 +8,7 @@
 #include <span>
 
 #include "polydem/core/types.h"
+#include "polydem/geometry/face_regions.h"
 
 namespace polydem::contact::potential {
 
@@ -36,7 +37,8 @@ struct RegionFacets {
   std::span<const std::uint64_t> masks;
   std::array<int, 4> basis{};  // indices into Cell::corners
   double tolerance = 0.0;      // how far from a plane a point still counts as on it (m)
-  static constexpr int kMaskedCorners = 64;  // as geometry::FaceRegions: larger regions unmasked
+  // Larger regions have every facet bit set (never skipped) and are not tested corner by corner.
+  static constexpr int kMaskedCorners = geometry::FaceRegions::kMaskedCorners;
 };
 
 /// A convex cell. `planes` are all its planes (they bound it and define its potential); `faces`
