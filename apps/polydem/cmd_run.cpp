@@ -38,7 +38,7 @@ void pictureOf(const sim::RunOptions& options) {
 
 int runCommand(int argc, char** argv) {
   testPause("startup");  // test hook: signal handlers are in place (main.cpp), no file read yet
-  Args args(argc, argv, {"help", "no-snapshots", "quiet", "check", "picture"});
+  Args args(argc, argv, {"help", "no-snapshots", "quiet", "verbose", "check", "picture"});
   const auto restart = args.value("restart");
   if (args.flag("help") || (args.positional().empty() && !restart)) {
     std::printf(
@@ -55,6 +55,7 @@ int runCommand(int argc, char** argv) {
         "                    (also [output] picture = true; needs /usr/bin/python3, matplotlib)\n"
         "  --check           exit with status 3 if a check of the scene fails\n"
         "  --quiet           only warnings and errors\n"
+        "  --verbose         also the detail: every load-balance check, sub-step timings\n"
         "checkpoints (docs/checkpoint.md), written to DIR/checkpoints/checkpoint_<step>.h5:\n"
         "  --checkpoint-every N     every N steps (overrides [checkpoint] every_steps)\n"
         "  --checkpoint-seconds T   every T seconds of wall clock (overrides every_seconds)\n"
@@ -92,6 +93,7 @@ int runCommand(int argc, char** argv) {
   const bool check = args.flag("check");
   bool picture = args.flag("picture");
   if (args.flag("quiet")) log::setLevel(log::Level::kWarning);
+  if (args.flag("verbose")) log::setLevel(log::Level::kDetail);
   args.rejectUnknown();
   if (args.positional().size() > 1) throw UsageError("polydem run takes one scene file");
   if (options.steps && *options.steps <= 0) throw UsageError("--steps must be positive");

@@ -61,14 +61,27 @@ nlohmann::json summaryJson(const io::Scene& scene, Simulation& sim, const RunRes
   return j;
 }
 
+// " m" after a value in metres; nothing for a ratio ("1") or a check without a unit.
+std::string unitSuffix(const std::string& unit) {
+  return unit.empty() || unit == "1" ? std::string() : " " + unit;
+}
+
+// One line a check: PASS/FAIL with what the value was compared against, or REPORT for a check
+// that only reports its value (compare = "report": it cannot fail, so it says neither).
 void printChecks(const std::vector<io::CheckResult>& checks) {
   if (checks.empty()) return;
   log::info("checks:");
   for (const auto& c : checks) {
+    const std::string unit = unitSuffix(c.unit);
+    const std::string note = c.note.empty() ? "" : "  [" + c.note + "]";
+    if (c.compare == "report") {
+      log::info(cat("  REPORT ", c.name, ": ", num(c.value), unit, note));
+      continue;
+    }
     const bool tol = c.compare == "abs" || c.compare == "rel";
-    log::info(cat("  ", c.pass ? "PASS " : "FAIL ", c.name, ": ", num(c.value), " (", c.compare,
-                  " ", num(c.expected), tol ? " +- " + num(c.tolerance) : std::string(), ")",
-                  c.note.empty() ? "" : "  [" + c.note + "]"));
+    log::info(cat("  ", c.pass ? "PASS " : "FAIL ", c.name, ": ", num(c.value), unit, " (",
+                  c.compare, " ", num(c.expected), tol ? " +- " + num(c.tolerance) : std::string(),
+                  ")", note));
   }
 }
 

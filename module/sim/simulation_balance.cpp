@@ -113,10 +113,18 @@ bool Simulation::balanceDecomposition() {
       domain::proposeBalance(*forest_, now, candidate.get(), candidate ? &next : nullptr, comm_,
                              partitionMethod(), kAdoptMargin);
   const domain::Index3 n = candidate ? candidate->counts() : forest_->counts();
-  log::info(cat("balance at step ", loop_.step(), ": work imbalance ",
-                num(balance_log_.last_imbalance), ", modelled ", num(proposal.imbalance_before),
-                " -> ", num(proposal.imbalance_after), " on ", n[0], " x ", n[1], " x ", n[2],
-                " blocks: ", proposal.adopted ? "adopted" : "kept the current map"));
+  // A changed map is news; a kept one is detail (--verbose), so that it does not bury the
+  // progress line every balance interval.
+  const std::string line =
+      cat("balance at step ", loop_.step(), ": work imbalance ", num(balance_log_.last_imbalance),
+          ", modelled ", num(proposal.imbalance_before), " -> ", num(proposal.imbalance_after),
+          " on ", n[0], " x ", n[1], " x ", n[2],
+          " blocks: ", proposal.adopted ? "adopted" : "kept the current map");
+  if (proposal.adopted) {
+    log::info(line);
+  } else {
+    log::detail(line);
+  }
   if (!proposal.adopted) return false;
   if (candidate) forest_ = std::move(candidate);
   forest_->setRankMap(std::move(proposal.map), ranks_);
