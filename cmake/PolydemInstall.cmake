@@ -22,6 +22,18 @@ install(TARGETS ${polydem_module_targets} polydem_all EXPORT polydemTargets
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(TARGETS polydem RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
+# The parallel HDF5 the libraries were built with, as the config file recreates it: FindHDF5
+# try-compiles a C file, which a C++-only consumer cannot do, so the consumer is handed the
+# include directories and libraries this build found instead of searching again.
+get_target_property(POLYDEM_HDF5_INCLUDE_DIRS HDF5::HDF5 INTERFACE_INCLUDE_DIRECTORIES)
+get_target_property(POLYDEM_HDF5_LIBRARIES HDF5::HDF5 INTERFACE_LINK_LIBRARIES)
+get_target_property(POLYDEM_HDF5_DEFINITIONS HDF5::HDF5 INTERFACE_COMPILE_DEFINITIONS)
+foreach(var POLYDEM_HDF5_INCLUDE_DIRS POLYDEM_HDF5_LIBRARIES POLYDEM_HDF5_DEFINITIONS)
+  if(NOT ${var})
+    set(${var} "")
+  endif()
+endforeach()
+
 set(polydem_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/polydem)
 install(EXPORT polydemTargets NAMESPACE polydem:: DESTINATION ${polydem_cmake_dir})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/polydemConfig.cmake.in
