@@ -25,8 +25,9 @@ std::string programPath() {
 /// The picture of a finished run (rank 0; the others wait, so that mpirun ends after it).
 void pictureOf(const sim::RunOptions& options) {
   if (mpi::rank(MPI_COMM_WORLD) == 0) {
+    plotSeries(options.out_dir);
     if (!options.snapshots) {
-      log::warning("no picture: --no-snapshots");
+      log::warning("no frames.png: --no-snapshots");
     } else {
       renderPicture(options.out_dir);
     }
@@ -51,7 +52,8 @@ int runCommand(int argc, char** argv) {
         "  --contact-model M sub-contacts (default) or point: how penalty contacts become forces\n"
         "  --progress N      progress line every N steps (default: every 5 s)\n"
         "  --no-snapshots    do not write ParaView snapshots\n"
-        "  --picture         render frames of the snapshots to DIR/frames.png after the run\n"
+        "  --picture         after the run, plot series.csv to DIR/series.png and render frames\n"
+        "                    of the snapshots to DIR/frames.png\n"
         "                    (also [output] picture = true; needs /usr/bin/python3, matplotlib)\n"
         "  --check           exit with status 3 if a check of the scene fails\n"
         "  --quiet           only warnings and errors\n"

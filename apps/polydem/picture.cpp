@@ -26,10 +26,9 @@ std::string python() {
   return "/usr/bin/python3";
 }
 
-/// The script: $POLYDEM_PLOTS_DIR/render_frames.py, else the source tree this polydem was built
-/// from, else the tree around the executable (build/bin/polydem -> ../../python_coupling).
-std::string script() {
-  const char* name = "render_frames.py";
+/// The script `name`: $POLYDEM_PLOTS_DIR/name, else the source tree this polydem was built from,
+/// else the tree around the executable (build/bin/polydem -> ../../python_coupling).
+std::string script(const char* name) {
   std::vector<fs::path> candidates;
   if (const char* d = std::getenv("POLYDEM_PLOTS_DIR"); d && *d) candidates.emplace_back(d);
 #ifdef POLYDEM_SOURCE_DIR
@@ -44,21 +43,21 @@ std::string script() {
   return "";
 }
 
-}  // namespace
-
-std::string renderPicture(const std::string& out_dir) {
-  const std::string py = python(), path = script();
+/// Runs plots script `name` on `out_dir` with Python and waits for it; returns `png` when the
+/// script succeeded, else "" after a warning that says why.
+std::string runPlotScript(const char* name, const std::string& out_dir, const std::string& png) {
+  const std::string py = python(), path = script(name);
+  const std::string what = fs::path(png).filename().string();
   if (path.empty()) {
     log::warning(
-        "no picture: render_frames.py not found (set POLYDEM_PLOTS_DIR to "
-        "python_coupling/plots)");
+        cat("no ", png, ": ", name, " not found (set POLYDEM_PLOTS_DIR to python_coupling/plots)"));
     return "";
   }
   if (access(py.c_str(), X_OK) != 0) {
-    log::warning(cat("no picture: ", py, " not found (set POLYDEM_PYTHON)"));
+    log::warning(cat("no ", what, ": ", py, " not found (set POLYDEM_PYTHON)"));
     return "";
   }
-  std::vector<std::string> args = {py, path, out_dir};
+  std::vector<std::string> args = {py, path, out_dir, "--out", png};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -66,20 +65,29 @@ std::string renderPicture(const std::string& out_dir) {
   // posix_spawn, not system(): no shell to interpret the paths, and no fork of the MPI process's
   // address space.
   if (posix_spawn(&pid, py.c_str(), nullptr, nullptr, argv.data(), environ) != 0) {
-    log::warning(cat("no picture: cannot start ", py));
+    log::warning(cat("no ", png, ": cannot start ", py));
     return "";
   }
   int status = 0;
   while (waitpid(pid, &status, 0) < 0) {
   }
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    log::warning(cat("no picture: ", py, " ", path, " ", out_dir, " failed (exit status ",
+    log::warning(cat("no ", what, ": ", py, " ", path, " ", out_dir, " failed (exit status ",
                      WIFEXITED(status) ? WEXITSTATUS(status) : -1, ")"));
     return "";
   }
-  const std::string png = out_dir + "/frames.png";
   log::info("wrote " + png);
   return png;
+}
+
+}  // namespace
+
+std::string renderPicture(const std::string& out_dir) {
+  return runPlotScript("render_frames.py", out_dir, out_dir + "/frames.png");
+}
+
+std::string plotSeries(const std::string& out_dir) {
+  return runPlotScript("plot_series.py", out_dir, out_dir + "/series.png");
 }
 
 }  // namespace polydem::app

@@ -14,7 +14,7 @@ Runs tests/apps/snapshot_scene.toml on 1 and on 2 ranks and checks, for each run
   time steps, the polygons and the arrays (skipped with a message where pvpython is missing;
   Debian's python3-vtk9 has no XDMF reader);
 - snapshot_format = "vtk" writes the VTK files and no HDF5 ones;
-- `--picture` renders RUN/frames.png (a PNG) on the 1-rank run;
+- `--picture` renders RUN/frames.png and plots RUN/series.png (PNGs) on the 1-rank run;
 - an unknown field in the scene stops the run with the file, the line and the known fields;
 - snapshot_migration_scene.toml (a dense pack whose particles cross rank borders in the steps
   before its snapshots) on 1 and 4 ranks: the particle tables, contact_count and force included,
@@ -63,11 +63,12 @@ def run(polydem, mpiexec, scene, out, ranks):
     result = subprocess.run(command, capture_output=True, text=True)
     expect(result.returncode == 0, f"{ranks}-rank run failed:\n{result.stderr}")
     if ranks == 1:
-        png = os.path.join(out, "frames.png")
-        expect("no picture" not in result.stderr, f"--picture warned: {result.stderr}")
-        with open(png, "rb") as f:
-            expect(f.read(8) == b"\x89PNG\r\n\x1a\n" and os.path.getsize(png) > 20000,
-                   f"{png} is not a picture")
+        for name in ("frames.png", "series.png"):
+            png = os.path.join(out, name)
+            expect(f"no {name}" not in result.stderr, f"--picture warned: {result.stderr}")
+            with open(png, "rb") as f:
+                expect(f.read(8) == b"\x89PNG\r\n\x1a\n" and os.path.getsize(png) > 20000,
+                       f"{png} is not a picture")
 
 
 def read_series(out):
@@ -232,8 +233,10 @@ def check_vtk_format(polydem, scene, work):
            f"VTK format: snapshots/ holds {files}")
     expect(os.path.isfile(os.path.join(out, "snapshots.pvd")) and
            not os.path.exists(os.path.join(out, "snapshots.xmf")), "VTK format: collections")
-    expect("no picture" in result.stderr and not os.path.exists(os.path.join(out, "frames.png")),
+    expect("no frames.png" in result.stderr and not os.path.exists(os.path.join(out, "frames.png")),
            f"VTK format with --picture: {result.stderr}")
+    expect(os.path.isfile(os.path.join(out, "series.png")),
+           "VTK format with --picture: series.csv is still plotted to series.png")
 
 
 def particle_tables(out):
