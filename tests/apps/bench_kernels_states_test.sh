@@ -1,6 +1,6 @@
 #!/bin/bash
 # `polydem bench kernels` measures every kernel with warm pair states (kept across passes) and
-# cold (none) side by side, beside the stateless libccd (README "Kernel throughput"): the JSON has
+# cold (none) side by side, beside the stateless libccd (docs/performance.md "Kernel throughput"): the JSON has
 # a warm and a cold record per kernel and set, and the table a line for each.
 # usage: bench_kernels_states_test.sh POLYDEM WORKDIR
 set -u

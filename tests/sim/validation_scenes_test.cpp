@@ -1,7 +1,7 @@
 // The validation scenes of benchmark_scenes/ at the length of their scene files, asserting their
 // analytical answers (BENCHMARKS.md sections S and D) for the kernels that must get them right
-// with the default contact model (sub-contacts). The README's results tables, every kernel and
-// both contact models, come from scripts/validation-table.
+// with the default contact model (sub-contacts). docs/validation.md's results tables, every kernel
+// and both contact models, come from scripts/validation-table.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,8 +19,8 @@ namespace {
 struct Case {
   const char* scene;
   const char* kernel;
-  // Checks known to fail, by a part of their name, with the reason (the README's table says the
-  // same). They are asserted to fail, so that a fix shows up here and the table gets updated.
+  // Checks known to fail, by a part of their name, with the reason (docs/validation.md's table says
+  // the same). They are asserted to fail, so that a fix shows up here and the table gets updated.
   std::vector<std::string> known_failures = {};
   const char* reason = nullptr;
 };
