@@ -1,10 +1,13 @@
 // polydem fos SCENE --out DIR: the factor of safety of a scene by strength reduction
 // (sim/fos.h), its trials spread over groups of the launched ranks.
 #include <cstdio>
+#include <filesystem>
+#include <optional>
 
 #include "commands.h"
 #include "fos_files.h"
 #include "polydem/contact/contact.h"
+#include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
@@ -19,41 +22,65 @@ namespace {
 void usage() {
   std::printf(
       "usage: [mpirun -n N] polydem fos SCENE.toml --out DIR [options]\n"
+      "       [mpirun -n N] polydem fos --resume DIR [--ranks-per-trial K] [--quiet]\n"
       "Factor of safety by strength reduction: tan(friction angle) and cohesion of the scene's\n"
-      "[fos] interactions (default: every material pair) are divided by F; a trial at F is\n"
-      "stable when the mean speed of the free blocks falls below the speed limit after the\n"
-      "settling time, before their mean displacement passes the limit. F is bisected to the\n"
-      "resolution; the N ranks run N / ranks-per-trial trials side by side.\n"
+      "[fos] interactions (default: every material pair) are divided by F. Each trial at F is a\n"
+      "static solution (local damping 0.8 unless [fos] local_damping says otherwise): stable\n"
+      "when the force ratio and the blocks' speeds have decayed, failed when their speeds do not\n"
+      "decay over a window while they keep moving, extended up to time_cap when undecided. F is\n"
+      "bisected on decided trials to the resolution; the N ranks run N / ranks-per-trial trials\n"
+      "side by side. SIGTERM, SIGUSR1 or SIGINT end the running trials after their step and\n"
+      "write fos.json with the trials so far (\"complete\": false); --resume DIR continues.\n"
       "  --ranks-per-trial K   ranks of each trial (default 1; must divide N)\n"
       "  --resolution R        width of the final bracket in F (overrides [fos] resolution)\n"
       "  --f-min A, --f-max B  the range searched (overrides [fos] f_min, f_max)\n"
-      "  --max-time T          longest trial in simulated seconds (overrides [fos] max_time)\n"
+      "  --max-time T          trial length in simulated seconds (overrides [fos] max_time)\n"
       "  --kernel NAME         another contact kernel\n"
       "  --contact-model M     sub-contacts (default) or point (the scene's otherwise)\n"
+      "  --resume DIR          continue the search a signal stopped (DIR/fos.json)\n"
       "  --quiet               only the result, warnings and errors\n"
-      "writes DIR/fos.json (factor_of_safety, critical_friction_angle_deg, bracket, every\n"
-      "trial's F, outcome, displacement and time), DIR/fos_trials.csv and DIR/fos.svg\n"
+      "writes DIR/fos.json (factor_of_safety, critical_friction_angle_deg, bracket, criterion,\n"
+      "every trial's F, outcome, displacement and time), DIR/fos_trials.csv and DIR/fos.svg\n"
       "(mean displacement against time per trial). Settings: docs/scene-format.md, [fos].\n");
 }
 
-}  // namespace
+std::string programPath() {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string("polydem") : exe.string();
+}
 
-int fosCommand(int argc, char** argv) {
-  Args args(argc, argv, {"help", "quiet"});
-  if (args.flag("help") || args.positional().size() != 1) {
-    usage();
-    return args.flag("help") ? 0 : 2;
+// The scene and its settings as the stopped search in DIR/fos.json ran them; refuses a scene
+// file that changed since.
+io::Scene resumedScene(const FosRun& run, const std::string& dir) {
+  if (run.complete) {
+    throw UsageError(dir + "/fos.json is complete: there is nothing to resume");
   }
-  const std::string out = args.value("out", "");
-  if (out.empty()) throw UsageError("polydem fos needs --out DIR");
-  const long long per_trial = args.integer("ranks-per-trial", 1);
+  io::Scene scene = io::readScene(run.scene_path);
+  if (const std::string now = sceneHash(scene.text); now != run.scene_hash) {
+    throw InputError(run.scene_path, 0,
+                     cat("the scene file changed since the trials in ", dir,
+                         "/fos.json were run (hash ", run.scene_hash, ", now ", now,
+                         "): they would not be this scene's; run polydem fos on it afresh"));
+  }
+  io::FosSpec& f = scene.fos;
+  f.f_min = run.f_min;
+  f.f_max = run.f_max;
+  f.resolution = run.resolution;
+  f.max_time = run.max_time;
+  scene.kernel = run.kernel;
+  scene.contact_model = run.contact_model;
+  return scene;
+}
+
+// The scene with the command line's settings over its [fos] and [simulation].
+io::Scene sceneFromCommandLine(Args& args) {
   const auto resolution = args.value("resolution");
   const auto f_min = args.value("f-min");
   const auto f_max = args.value("f-max");
   const auto max_time = args.value("max-time");
   const auto kernel = args.value("kernel");
   const auto contact_model = args.value("contact-model");
-  const bool quiet = args.flag("quiet");
   io::Scene scene = io::readScene(args.positional()[0]);
   io::FosSpec& f = scene.fos;
   if (resolution) f.resolution = args.number("resolution", 0.0);
@@ -64,10 +91,6 @@ int fosCommand(int argc, char** argv) {
   if (!(f.resolution > 0)) throw UsageError("--resolution must be > 0");
   if (!(f.f_min > 0) || !(f.f_max > f.f_min)) throw UsageError("need 0 < --f-min < --f-max");
   if (f.max_time && !(*f.max_time > 0)) throw UsageError("--max-time must be > 0");
-  const int ranks = mpi::size();
-  if (per_trial < 1 || ranks % per_trial != 0) {
-    throw UsageError(cat("--ranks-per-trial ", per_trial, " must divide the ", ranks, " ranks"));
-  }
   if (kernel) {
     contact::makeKernel(*kernel);  // throws with the list of known kernels
     scene.kernel = *kernel;
@@ -76,41 +99,99 @@ int fosCommand(int argc, char** argv) {
     if (const auto e = io::unknownContactModel(*contact_model); !e.empty()) throw UsageError(e);
     scene.contact_model = *contact_model;
   }
+  return scene;
+}
+
+void printResult(const io::Scene& scene, const sim::FosResult& result) {
+  const auto factor = result.factor();
+  if (!result.complete) {
+    std::printf("search %s; bracket so far: stable at F = %s, failed at F = %s\n",
+                result.note.c_str(), result.stable ? num(*result.stable).c_str() : "(none)",
+                result.failed ? num(*result.failed).c_str() : "(none)");
+    return;
+  }
+  if (!factor) {
+    std::printf("factor of safety not bracketed: %s\n", result.note.c_str());
+    return;
+  }
+  std::printf(
+      "factor of safety %s (stable at F = %s, failed at F = %s, decided trials; "
+      "resolution %s)\n",
+      num(*factor).c_str(), num(*result.stable).c_str(), num(*result.failed).c_str(),
+      num(result.resolution).c_str());
+  particles::MaterialTable table;
+  for (const auto& m : scene.materials) table.add(m);
+  for (const auto& i : scene.interactions) table.setInteraction(i.a, i.b, i.properties);
+  table.finalize();
+  for (const auto& [a, b] : sim::reducedPairs(scene)) {
+    const double phi = table.pair(a, b).friction_angle;
+    std::printf("critical friction angle %s deg for %s/%s (%s deg divided by F)\n",
+                num(reducedFrictionAngle(phi, *factor)).c_str(), scene.materials[a].name.c_str(),
+                scene.materials[b].name.c_str(), num(phi).c_str());
+  }
+  if (!result.note.empty()) std::printf("note: %s\n", result.note.c_str());
+}
+
+}  // namespace
+
+int fosCommand(int argc, char** argv) {
+  Args args(argc, argv, {"help", "quiet"});
+  const auto resume = args.value("resume");
+  if (args.flag("help") || args.positional().size() != (resume ? 0u : 1u)) {
+    usage();
+    return args.flag("help") ? 0 : 2;
+  }
+  const long long per_trial = args.integer("ranks-per-trial", 1);
+  const bool quiet = args.flag("quiet");
+  std::string out;
+  io::Scene scene;
+  std::optional<FosRun> prior;
+  if (resume) {
+    out = *resume;
+    if (const auto o = args.value("out"); o && *o != out) {
+      throw UsageError("--resume continues in its own directory: leave out --out");
+    }
+    args.rejectUnknown();
+    prior = readFosRun(out);
+    scene = resumedScene(*prior, out);
+  } else {
+    out = args.value("out", "");
+    if (out.empty()) throw UsageError("polydem fos needs --out DIR");
+    scene = sceneFromCommandLine(args);
+  }
+  const int ranks = mpi::size();
+  if (per_trial < 1 || ranks % per_trial != 0) {
+    throw UsageError(cat("--ranks-per-trial ", per_trial, " must divide the ", ranks, " ranks"));
+  }
   if (quiet) log::setLevel(log::Level::kWarning);
   const sim::FosCriterion criterion = sim::fosCriterion(scene);
   const int groups = ranks / static_cast<int>(per_trial);
+  if (prior && prior->result.groups != groups) {
+    log::warning(
+        cat("the stopped search ran ", prior->result.groups, " trials at a time, this one ", groups,
+            ": the factors tried from here differ from those of an uninterrupted "
+            "search (the same factor of safety within the resolution, not the same bits)"));
+  }
+  const io::FosSpec& f = scene.fos;
   log::info(cat("fos: ", scene.id, " (", scene.file, "), kernel ", scene.kernel, ", contact model ",
                 scene.contact_model, "; F in [", num(f.f_min), ", ", num(f.f_max), "] to ",
                 num(f.resolution), "; ", groups, " trial(s) at a time on ", per_trial,
-                " rank(s) each; stable when the mean speed < ", num(criterion.speed_limit),
-                " m/s after ", num(criterion.settle_time),
-                " s, failed when the mean displacement > ", num(criterion.displacement_limit),
-                " m or still moving at ", num(criterion.max_time), " s"));
-  const sim::FosResult result = sim::findFactorOfSafety(scene, criterion, groups, MPI_COMM_WORLD);
+                " rank(s) each", prior ? cat("; continuing ", out, "/fos.json") : std::string()));
+  log::info("criterion: " + criterion.describe());
+  const sim::FosResult result = sim::findFactorOfSafety(scene, criterion, groups, MPI_COMM_WORLD,
+                                                        prior ? &prior->result : nullptr);
   if (mpi::rank() == 0) {
-    const auto factor = result.factor();
-    if (factor) {
-      std::printf("factor of safety %s (stable at F = %s, failed at F = %s; resolution %s)\n",
-                  num(*factor).c_str(), num(*result.stable).c_str(), num(*result.failed).c_str(),
-                  num(result.resolution).c_str());
-      const auto pairs = sim::reducedPairs(scene);
-      particles::MaterialTable table;
-      for (const auto& m : scene.materials) table.add(m);
-      for (const auto& i : scene.interactions) table.setInteraction(i.a, i.b, i.properties);
-      table.finalize();
-      for (const auto& [a, b] : pairs) {
-        const double phi = table.pair(a, b).friction_angle;
-        std::printf("critical friction angle %s deg for %s/%s (%s deg divided by F)\n",
-                    num(reducedFrictionAngle(phi, *factor)).c_str(),
-                    scene.materials[a].name.c_str(), scene.materials[b].name.c_str(),
-                    num(phi).c_str());
-      }
-    } else {
-      std::printf("factor of safety not bracketed: %s\n", result.note.c_str());
-    }
-    if (factor && !result.note.empty()) std::printf("note: %s\n", result.note.c_str());
-    writeFosFiles(out, scene, criterion, result);
+    const std::string resume_command =
+        result.complete ? std::string()
+                        : cat("mpirun -n ", ranks, " ", programPath(), " fos --resume ", out,
+                              per_trial != 1 ? cat(" --ranks-per-trial ", per_trial) : "");
+    printResult(scene, result);
+    writeFosFiles(out, scene, criterion, result, resume_command);
     log::info("wrote " + out + "/fos.json, fos_trials.csv, fos.svg");
+    if (!result.complete) {
+      // Printed whatever the log level: the one line a stopped job must leave.
+      std::printf("to continue: %s\n", resume_command.c_str());
+    }
   }
   return 0;
 }

@@ -3,9 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "polydem/core/error.h"
 #include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
 #include "polydem/core/types.h"
@@ -23,7 +27,46 @@ json optional(const std::optional<double>& v) {
   return v ? json(*v) : json();
 }
 
-json fosJson(const io::Scene& scene, const sim::FosCriterion& c, const sim::FosResult& r) {
+json criterionJson(const sim::FosCriterion& c) {
+  return {{"description", c.describe()},
+          {"max_time", c.max_time},
+          {"time_cap", c.time_cap},
+          {"settle_time", c.window},
+          {"force_ratio", c.force_ratio},
+          {"speed_decay", c.speed_decay},
+          {"local_damping", c.local_damping},
+          {"local_damping_from",
+           c.damping_from_scene ? "[fos] local_damping" : "default: 3DEC's static solution"},
+          {"speed_limit", optional(c.speed_limit)},
+          {"displacement_limit", optional(c.displacement_limit)},
+          {"check_every", c.check_every},
+          {"label_prefix", c.label_prefix}};
+}
+
+json trialJson(const sim::FosTrial& t) {
+  json history = json::array();
+  for (const auto& s : t.history) {
+    history.push_back({s.time, s.mean_displacement, s.mean_speed, s.max_speed, s.force_ratio});
+  }
+  return {{"factor", t.factor},
+          {"outcome", t.outcome},
+          {"displacement", t.mean_displacement},
+          {"max_displacement", t.max_displacement},
+          {"mean_speed", t.mean_speed},
+          {"max_speed", t.max_speed},
+          {"force_ratio", t.force_ratio},
+          {"time", t.time},
+          {"steps", t.steps},
+          {"extended", t.extended},
+          {"state_hash", BitHasher::hex(t.state_hash)},
+          {"group", t.group},
+          {"round", t.round},
+          {"wall_seconds", t.wall_seconds},
+          {"history", history}};
+}
+
+json fosJson(const io::Scene& scene, const sim::FosCriterion& c, const sim::FosResult& r,
+             const std::string& resume_command) {
   particles::MaterialTable table;
   for (const auto& m : scene.materials) table.add(m);
   for (const auto& i : scene.interactions) table.setInteraction(i.a, i.b, i.properties);
@@ -43,48 +86,65 @@ json fosJson(const io::Scene& scene, const sim::FosCriterion& c, const sim::FosR
                      {"critical_cohesion", f ? json(p.cohesion / *f) : json()}});
   }
   json trials = json::array();
-  for (const auto& t : r.trials) {
-    trials.push_back({{"factor", t.factor},
-                      {"outcome", t.outcome},
-                      {"displacement", t.mean_displacement},
-                      {"max_displacement", t.max_displacement},
-                      {"mean_speed", t.mean_speed},
-                      {"time", t.time},
-                      {"steps", t.steps},
-                      {"state_hash", BitHasher::hex(t.state_hash)},
-                      {"group", t.group},
-                      {"wall_seconds", t.wall_seconds}});
+  for (const auto& t : r.trials) trials.push_back(trialJson(t));
+  json j = {{"scene", scene.id},
+            {"scene_file", scene.file},
+            {"scene_path", std::filesystem::absolute(scene.file).string()},
+            {"scene_hash", sceneHash(scene.text)},
+            {"kernel", scene.kernel},
+            {"contact_model", scene.contact_model},
+            {"complete", r.complete},
+            {"stop_signal", r.complete ? json() : json(r.stop_signal)},
+            {"resume_command", resume_command.empty() ? json() : json(resume_command)},
+            {"factor_of_safety", optional(f)},
+            {"bracket", {{"stable", optional(r.stable)}, {"failed", optional(r.failed)}}},
+            {"resolved", r.resolved},
+            {"resolution", r.resolution},
+            {"f_min", scene.fos.f_min},
+            {"f_max", scene.fos.f_max},
+            {"critical_friction_angle_deg", optional(critical)},
+            {"interactions", pairs},
+            {"criterion", criterionJson(c)},
+            {"ranks", r.ranks},
+            {"groups", r.groups},
+            {"rounds_complete", r.rounds_complete},
+            {"note", r.note},
+            {"trials", trials}};
+  return j;
+}
+
+sim::FosTrial trialFromJson(const json& j) {
+  sim::FosTrial t;
+  t.factor = j.at("factor").get<double>();
+  t.outcome = j.at("outcome").get<std::string>();
+  t.mean_displacement = j.at("displacement").get<double>();
+  t.max_displacement = j.at("max_displacement").get<double>();
+  t.mean_speed = j.at("mean_speed").get<double>();
+  t.max_speed = j.at("max_speed").get<double>();
+  t.force_ratio = j.at("force_ratio").get<double>();
+  t.time = j.at("time").get<double>();
+  t.steps = j.at("steps").get<std::int64_t>();
+  t.extended = j.at("extended").get<bool>();
+  t.state_hash = std::stoull(j.at("state_hash").get<std::string>(), nullptr, 16);
+  t.group = j.at("group").get<int>();
+  t.round = j.at("round").get<int>();
+  t.wall_seconds = j.at("wall_seconds").get<double>();
+  for (const json& s : j.at("history")) {
+    t.history.push_back({s.at(0).get<double>(), s.at(1).get<double>(), s.at(2).get<double>(),
+                         s.at(3).get<double>(), s.at(4).get<double>()});
   }
-  return {{"scene", scene.id},
-          {"scene_file", scene.file},
-          {"kernel", scene.kernel},
-          {"contact_model", scene.contact_model},
-          {"factor_of_safety", optional(f)},
-          {"bracket", {{"stable", optional(r.stable)}, {"failed", optional(r.failed)}}},
-          {"resolution", r.resolution},
-          {"critical_friction_angle_deg", optional(critical)},
-          {"interactions", pairs},
-          {"criterion",
-           {{"max_time", c.max_time},
-            {"settle_time", c.settle_time},
-            {"speed_limit", c.speed_limit},
-            {"displacement_limit", c.displacement_limit},
-            {"check_every", c.check_every},
-            {"label_prefix", c.label_prefix}}},
-          {"ranks", r.ranks},
-          {"groups", r.groups},
-          {"note", r.note},
-          {"trials", trials}};
+  return t;
 }
 
 std::string trialsCsv(const sim::FosResult& r) {
   std::ostringstream out;
-  out << "trial,factor,outcome,time,mean_displacement,mean_speed\n";
+  out << "trial,factor,outcome,time,mean_displacement,mean_speed,max_speed,force_ratio\n";
   for (std::size_t i = 0; i < r.trials.size(); ++i) {
     const auto& t = r.trials[i];
     for (const auto& s : t.history) {
       out << i << ',' << num(t.factor) << ',' << t.outcome << ',' << num(s.time) << ','
-          << num(s.mean_displacement) << ',' << num(s.mean_speed) << '\n';
+          << num(s.mean_displacement) << ',' << num(s.mean_speed) << ',' << num(s.max_speed) << ','
+          << num(s.force_ratio) << '\n';
     }
   }
   return out.str();
@@ -94,7 +154,7 @@ std::string trialsCsv(const sim::FosResult& r) {
 std::string displacementSvg(const io::Scene& scene, const sim::FosCriterion& c,
                             const sim::FosResult& r) {
   const double w = 720, h = 440, left = 70, right = 170, top = 40, bottom = 50;
-  double t_max = 0.0, d_max = c.displacement_limit;
+  double t_max = 0.0, d_max = c.displacement_limit.value_or(0.0);
   for (const auto& t : r.trials) {
     for (const auto& s : t.history) {
       t_max = std::max(t_max, s.time);
@@ -102,6 +162,7 @@ std::string displacementSvg(const io::Scene& scene, const sim::FosCriterion& c,
     }
   }
   t_max = t_max > 0 ? t_max : 1.0;
+  d_max = d_max > 0 ? d_max : 1.0;
   const auto x = [&](double v) { return left + (w - left - right) * v / t_max; };
   const auto y = [&](double v) { return h - bottom - (h - top - bottom) * v / d_max; };
   std::ostringstream s;
@@ -123,10 +184,12 @@ std::string displacementSvg(const io::Scene& scene, const sim::FosCriterion& c,
     << "' text-anchor='middle'>time [s]</text>\n<text x='16' y='" << 0.5 * h
     << "' transform='rotate(-90 16 " << 0.5 * h
     << ")' text-anchor='middle'>mean displacement [m]</text>\n";
-  s << "<line x1='" << left << "' y1='" << y(c.displacement_limit) << "' x2='" << x(t_max)
-    << "' y2='" << y(c.displacement_limit) << "' stroke='grey' stroke-dasharray='4 3'/>\n<text x='"
-    << x(t_max) - 4 << "' y='" << y(c.displacement_limit) - 4
-    << "' text-anchor='end' fill='grey'>displacement limit</text>\n";
+  if (c.displacement_limit) {
+    const double limit = *c.displacement_limit;
+    s << "<line x1='" << left << "' y1='" << y(limit) << "' x2='" << x(t_max) << "' y2='"
+      << y(limit) << "' stroke='grey' stroke-dasharray='4 3'/>\n<text x='" << x(t_max) - 4
+      << "' y='" << y(limit) - 4 << "' text-anchor='end' fill='grey'>displacement limit</text>\n";
+  }
   for (std::size_t i = 0; i < r.trials.size(); ++i) {
     const auto& t = r.trials[i];
     // Stable trials in blue shades, failed and moving ones in red shades.
@@ -147,14 +210,52 @@ std::string displacementSvg(const io::Scene& scene, const sim::FosCriterion& c,
 
 }  // namespace
 
+std::string sceneHash(const std::string& text) {
+  BitHasher h;
+  h.add(static_cast<std::uint64_t>(text.size()));
+  for (std::size_t i = 0; i < text.size(); i += 8) {
+    std::uint64_t word = 0;
+    std::memcpy(&word, text.data() + i, std::min<std::size_t>(8, text.size() - i));
+    h.add(word);
+  }
+  return BitHasher::hex(h.value());
+}
+
+FosRun readFosRun(const std::string& dir) {
+  const std::string path = dir + "/fos.json";
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "cannot open it: nothing to resume in " + dir);
+  try {
+    const json j = json::parse(in);
+    FosRun run;
+    run.scene_path = j.at("scene_path").get<std::string>();
+    run.scene_hash = j.at("scene_hash").get<std::string>();
+    run.f_min = j.at("f_min").get<double>();
+    run.f_max = j.at("f_max").get<double>();
+    run.resolution = j.at("resolution").get<double>();
+    run.max_time = j.at("criterion").at("max_time").get<double>();
+    run.kernel = j.at("kernel").get<std::string>();
+    run.contact_model = j.at("contact_model").get<std::string>();
+    run.complete = j.at("complete").get<bool>();
+    sim::FosResult& r = run.result;
+    r.rounds_complete = j.at("rounds_complete").get<int>();
+    r.groups = j.at("groups").get<int>();
+    for (const json& t : j.at("trials")) r.trials.push_back(trialFromJson(t));
+    return run;
+  } catch (const json::exception& e) {
+    throw InputError(path, 0, cat("not a fos.json that polydem fos can resume: ", e.what()));
+  }
+}
+
 double reducedFrictionAngle(double phi_deg, double factor) {
   return radToDeg(std::atan(std::tan(degToRad(phi_deg)) / factor));
 }
 
 void writeFosFiles(const std::string& dir, const io::Scene& scene,
-                   const sim::FosCriterion& criterion, const sim::FosResult& result) {
+                   const sim::FosCriterion& criterion, const sim::FosResult& result,
+                   const std::string& resume_command) {
   io::createDirectories(dir);
-  io::writeJsonAtomic(dir + "/fos.json", fosJson(scene, criterion, result));
+  io::writeJsonAtomic(dir + "/fos.json", fosJson(scene, criterion, result, resume_command));
   io::writeFileAtomic(dir + "/fos_trials.csv", trialsCsv(result));
   io::writeFileAtomic(dir + "/fos.svg", displacementSvg(scene, criterion, result));
 }

@@ -3,6 +3,7 @@
 // (displacement against time, one line per trial, drawn without any plotting library).
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "polydem/run/fos.h"
@@ -11,8 +12,28 @@
 namespace polydem::app {
 
 /// Writes the three files into `dir` (created if needed), each atomically. Rank 0 only.
+/// `resume_command`: how to continue a search a signal stopped (empty when complete).
 void writeFosFiles(const std::string& dir, const io::Scene& scene,
-                   const sim::FosCriterion& criterion, const sim::FosResult& result);
+                   const sim::FosCriterion& criterion, const sim::FosResult& result,
+                   const std::string& resume_command);
+
+/// A hash of a scene file's text, 16 hex digits: fos.json keeps it so that a continued search
+/// runs the scene its trials ran.
+std::string sceneHash(const std::string& text);
+
+/// What `polydem fos --resume DIR` reads back from DIR/fos.json: the scene, the settings the
+/// command line gave, and the search so far (every trial bit for bit).
+struct FosRun {
+  std::string scene_path;  // absolute
+  std::string scene_hash;
+  double f_min = 0.0, f_max = 0.0, resolution = 0.0;
+  std::optional<double> max_time;
+  std::string kernel, contact_model;
+  bool complete = false;
+  sim::FosResult result;
+};
+/// Throws InputError naming DIR/fos.json if it is missing, unreadable or lacks a field.
+FosRun readFosRun(const std::string& dir);
 
 /// The friction angle (deg) of `phi_deg` reduced by `factor`: atan(tan(phi) / factor).
 double reducedFrictionAngle(double phi_deg, double factor);

@@ -90,10 +90,12 @@ void reportStatus(int status) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // `run` turns SIGTERM and SIGUSR1 into a checkpoint at the end of the step. The handlers go in
-  // before MPI starts and before any file is read, so that no moment of the start-up is left in
-  // which a signal would end the job with nothing written.
+  // `run` turns SIGTERM and SIGUSR1 into a checkpoint at the end of the step, `fos` these and
+  // SIGINT into fos.json with the trials so far. The handlers go in before MPI starts and before
+  // any file is read, so that no moment of the start-up is left in which a signal would end the
+  // job with nothing written.
   if (argc >= 2 && std::strcmp(argv[1], "run") == 0) polydem::sim::installStopSignals();
+  if (argc >= 2 && std::strcmp(argv[1], "fos") == 0) polydem::sim::installStopSignals(true);
   polydem::mpi::Environment env(argc, argv);
   const int status = dispatch(argc, argv);
   reportStatus(status);

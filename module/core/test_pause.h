@@ -6,7 +6,8 @@
 // Points: "startup" (signal handlers installed, no file read yet), "checkpoint-write" (a
 // checkpoint's temporary file created, its data not yet written), "before-rename" (the
 // temporary file complete, not yet renamed), "after-run" (the last step done, the final outputs
-// not yet written). At a point named in the variable, the process prints
+// not yet written), "fos-trial" (a trial of `polydem fos` set up, its first step not yet
+// taken). At a point named in the variable, the process prints
 // "polydem test pause: <where>, <seconds> s (pid <pid>)" on stderr and sleeps that long; a
 // signal does not cut the pause short. Unset (the normal case): nothing happens.
 #pragma once

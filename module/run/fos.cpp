@@ -1,7 +1,8 @@
+// Strength reduction and the search for F over groups of ranks (run/fos.h); the criterion is in
+// fos_criterion.cpp, a trial in fos_trial.cpp.
 #include "polydem/run/fos.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 
@@ -9,10 +10,8 @@
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
-#include "polydem/geometry/convex_polyhedron.h"
 #include "polydem/particles/material.h"
-#include "polydem/run/free_motion.h"
-#include "polydem/sim/simulation.h"
+#include "polydem/run/run_checkpoint.h"
 
 namespace polydem::sim {
 
@@ -26,57 +25,49 @@ particles::MaterialTable materialTable(const io::Scene& scene) {
   return table;
 }
 
-// The mean size (cube root of the mean volume) of the watched free blocks.
-double meanBlockSize(const io::Scene& scene, const std::string& prefix) {
-  double volume = 0.0;
-  int count = 0;
-  for (const auto& p : scene.particles) {
-    if (p.fixed || p.driver >= 0 || !matchesPrefix(p.label, prefix)) continue;
-    volume += geometry::ConvexPolyhedron::fromPoints(scene.shapes[p.shape].vertices).volume();
-    ++count;
-  }
-  if (count == 0) {
-    throw InputError(scene.file, scene.fos.line,
-                     prefix.empty()
-                         ? std::string("[fos]: the scene has no free particle")
-                         : "[fos] label_prefix: no free particle is labelled '" + prefix + "_...'");
-  }
-  return std::cbrt(volume / count);
-}
+const char* const kOutcomes[] = {"stable", "failed", "undecided", "interrupted"};
 
-enum Outcome { kStable = 0, kFailed = 1, kMoving = 2 };
-const char* outcomeName(int code) {
-  return code == kStable ? "stable" : code == kFailed ? "failed" : "moving";
+int outcomeCode(const std::string& outcome) {
+  for (int k = 0; k < 4; ++k) {
+    if (outcome == kOutcomes[k]) return k;
+  }
+  throw Error("fos: unknown trial outcome '" + outcome + "'");
 }
 
 // A trial as doubles, to be gathered from the group that ran it onto every rank.
 void pack(const FosTrial& t, std::vector<double>& out) {
-  const int code = t.outcome == "stable" ? kStable : t.outcome == "failed" ? kFailed : kMoving;
   double hash = 0.0;
   std::memcpy(&hash, &t.state_hash, sizeof hash);
   out.insert(out.end(),
-             {t.factor, double(code), t.mean_displacement, t.max_displacement, t.mean_speed, t.time,
-              double(t.steps), hash, t.wall_seconds, double(t.group), double(t.history.size())});
+             {t.factor, double(outcomeCode(t.outcome)), t.mean_displacement, t.max_displacement,
+              t.mean_speed, t.max_speed, t.force_ratio, t.time, double(t.steps), double(t.extended),
+              hash, t.wall_seconds, double(t.group), double(t.round), double(t.history.size())});
   for (const FosSample& s : t.history) {
-    out.insert(out.end(), {s.time, s.mean_displacement, s.mean_speed});
+    out.insert(out.end(), {s.time, s.mean_displacement, s.mean_speed, s.max_speed, s.force_ratio});
   }
 }
 
 FosTrial unpack(const double*& in) {
   FosTrial t;
   t.factor = in[0];
-  t.outcome = outcomeName(static_cast<int>(in[1]));
+  t.outcome = kOutcomes[static_cast<int>(in[1])];
   t.mean_displacement = in[2];
   t.max_displacement = in[3];
   t.mean_speed = in[4];
-  t.time = in[5];
-  t.steps = static_cast<std::int64_t>(in[6]);
-  std::memcpy(&t.state_hash, &in[7], sizeof t.state_hash);
-  t.wall_seconds = in[8];
-  t.group = static_cast<int>(in[9]);
-  const auto n = static_cast<std::size_t>(in[10]);
-  in += 11;
-  for (std::size_t i = 0; i < n; ++i, in += 3) t.history.push_back({in[0], in[1], in[2]});
+  t.max_speed = in[5];
+  t.force_ratio = in[6];
+  t.time = in[7];
+  t.steps = static_cast<std::int64_t>(in[8]);
+  t.extended = in[9] != 0.0;
+  std::memcpy(&t.state_hash, &in[10], sizeof t.state_hash);
+  t.wall_seconds = in[11];
+  t.group = static_cast<int>(in[12]);
+  t.round = static_cast<int>(in[13]);
+  const auto n = static_cast<std::size_t>(in[14]);
+  in += 15;
+  for (std::size_t i = 0; i < n; ++i, in += 5) {
+    t.history.push_back({in[0], in[1], in[2], in[3], in[4]});
+  }
   return t;
 }
 
@@ -100,12 +91,13 @@ std::vector<FosTrial> gatherTrials(const std::optional<FosTrial>& mine, MPI_Comm
   return trials;
 }
 
-// The bracket the trials give: the smallest failed F, and the largest stable F below it.
+// The bracket the decided trials give: the smallest failed F, and the largest stable F below it.
+// Undecided trials bound nothing.
 void bracket(const std::vector<FosTrial>& trials, FosResult& r) {
   r.stable.reset();
   r.failed.reset();
   for (const FosTrial& t : trials) {
-    if (!t.stable() && (!r.failed || t.factor < *r.failed)) r.failed = t.factor;
+    if (t.failed() && (!r.failed || t.factor < *r.failed)) r.failed = t.factor;
   }
   for (const FosTrial& t : trials) {
     if (t.stable() && (!r.failed || t.factor < *r.failed) && (!r.stable || t.factor > *r.stable)) {
@@ -114,29 +106,96 @@ void bracket(const std::vector<FosTrial>& trials, FosResult& r) {
   }
 }
 
-// The factors of the next round (empty when done).
-std::vector<double> nextRound(const std::vector<FosTrial>& trials, const FosResult& r, double f_min,
-                              double f_max, int groups) {
-  const auto tried = [&trials](double f) {
-    return std::any_of(trials.begin(), trials.end(),
-                       [f](const FosTrial& t) { return t.factor == f; });
-  };
-  std::vector<double> next;
-  if (!tried(f_min)) {
-    if (groups == 1) return {f_min};
-    for (int k = 0; k < groups; ++k) next.push_back(f_min + (f_max - f_min) * k / (groups - 1));
-    next.back() = f_max;
-    return next;
+const FosTrial* trialAt(const std::vector<FosTrial>& trials, double f) {
+  for (const FosTrial& t : trials) {
+    if (t.factor == f) return &t;
   }
-  if (r.failed && *r.failed == f_min) return {};  // below the range
-  if (!r.failed && !tried(f_max)) return {f_max};
-  if (!r.failed) return {};  // stable at f_max: above the range
+  return nullptr;
+}
+
+// The factors of the next round; empty when done, with r.note saying why where the search did
+// not resolve F.
+std::vector<double> nextRound(FosResult& r, double f_min, double f_max, int groups) {
+  const std::vector<FosTrial>& trials = r.trials;
+  const FosTrial* lowest = trialAt(trials, f_min);
+  if (!lowest) {
+    if (groups == 1) return {f_min};
+    std::vector<double> first;
+    for (int k = 0; k < groups; ++k) first.push_back(f_min + (f_max - f_min) * k / (groups - 1));
+    first.back() = f_max;
+    return first;
+  }
+  if (!lowest->decided()) {
+    r.note = cat("the trial at f_min = ", num(f_min), " is undecided: nothing is bracketed");
+    return {};
+  }
+  if (lowest->failed()) {
+    r.note = cat("the trial at f_min = ", num(f_min),
+                 " failed (a decided trial): the factor of safety is below f_min");
+    return {};
+  }
+  if (!r.failed) {
+    const FosTrial* highest = trialAt(trials, f_max);
+    if (!highest) return {f_max};
+    r.note = highest->stable()
+                 ? cat("the trial at f_max = ", num(f_max),
+                       " is stable (a decided trial): the factor of safety is above f_max")
+                 : cat("stable at F = ", num(*r.stable), ", the trial at f_max = ", num(f_max),
+                       " is undecided and no trial failed: the factor of safety is above ",
+                       num(*r.stable), ", not bracketed");
+    return {};
+  }
   const double lo = *r.stable, hi = *r.failed;
-  if (hi - lo <= r.resolution) return {};
+  for (const FosTrial& t : trials) {
+    if (!t.decided() && t.factor > lo && t.factor < hi) {
+      r.note =
+          cat("the trial at F = ", num(t.factor), " is undecided (", t.outcome, " at ", num(t.time),
+              " s): the factor of safety lies between the decided trials at ", num(lo),
+              " (stable) and ", num(hi), " (failed), not resolved to ", num(r.resolution));
+      return {};
+    }
+  }
+  if (hi - lo <= r.resolution) {
+    r.resolved = true;
+    return {};
+  }
+  std::vector<double> next;
   for (int k = 1; k <= groups; ++k) next.push_back(lo + (hi - lo) * k / (groups + 1));
   // A resolution below round-off would split the bracket no further.
-  if (next.front() <= lo || next.back() >= hi) return {};
+  if (next.front() <= lo || next.back() >= hi) {
+    r.resolved = true;
+    return {};
+  }
   return next;
+}
+
+// The stop signal some rank of `comm` has received, or 0 (collective).
+int receivedSignal(MPI_Comm comm) {
+  int local = stopSignalReceived(), global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, comm);
+  return global;
+}
+
+void logTrial(const FosTrial& t) {
+  std::string how;
+  if (t.stable()) {
+    how =
+        cat("came to rest at t = ", num(t.time), " s after moving ", num(t.mean_displacement),
+            " m (mean; largest ", num(t.max_displacement), " m), force ratio ", num(t.force_ratio));
+  } else {
+    how = cat("at t = ", num(t.time), " s, mean displacement ", num(t.mean_displacement),
+              " m, mean speed ", num(t.mean_speed), " m/s, force ratio ", num(t.force_ratio));
+  }
+  log::info(cat("  F = ", num(t.factor), ": ", t.outcome, t.extended ? " (extended)" : "", " ", how,
+                " (", num(t.wall_seconds), " s wall, group ", t.group, ")"));
+}
+
+// The trials of `prior` in complete rounds, and those of the round a signal cut short, by F.
+void takePrior(const FosResult& prior, FosResult& r, std::vector<FosTrial>& cut_short) {
+  for (const FosTrial& t : prior.trials) {
+    (t.round < prior.rounds_complete ? r.trials : cut_short).push_back(t);
+  }
+  r.rounds_complete = prior.rounds_complete;
 }
 
 }  // namespace
@@ -173,70 +232,13 @@ io::Scene reduceStrength(const io::Scene& scene, double factor) {
   return out;
 }
 
-FosCriterion fosCriterion(const io::Scene& scene) {
-  const io::FosSpec& f = scene.fos;
-  FosCriterion c;
-  if (!f.max_time) {
-    throw InputError(scene.file, f.line,
-                     "[fos]: give max_time (how long a trial may run before it counts as still "
-                     "moving), in the scene or as --max-time");
-  }
-  c.max_time = *f.max_time;
-  c.settle_time = f.settle_time.value_or(0.25 * c.max_time);
-  if (!(c.settle_time < c.max_time)) {
-    throw InputError(scene.file, f.line, "[fos]: settle_time must be shorter than max_time");
-  }
-  c.speed_limit = f.speed_limit;
-  c.label_prefix = f.label_prefix;
-  c.displacement_limit = f.displacement_limit.value_or(0.1 * meanBlockSize(scene, f.label_prefix));
-  c.check_every = f.check_every;
-  return c;
-}
-
-FosTrial runFosTrial(const io::Scene& scene, double factor, const FosCriterion& criterion,
-                     MPI_Comm comm) {
-  const auto wall0 = std::chrono::steady_clock::now();
-  io::Scene reduced = reduceStrength(scene, factor);
-  reduced.end_time.reset();
-  reduced.steps.reset();
-  Simulation sim(reduced, comm);
-  const FreeMotionMeter meter(sim, criterion.label_prefix);
-  sim.runEquilibrium();
-  FosTrial t;
-  t.factor = factor;
-  const double t0 = sim.time();
-  while (true) {
-    for (std::int64_t i = 0; i < criterion.check_every; ++i) sim.step();
-    const FreeMotion m = meter.measure(sim);
-    const double time = sim.time() - t0;
-    t.history.push_back({time, m.mean_displacement, m.mean_speed});
-    t.mean_displacement = m.mean_displacement;
-    t.max_displacement = m.max_displacement;
-    t.mean_speed = m.mean_speed;
-    t.time = time;
-    // The same values on every rank, so every rank decides alike.
-    if (m.mean_displacement > criterion.displacement_limit) {
-      t.outcome = "failed";
-    } else if (time >= criterion.settle_time && m.mean_speed < criterion.speed_limit) {
-      t.outcome = "stable";
-    } else if (time >= criterion.max_time) {
-      t.outcome = "moving";
-    }
-    if (!t.outcome.empty()) break;
-  }
-  t.steps = sim.stepCount();
-  t.state_hash = sim.stateHash().combined;
-  t.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  return t;
-}
-
 std::optional<double> FosResult::factor() const {
-  if (!stable || !failed) return std::nullopt;
+  if (!stable || !failed || !resolved) return std::nullopt;
   return 0.5 * (*stable + *failed);
 }
 
 FosResult findFactorOfSafety(const io::Scene& scene, const FosCriterion& criterion, int groups,
-                             MPI_Comm comm) {
+                             MPI_Comm comm, const FosResult* prior) {
   const int ranks = mpi::size(comm), rank = mpi::rank(comm);
   if (groups < 1 || ranks % groups != 0) {
     throw Error(cat("fos: ", groups, " groups do not divide ", ranks, " ranks"));
@@ -248,31 +250,67 @@ FosResult findFactorOfSafety(const io::Scene& scene, const FosCriterion& criteri
   r.resolution = scene.fos.resolution;
   r.groups = groups;
   r.ranks = ranks;
+  std::vector<FosTrial> cut_short;  // finished trials of a round a signal stopped
+  if (prior) {
+    takePrior(*prior, r, cut_short);
+    for (const FosTrial& t : r.trials) logTrial(t);
+  }
+  bracket(r.trials, r);
   const log::Level level = log::level();
-  for (std::vector<double> round = nextRound(r.trials, r, scene.fos.f_min, scene.fos.f_max, groups);
-       !round.empty(); round = nextRound(r.trials, r, scene.fos.f_min, scene.fos.f_max, groups)) {
+  const double f_min = scene.fos.f_min, f_max = scene.fos.f_max;
+  for (std::vector<double> round = nextRound(r, f_min, f_max, groups); !round.empty();
+       round = nextRound(r, f_min, f_max, groups)) {
+    if (const int sig = receivedSignal(comm)) {  // between rounds
+      r.complete = false;
+      r.stop_signal = signalName(sig);
+      break;
+    }
     std::optional<FosTrial> mine;
     if (group < static_cast<int>(round.size())) {
-      log::setLevel(std::min(level, log::Level::kWarning));  // no run chatter from the trials
-      mine = runFosTrial(scene, round[group], criterion, group_comm);
-      log::setLevel(level);
+      if (const FosTrial* done = trialAt(cut_short, round[group])) {
+        mine = *done;  // run before the signal: the same bits again
+      } else {
+        log::setLevel(std::min(level, log::Level::kWarning));  // no run chatter from the trials
+        mine = runFosTrial(scene, round[group], criterion, group_comm);
+        log::setLevel(level);
+      }
       mine->group = group;
+      mine->round = r.rounds_complete;
       if (mpi::rank(group_comm) != 0) mine.reset();  // one copy per trial
     }
+    bool interrupted = false;
+    std::vector<FosTrial> finished;
     for (const FosTrial& t : gatherTrials(mine, comm)) {
-      log::info(cat("  F = ", num(t.factor), ": ", t.outcome, " at t = ", num(t.time),
-                    " s, mean displacement ", num(t.mean_displacement), " m, mean speed ",
-                    num(t.mean_speed), " m/s (", num(t.wall_seconds), " s wall, group ", t.group,
-                    ")"));
+      if (t.outcome == "interrupted") {
+        interrupted = true;
+        continue;
+      }
+      finished.push_back(t);
+    }
+    const int sig = receivedSignal(comm);
+    if (interrupted || sig != 0) {
+      // A signal during the round: keep what finished, as the cut-short round's trials.
+      for (const FosTrial& t : finished) {
+        if (!trialAt(cut_short, t.factor)) cut_short.push_back(t);
+      }
+      r.complete = false;
+      r.stop_signal = signalName(sig);
+      break;
+    }
+    for (const FosTrial& t : finished) {
+      logTrial(t);
       r.trials.push_back(t);
     }
+    ++r.rounds_complete;
+    cut_short.clear();
     bracket(r.trials, r);
   }
   MPI_Comm_free(&group_comm);
-  if (r.failed && *r.failed == scene.fos.f_min) {
-    r.note = cat("fails at f_min = ", num(scene.fos.f_min), ": the factor of safety is below it");
-  } else if (!r.failed) {
-    r.note = cat("stable at f_max = ", num(scene.fos.f_max), ": the factor of safety is above it");
+  if (!r.complete) {
+    r.note =
+        cat("stopped by ", r.stop_signal, " after ", r.trials.size(), " trials in complete rounds");
+    for (const FosTrial& t : cut_short) r.trials.push_back(t);  // kept for the continuation
+    return r;
   }
   for (const FosTrial& t : r.trials) {
     if (t.stable() && r.failed && t.factor > *r.failed) {

@@ -1,16 +1,24 @@
 // Factor of safety by strength reduction, as geotechnical engineers define it (Dawson, Roth and
 // Drescher 1999; 3DEC's "solve fos"): the strength of the chosen interactions is divided by F,
 //   tan(phi_F) = tan(phi) / F,   c_F = c / F,
-// and F is the largest factor for which the slope still comes to rest. A trial at F runs the
-// scene with reduced strength until the watched free blocks are at rest (mean speed below the
-// limit after the settling time: Keissar section 4.5 uses 1e-4 m/s), or until their mean
-// displacement passes the limit (failed), or until max_time (still moving: failed). F is
-// bisected between f_min and f_max until the bracket is `resolution` wide.
+// and F is the largest factor for which the slope still comes to rest. Each trial at F is a
+// static solution, as 3DEC runs one: local damping 0.8 on every block (unless [fos] sets its
+// own), whatever damping the scene's dynamic run uses, so that the answer does not depend on it.
+// A trial is judged every check_every steps (run/fos_trial.cpp):
+//   stable  the unbalanced-force ratio R (Keissar eq. 3.2) is below force_ratio and the watched
+//           blocks' largest speed has decayed below speed_decay x its peak in the trial;
+//   failed  over the last window (settle_time) their mean speed has not decayed and their mean
+//           displacement has grown: the displacement keeps growing;
+// neither by max_time: the trial runs on up to time_cap, and is reported undecided if it is
+// still neither then. Both tests are ratios, free of the scene's length scale. F is bisected
+// between f_min and f_max, only ever on decided trials, until the bracket is `resolution` wide.
 //
 // Trials run side by side: the launched ranks are split into groups (MPI_Comm_split), each group
 // runs one trial, and since a run is the same bits on any rank count, each trial's result is the
 // same as if it ran alone. With G groups a round tries G factors that divide the bracket into
-// G + 1 equal parts.
+// G + 1 equal parts. A stop signal (SIGTERM, SIGUSR1, SIGINT) ends the running trials after their
+// current step; the finished trials are kept, and a search continued from them (`prior`) tries
+// the same factors as one that never stopped.
 #pragma once
 
 #include <mpi.h>
@@ -32,58 +40,89 @@ io::Scene reduceStrength(const io::Scene& scene, double factor);
 /// The material pairs [fos] reduces (lower index first): its list, or every pair of materials.
 std::vector<std::pair<int, int>> reducedPairs(const io::Scene& scene);
 
+/// The fewest steps a trial may have (max_time / dt): the contacts' elastic transients, a few
+/// periods of the stiffest contact at the usual 10 to 50 steps a period, must have died out
+/// before a trial can be judged at rest or still accelerating.
+constexpr std::int64_t kFosMinTrialSteps = 500;
+/// The fewest evaluations a window (settle_time) must hold, so that "not decaying over the
+/// window" compares more than two samples' noise.
+constexpr std::int64_t kFosMinWindowChecks = 4;
+
 /// The criterion a trial is judged by, with every default resolved.
 struct FosCriterion {
-  double max_time = 0.0, settle_time = 0.0;  // s
-  double speed_limit = 0.0;                  // m/s, of the mean speed
-  double displacement_limit = 0.0;           // m, of the mean displacement
+  double max_time = 0.0;            // s: a trial still undecided then is extended ...
+  double time_cap = 0.0;            // s: ... up to this; still undecided: reported as such
+  double window = 0.0;              // s (settle_time): stable only after it; failure judged over it
+  double force_ratio = 1e-5;        // stable: R (Keissar eq. 3.2) below it
+  double speed_decay = 1e-3;        // stable: largest speed below it x its peak
+  double local_damping = 0.8;       // of every block during the trials
+  bool damping_from_scene = false;  // [fos] local_damping set it
+  std::optional<double> speed_limit;         // m/s: stable also needs the mean speed below it
+  std::optional<double> displacement_limit;  // m: failed also beyond it
   std::int64_t check_every = 100;            // steps
   std::string label_prefix;                  // watched free blocks; empty: all
+  /// One sentence for the console and fos.json.
+  std::string describe() const;
 };
 
-/// The [fos] settings of `scene` with their defaults (settle_time = max_time / 4, displacement
-/// limit = 0.1 x the watched blocks' mean size, the cube root of their mean volume). Throws
-/// InputError if max_time is given nowhere.
+/// The [fos] settings of `scene` with their defaults, checked against what a trial can answer:
+/// throws InputError (file and line) without max_time, for a max_time below kFosMinTrialSteps
+/// steps, a check_every that leaves the window fewer than kFosMinWindowChecks evaluations, or
+/// an interaction that no contact of the scene can use (no free particle of one of its
+/// materials beside a particle of the other).
 FosCriterion fosCriterion(const io::Scene& scene);
 
 struct FosSample {
-  double time = 0.0;               // s
+  double time = 0.0;               // s since the trial's start
   double mean_displacement = 0.0;  // m
   double mean_speed = 0.0;         // m/s
+  double max_speed = 0.0;          // m/s
+  double force_ratio = 0.0;        // R, Keissar eq. 3.2
 };
 
 struct FosTrial {
   double factor = 0.0;
-  std::string outcome;  // "stable", "failed" (displacement limit) or "moving" (at max_time)
+  std::string outcome;  // "stable", "failed", "undecided" (at time_cap) or "interrupted"
   double mean_displacement = 0.0, max_displacement = 0.0, mean_speed = 0.0;  // at the end
+  double max_speed = 0.0, force_ratio = 0.0;                                 // at the end
   double time = 0.0;  // s, simulated, when the trial was decided
   std::int64_t steps = 0;
+  bool extended = false;         // ran past max_time
   std::uint64_t state_hash = 0;  // of the whole state at the end (comm::StateHash::combined)
   double wall_seconds = 0.0;
   int group = 0;                   // the group of ranks that ran it
+  int round = 0;                   // the round of the search it belongs to
   std::vector<FosSample> history;  // every check_every steps
   bool stable() const { return outcome == "stable"; }
+  bool failed() const { return outcome == "failed"; }
+  bool decided() const { return stable() || failed(); }
 };
 
 /// One trial of `scene` at `factor` on `comm` (collective). The result is the same bits on any
-/// rank count, wall_seconds and group aside.
+/// rank count, wall_seconds and group aside. A stop signal received by a rank of `comm` ends it
+/// after the current step with outcome "interrupted".
 FosTrial runFosTrial(const io::Scene& scene, double factor, const FosCriterion& criterion,
                      MPI_Comm comm);
 
 struct FosResult {
-  std::vector<FosTrial> trials;          // in the order they were run (round by round, F ascending)
+  std::vector<FosTrial> trials;  // decided and undecided, in the order of the search
+  int rounds_complete = 0;       // trials of later rounds are those of a round a signal cut short
   std::optional<double> stable, failed;  // the bracket: largest stable F below the smallest failed
+  bool resolved = false;    // the bracket is `resolution` wide (or as narrow as can be)
+  bool complete = true;     // false: stopped by a signal, to be continued
+  std::string stop_signal;  // "SIGTERM", ... when stopped
   double resolution = 0.0;
   int groups = 1, ranks = 1;
-  std::string note;  // below / above the range, or results that are not monotonic in F
-  /// (stable + failed) / 2 when both are known.
+  std::string note;  // below / above the range, undecided trials, results not monotonic in F
+  /// (stable + failed) / 2 when both are known and the bracket is resolved.
   std::optional<double> factor() const;
 };
 
 /// Bisects on F with the trials spread over `groups` groups of the ranks of `comm` (collective;
 /// every rank returns the whole result). `groups` must divide the rank count. `resolution`,
-/// `f_min`, `f_max` default to the scene's [fos].
+/// `f_min`, `f_max` come from the scene's [fos]. `prior`: the result of a search of the same
+/// scene and settings that a signal stopped; its trials are taken as run, not run again.
 FosResult findFactorOfSafety(const io::Scene& scene, const FosCriterion& criterion, int groups,
-                             MPI_Comm comm);
+                             MPI_Comm comm, const FosResult* prior = nullptr);
 
 }  // namespace polydem::sim

@@ -42,13 +42,14 @@ std::int64_t runSteps(const Simulation& sim) {
 
 }  // namespace
 
-void installStopSignals() {
+void installStopSignals(bool interrupt) {
   struct sigaction action {};
   action.sa_handler = onStopSignal;
   sigemptyset(&action.sa_mask);
   action.sa_flags = SA_RESTART;
   sigaction(SIGTERM, &action, nullptr);
   sigaction(SIGUSR1, &action, nullptr);
+  if (interrupt) sigaction(SIGINT, &action, nullptr);
 }
 
 int stopSignalReceived() {
@@ -58,6 +59,7 @@ int stopSignalReceived() {
 std::string signalName(int signal) {
   if (signal == SIGTERM) return "SIGTERM";
   if (signal == SIGUSR1) return "SIGUSR1";
+  if (signal == SIGINT) return "SIGINT";
   return cat("signal ", signal);
 }
 

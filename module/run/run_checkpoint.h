@@ -23,10 +23,11 @@ namespace polydem::sim {
 /// Makes SIGTERM and SIGUSR1 set a flag (async-signal-safe) instead of ending the process.
 /// `polydem run` calls it first thing, before MPI starts and before any file is read, so that a
 /// signal at any moment of the start-up is kept for the first step's check. Idempotent.
-void installStopSignals();
+/// `interrupt`: SIGINT (Ctrl-C) too, as `polydem fos` takes it.
+void installStopSignals(bool interrupt = false);
 /// The signal number received since installStopSignals() on this process, or 0.
 int stopSignalReceived();
-/// "SIGTERM", "SIGUSR1" or "signal N".
+/// "SIGTERM", "SIGUSR1", "SIGINT" or "signal N".
 std::string signalName(int signal);
 
 /// The run state a checkpoint stores besides the simulation (io::CheckpointData::run_state):

@@ -12,8 +12,9 @@ void readFos(const Context& ctx, const toml::table& root, Scene& scene) {
   const toml::table* t = n->as_table();
   if (!t) ctx.fail(lineOf(*n), "'fos' must be a table: write [fos], got " + typeName(*n));
   const Section s(ctx, *t, "[fos]");
-  s.allowOnly({"interactions", "f_min", "f_max", "resolution", "max_time", "settle_time",
-               "speed_limit", "displacement_limit", "check_every", "label_prefix"});
+  s.allowOnly({"interactions", "f_min", "f_max", "resolution", "max_time", "time_cap",
+               "settle_time", "force_ratio", "speed_decay", "local_damping", "speed_limit",
+               "displacement_limit", "check_every", "label_prefix"});
   FosSpec& f = scene.fos;
   f.line = s.line();
   if (const toml::node* list = s.find("interactions")) {
@@ -35,6 +36,7 @@ void readFos(const Context& ctx, const toml::table& root, Scene& scene) {
           ctx.fail(lineOf((*pair)[k]), what + ": no [[material]] is named '" + name + "'");
       }
       f.interactions.emplace_back(std::min(index[0], index[1]), std::max(index[0], index[1]));
+      f.interaction_lines.push_back(lineOf((*a)[i]));
     }
   }
   f.f_min = s.number("f_min", Quantity::kDimensionless, f.f_min, Range::kPositive);
@@ -42,13 +44,28 @@ void readFos(const Context& ctx, const toml::table& root, Scene& scene) {
   if (!(f.f_max > f.f_min)) s.fail("f_max", "must exceed f_min");
   f.resolution = s.number("resolution", Quantity::kDimensionless, f.resolution, Range::kPositive);
   f.max_time = s.number("max_time", Quantity::kTime, Range::kPositive);
+  f.max_time_line = s.lineOf("max_time");
+  f.time_cap = s.number("time_cap", Quantity::kTime, Range::kPositive);
   f.settle_time = s.number("settle_time", Quantity::kTime, Range::kPositive);
   if (f.max_time && f.settle_time && !(*f.settle_time < *f.max_time)) {
     s.fail("settle_time", "must be shorter than max_time");
   }
-  f.speed_limit = s.number("speed_limit", Quantity::kVelocity, f.speed_limit, Range::kPositive);
+  if (f.max_time && f.time_cap && *f.time_cap < *f.max_time) {
+    s.fail("time_cap", "must be at least max_time (undecided trials run on from max_time to it)");
+  }
+  f.force_ratio =
+      s.bounded("force_ratio", Quantity::kDimensionless, f.force_ratio, 0.0, 1.0, false);
+  if (!(f.force_ratio > 0)) s.fail("force_ratio", "must be > 0");
+  f.speed_decay =
+      s.bounded("speed_decay", Quantity::kDimensionless, f.speed_decay, 0.0, 1.0, false);
+  if (!(f.speed_decay > 0)) s.fail("speed_decay", "must be > 0");
+  if (s.has("local_damping")) {
+    f.local_damping = s.bounded("local_damping", Quantity::kDimensionless, 0.8, 0.0, 1.0, false);
+  }
+  f.speed_limit = s.number("speed_limit", Quantity::kVelocity, Range::kPositive);
   f.displacement_limit = s.number("displacement_limit", Quantity::kLength, Range::kPositive);
   f.check_every = s.integer("check_every", f.check_every, Range::kPositive);
+  f.check_every_line = s.lineOf("check_every");
   f.label_prefix = s.string("label_prefix").value_or("");
 }
 

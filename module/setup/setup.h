@@ -127,21 +127,27 @@ struct CheckpointSpec {
 };
 
 /// How `polydem fos` finds the scene's factor of safety by strength reduction: tan(friction
-/// angle) and cohesion of the chosen material pairs are divided by F, and a trial at F is stable
-/// when, after settle_time, the mean speed of the watched free blocks is below speed_limit
-/// (Keissar section 4.5) before their mean displacement passes displacement_limit and before
-/// max_time. F is bisected between f_min and f_max to `resolution` (sim/fos.h).
+/// angle) and cohesion of the chosen material pairs are divided by F, and each trial at F is run
+/// as a static solution (local damping 0.8 unless set here) until it is decided: stable when the
+/// unbalanced-force ratio and the blocks' speeds have decayed, failed when their speeds have not
+/// decayed over a window while the displacement grows. F is bisected between f_min and f_max to
+/// `resolution` (run/fos.h).
 struct FosSpec {
   std::vector<std::pair<int, int>> interactions;  // material pairs reduced; empty: all pairs
+  std::vector<int> interaction_lines;             // of each pair in the file
   double f_min = 0.5, f_max = 4.0;
   double resolution = 0.01;                  // width of the final bracket, in F
   std::optional<double> max_time;            // s, required (here or on the command line)
-  std::optional<double> settle_time;         // s; default max_time / 4
-  double speed_limit = 1e-4;                 // m/s
-  std::optional<double> displacement_limit;  // m; default 0.1 x the blocks' mean size
+  std::optional<double> time_cap;            // s; undecided trials run on to it (4 x max_time)
+  std::optional<double> settle_time;         // s: the window; default max_time / 4
+  double force_ratio = 1e-5;                 // stable: Keissar eq. 3.2 below it
+  double speed_decay = 1e-3;                 // stable: largest speed / its peak below it
+  std::optional<double> local_damping;       // of every material in the trials; default 0.8
+  std::optional<double> speed_limit;         // m/s; stable also needs the mean speed below it
+  std::optional<double> displacement_limit;  // m; failed also beyond it
   std::int64_t check_every = 100;            // steps between evaluations of the criterion
   std::string label_prefix;                  // the free blocks watched (default: all)
-  int line = 0;
+  int line = 0, max_time_line = 0, check_every_line = 0;
 };
 
 /// One expected result of the scene, computed from the run by the check of that `kind`

@@ -27,12 +27,13 @@ def plot(run_dir, out=None):
             t["d"].append(float(row["mean_displacement"]))
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for trial in sorted(series.values(), key=lambda s: s["factor"]):
-        colour = "tab:blue" if trial["outcome"] == "stable" else "tab:red"
+        colour = {"stable": "tab:blue", "failed": "tab:red"}.get(trial["outcome"], "tab:grey")
         ax.plot(trial["t"], trial["d"], color=colour, alpha=0.8,
                 label=f"F = {trial['factor']:.4g} ({trial['outcome']})")
-    limit = result["criterion"]["displacement_limit"]
-    ax.axhline(limit, color="grey", ls="--", lw=0.8)
-    ax.set_ylim(0, 1.15 * limit)
+    limit = result["criterion"].get("displacement_limit")  # optional: none by default
+    if limit is not None:
+        ax.axhline(limit, color="grey", ls="--", lw=0.8)
+        ax.set_ylim(0, 1.15 * limit)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("mean displacement of the free blocks [m]")
     f = result["factor_of_safety"]

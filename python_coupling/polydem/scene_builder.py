@@ -23,8 +23,9 @@ _SECTION_KEYS = {
                     "reset_velocities"),
     "output": ("series_every", "snapshot_every", "progress_every", "monitor"),
     "checkpoint": ("every_steps", "every_seconds", "keep"),
-    "fos": ("interactions", "f_min", "f_max", "resolution", "max_time", "settle_time",
-            "speed_limit", "displacement_limit", "check_every", "label_prefix"),
+    "fos": ("interactions", "f_min", "f_max", "resolution", "max_time", "time_cap",
+            "settle_time", "force_ratio", "speed_decay", "local_damping", "speed_limit",
+            "displacement_limit", "check_every", "label_prefix"),
 }
 _CONTACT_KEYS = ("kn", "ks", "friction_angle", "cohesion", "normal_damping", "penalty", "jkn",
                  "jks")

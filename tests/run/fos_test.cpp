@@ -119,10 +119,13 @@ TEST(StrengthReduction, DividesTanPhiAndCohesionOfTheChosenPairs) {
 TEST(FosCriterion, DefaultsAndMissingMaxTime) {
   io::Scene scene = io::readScene(kExamples + "fos-incline.toml");
   scene.fos.settle_time.reset();
-  scene.fos.displacement_limit.reset();
   const FosCriterion c = fosCriterion(scene);
-  EXPECT_DOUBLE_EQ(c.settle_time, 0.5);           // max_time / 4
-  EXPECT_NEAR(c.displacement_limit, 0.1, 1e-12);  // 0.1 x the unit cube
+  EXPECT_DOUBLE_EQ(c.window, 0.5);    // max_time / 4
+  EXPECT_DOUBLE_EQ(c.time_cap, 8.0);  // 4 x max_time
+  EXPECT_DOUBLE_EQ(c.local_damping, 0.8);
+  EXPECT_FALSE(c.damping_from_scene);
+  EXPECT_FALSE(c.displacement_limit);  // no length scale in the default criterion
+  EXPECT_NE(c.describe().find("local damping 0.8"), std::string::npos) << c.describe();
   scene.fos.max_time.reset();
   try {
     fosCriterion(scene);
@@ -131,6 +134,108 @@ TEST(FosCriterion, DefaultsAndMissingMaxTime) {
     EXPECT_GT(e.line(), 0);
     EXPECT_NE(std::string(e.what()).find("max_time"), std::string::npos);
   }
+}
+
+// The message of the InputError fosCriterion throws for `scene`, with its line.
+std::string refusal(const io::Scene& scene, int& line) {
+  try {
+    fosCriterion(scene);
+  } catch (const InputError& e) {
+    line = e.line();
+    return e.what();
+  }
+  return "";
+}
+
+const std::string kInclineFos = R"(
+[fos]
+f_min = 0.5
+f_max = 3
+max_time = "2 s"
+)";
+
+// fos-incline.toml's text without its [fos] table, with `extra` appended.
+io::Scene inclineWith(const std::string& extra) {
+  const std::string text = io::readSceneText(kExamples + "fos-incline.toml");
+  return io::parseScene(text.substr(0, text.find("[fos]")) + extra, "incline.toml");
+}
+
+TEST(FosCriterion, RefusesAnInteractionNoContactUses) {
+  // "clay" is a material no particle has: reducing it changes nothing, every trial is stable.
+  io::Scene scene = inclineWith(
+      "[[material]]\nname = \"clay\"\ndensity = 2000\nkn = 1e9\nks = 5e8\n"
+      "friction_angle = 20\n" +
+      kInclineFos + "interactions = [[\"rock\", \"rock\"],\n  [\"clay\", \"rock\"]]\n");
+  int line = 0;
+  const std::string message = refusal(scene, line);
+  EXPECT_NE(message.find("interactions[1]"), std::string::npos) << message;
+  EXPECT_NE(message.find("no contact of the scene can use"), std::string::npos) << message;
+  EXPECT_EQ(line, scene.fos.interaction_lines[1]);
+  EXPECT_GT(line, scene.fos.line);
+  // A pair of a material whose only particle is fixed, with itself: no contact either.
+  io::Scene fixed_only = inclineWith(kInclineFos + "interactions = [[\"rock\", \"rock\"]]\n");
+  fixed_only.particles[1].fixed = true;
+  EXPECT_NE(refusal(fixed_only, line).find("no contact"), std::string::npos);
+}
+
+TEST(FosCriterion, RefusesTrialsTooShortToJudge) {
+  int line = 0;
+  // 1e-3 s at dt = 1e-4 s: 10 steps.
+  io::Scene scene = inclineWith("[fos]\nf_min = 0.5\nf_max = 3\nmax_time = \"1e-3 s\"\n");
+  std::string message = refusal(scene, line);
+  EXPECT_NE(message.find("a trial needs at least 500 steps"), std::string::npos) << message;
+  EXPECT_EQ(line, scene.fos.max_time_line);
+  // check_every beyond the trial: the window would hold no evaluation.
+  scene = inclineWith(kInclineFos + "check_every = 1e9\n");
+  message = refusal(scene, line);
+  EXPECT_NE(message.find("check_every = 1000000000"), std::string::npos) << message;
+  EXPECT_NE(message.find("give check_every <= 1250"), std::string::npos) << message;
+  EXPECT_EQ(line, scene.fos.check_every_line);
+  scene = inclineWith(kInclineFos + "check_every = 1250\n");  // 4 evaluations a window
+  EXPECT_EQ(refusal(scene, line), "");
+}
+
+// A search continued from trials already run: these decide every bound without a new trial.
+FosResult continued(const std::vector<std::pair<double, std::string>>& trials) {
+  log::setLevel(log::Level::kWarning);
+  io::Scene scene = io::readScene(kExamples + "fos-incline.toml");
+  FosResult prior;
+  for (const auto& [f, outcome] : trials) {
+    FosTrial t;
+    t.factor = f;
+    t.outcome = outcome;
+    t.round = prior.rounds_complete++;
+    prior.trials.push_back(t);
+  }
+  return findFactorOfSafety(scene, fosCriterion(scene), 1, MPI_COMM_WORLD, &prior);
+}
+
+TEST(FosBracket, ReportsOnlyBoundsOfDecidedTrials) {
+  // Undecided at f_min: nothing is bracketed, and nothing is claimed below f_min.
+  FosResult r = continued({{0.5, "undecided"}});
+  EXPECT_FALSE(r.failed);
+  EXPECT_FALSE(r.factor());
+  EXPECT_NE(r.note.find("undecided"), std::string::npos) << r.note;
+  // Failed at f_min, a decided trial: below the range, and said so.
+  r = continued({{0.5, "failed"}});
+  EXPECT_EQ(r.failed, 0.5);
+  EXPECT_FALSE(r.factor());
+  EXPECT_NE(r.note.find("failed (a decided trial)"), std::string::npos) << r.note;
+  // Stable at f_min, undecided at f_max: not "above f_max".
+  r = continued({{0.5, "stable"}, {3.0, "undecided"}});
+  EXPECT_EQ(r.stable, 0.5);
+  EXPECT_FALSE(r.failed);
+  EXPECT_EQ(r.note.find("above f_max"), std::string::npos) << r.note;
+  EXPECT_NE(r.note.find("not bracketed"), std::string::npos) << r.note;
+  // An undecided trial inside the bracket stops the search: the bracket of the decided trials,
+  // and no factor of safety claimed to the resolution.
+  r = continued({{0.5, "stable"}, {3.0, "failed"}, {1.75, "undecided"}});
+  EXPECT_EQ(r.stable, 0.5);
+  EXPECT_EQ(r.failed, 3.0);
+  EXPECT_FALSE(r.resolved);
+  EXPECT_FALSE(r.factor());
+  EXPECT_NE(r.note.find("1.75 is undecided"), std::string::npos) << r.note;
+  EXPECT_EQ(r.trials.size(), 3u);  // no trial was run
 }
 
 }  // namespace
