@@ -46,7 +46,7 @@ int fosCommand(int argc, char** argv) {
   }
   const std::string out = args.value("out", "");
   if (out.empty()) throw UsageError("polydem fos needs --out DIR");
-  const long long per_trial = args.integer("ranks-per-trial", 1);
+  const long long per_trial = args.integer("ranks-per-trial", 1, 1);
   const auto resolution = args.value("resolution");
   const auto f_min = args.value("f-min");
   const auto f_max = args.value("f-max");
