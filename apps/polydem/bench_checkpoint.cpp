@@ -16,7 +16,6 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "commands.h"
 #include "polydem/checkpoint/checkpoint.h"
@@ -369,18 +368,6 @@ class WorkDirectory {
   bool made_parent_ = false;
 };
 
-std::vector<std::int64_t> parseCounts(const std::string& text) {
-  std::vector<std::int64_t> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    const long long n = std::stoll(item);
-    if (n < 1) throw UsageError(cat("--particles: ", n, " is not a positive count"));
-    out.push_back(n);
-  }
-  return out;
-}
-
 }  // namespace
 
 int benchCheckpoint(int argc, char** argv) {
@@ -399,14 +386,17 @@ int benchCheckpoint(int argc, char** argv) {
         "  checkpoint file and its directory.\n");
     return 0;
   }
-  const auto counts = parseCounts(args.value("particles", "100000,1000000"));
-  const int per_particle = static_cast<int>(args.integer("histories-per-particle", 6));
-  const int repeat = std::max(1, static_cast<int>(args.integer("repeat", 3)));
+  const auto counts = args.integers("particles", "100000,1000000", 1, Args::kInt64Max);
+  const int per_particle = static_cast<int>(args.integer("histories-per-particle", 6, 0));
+  const int repeat = static_cast<int>(args.integer("repeat", 3, 1));
   const auto json_path = args.value("json");
   const bool keep = args.flag("keep");
   io::CheckpointIoOptions options;
+  // A round of at least one byte and at most a TiB (a size_t holds it).
   options.round_bytes = static_cast<std::size_t>(
-      args.number("round-mib", static_cast<double>(options.round_bytes) / (1 << 20)) * (1 << 20));
+      args.number("round-mib", static_cast<double>(options.round_bytes) / (1 << 20),
+                  1.0 / (1 << 20), 1 << 20) *
+      (1 << 20));
   const std::string parent = args.value("dir", ".");
   args.rejectUnknown();
   const MPI_Comm comm = MPI_COMM_WORLD;

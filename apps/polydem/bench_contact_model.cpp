@@ -97,16 +97,15 @@ int benchContactModel(int argc, char** argv) {
     return 0;
   }
   sim::PileOptions pile;
-  pile.particles = args.integer("particles", 8000);
+  pile.particles = args.integer("particles", 8000, 1);
   pile.shapes = "cubes";
   pile.gap = -0.001;
   pile.kernel = args.value("kernel", "gjk-epa-ipm");
-  const std::int64_t steps = args.integer("steps", 20);
-  const int rounds = static_cast<int>(args.integer("rounds", 3));
+  const std::int64_t steps = args.integer("steps", 20, 1, Args::kInt64Max);
+  const int rounds = static_cast<int>(args.integer("rounds", 3, 1));
   const std::string demo = args.value("demo", "benchmark_scenes/demo-rockslide.toml");
   const auto json_path = args.value("json");
   args.rejectUnknown();
-  if (steps < 1 || rounds < 1) throw UsageError("--steps and --rounds must be >= 1");
   log::setLevel(log::Level::kWarning);
 
   if (mpi::rank() == 0) {

@@ -249,9 +249,9 @@ int benchKernels(int argc, char** argv) {
         kCcdGjkEpa, kCcdMpr, kCcdGjkEpa);
     return 0;
   }
-  const int pairs = static_cast<int>(args.integer("pairs", 1000));
+  const int pairs = static_cast<int>(args.integer("pairs", 1000, 1));
   const double seconds = args.number("seconds", 1.0);
-  const int passes = static_cast<int>(args.integer("passes", 7));
+  const int passes = static_cast<int>(args.integer("passes", 7, 1));
   const bool only_cold = args.flag("cold"), only_warm = args.flag("warm");
   if (only_cold && only_warm) throw UsageError("--warm and --cold exclude each other");
   std::vector<bool> modes;  // cold?
@@ -285,9 +285,7 @@ int benchKernels(int argc, char** argv) {
     set_names = wanted;
   }
   args.rejectUnknown();
-  if (pairs < 1 || seconds <= 0.0 || passes < 1) {
-    throw UsageError("--pairs, --seconds and --passes must be positive");
-  }
+  if (!(seconds > 0.0)) throw UsageError("--seconds must be > 0");
   if (mpi::rank() != 0) return 0;  // one core: rank 0 measures, other ranks have nothing to do
 
   std::printf("P-KERNELS: %d pairs per set, median of %d passes of ~%.2g s thread CPU time, %s\n",

@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "commands.h"
 #include "generators/pile_scene.h"
@@ -34,20 +33,16 @@ struct Measurement {
   sim::BalanceFigures balance;
 };
 
-std::vector<int> parseRanks(const std::string& text, int world) {
+// --ranks r1,r2,... (each in 1..world), or 1, 2, 4, ... and the world.
+std::vector<int> parseRanks(Args& args, int world) {
   std::vector<int> out;
-  if (text.empty()) {
-    for (int r = 1; r < world; r *= 2) out.push_back(r);
-    out.push_back(world);
+  if (args.value("ranks")) {
+    for (const long long r : args.integers("ranks", "", 1, world))
+      out.push_back(static_cast<int>(r));
     return out;
   }
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    const int r = std::stoi(item);
-    if (r < 1 || r > world) throw UsageError(cat("--ranks: ", r, " is not in 1..", world));
-    out.push_back(r);
-  }
+  for (int r = 1; r < world; r *= 2) out.push_back(r);
+  out.push_back(world);
   return out;
 }
 
@@ -183,26 +178,25 @@ int benchScaling(int argc, char** argv) {
     return 0;
   }
   sim::PileOptions pile;
-  const std::int64_t per_rank = args.integer("per-rank", 0);
-  pile.particles = args.integer("particles", 20000);
+  const std::int64_t per_rank = args.integer("per-rank", 0, 1);
+  pile.particles = args.integer("particles", 20000, 1);
   pile.shapes = args.value("shapes", "mixed");
   pile.kernel = args.value("kernel", "gjk-epa-ipm");
   const std::string model = args.value("contact-model", "sub-contacts");
   if (const auto e = io::unknownContactModel(model); !e.empty()) {
     throw UsageError("--contact-model: " + e);
   }
-  pile.layers = args.integer("layers", 10);
+  pile.layers = args.integer("layers", 10, 1);
   pile.gap = args.number("gap", pile.gap);
-  pile.floor_width = args.number("floor-width", 0.0);
-  const std::int64_t steps = args.integer("steps", 100);
-  const std::int64_t warmup = args.integer("warmup", 20);
+  pile.floor_width = args.number("floor-width", 0.0, 0.0);
+  const std::int64_t steps = args.integer("steps", 100, 1, Args::kInt64Max);
+  const std::int64_t warmup = args.integer("warmup", 20, 0, Args::kInt64Max);
   const bool control = args.flag("control");
   const bool overlap = args.flag("overlap");
   const auto json_path = args.value("json");
   const int world = mpi::size();
-  const auto groups = parseRanks(args.value("ranks", ""), world);
+  const auto groups = parseRanks(args, world);
   args.rejectUnknown();
-  if (per_rank < 0) throw UsageError("--per-rank must be positive");
   log::setLevel(log::Level::kWarning);
   auto sceneFor = [&](int ranks) {
     sim::PileOptions o = pile;

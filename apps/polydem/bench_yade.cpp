@@ -247,11 +247,11 @@ std::optional<Result> runYade(const io::Scene& scene, const Options& o, const st
 
 Options parseOptions(Args& args) {
   Options o;
-  o.particles = args.integer("particles", o.particles);
-  o.layers = args.integer("layers", o.layers);
-  o.settle = args.integer("settle", o.settle);
-  o.steps = args.integer("steps", o.steps);
-  o.warmup = args.integer("warmup", o.warmup);
+  o.particles = args.integer("particles", o.particles, 1);
+  o.layers = args.integer("layers", o.layers, 1);
+  o.settle = args.integer("settle", o.settle, 1, Args::kInt64Max);
+  o.steps = args.integer("steps", o.steps, 1, Args::kInt64Max);
+  o.warmup = args.integer("warmup", o.warmup, 0, Args::kInt64Max);
   if (const auto k = args.value("kernels")) o.kernels = split(*k, ',');
   if (const auto m = args.value("contact-models")) o.models = split(*m, ',');
   for (const auto& m : o.models) {
@@ -261,10 +261,9 @@ Options parseOptions(Args& args) {
   }
   o.yade = args.value("yade", "");
   o.keep = args.value("keep", "");
-  o.seed = static_cast<std::uint64_t>(args.integer("seed", 1));
-  if (o.particles < 1 || o.layers < 1 || o.settle < 1 || o.steps < 1 || o.warmup < 0 ||
-      o.kernels.empty() || o.models.empty()) {
-    throw UsageError("--particles, --layers, --settle and --steps must be >= 1, --warmup >= 0");
+  o.seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, Args::kInt64Max));
+  if (o.kernels.empty() || o.models.empty()) {
+    throw UsageError("--kernels and --contact-models need at least one name each");
   }
   return o;
 }

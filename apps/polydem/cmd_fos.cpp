@@ -141,7 +141,7 @@ int fosCommand(int argc, char** argv) {
     usage();
     return args.flag("help") ? 0 : 2;
   }
-  const long long per_trial = args.integer("ranks-per-trial", 1);
+  const long long per_trial = args.integer("ranks-per-trial", 1, 1);
   const bool quiet = args.flag("quiet");
   std::string out;
   io::Scene scene;

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "commands.h"
@@ -39,8 +40,9 @@ int reportCommand(int argc, char** argv) {
   }
   const std::string out_dir = args.value("out", ".");
   const auto kernels = split(args.value("kernels", join(contact::kernelNames(), ",")), ',');
-  const int poses = static_cast<int>(args.integer("poses", 20));
-  const auto seed = static_cast<unsigned>(args.integer("seed", 2024));
+  const int poses = static_cast<int>(args.integer("poses", 20, 1));
+  const auto seed =
+      static_cast<unsigned>(args.integer("seed", 2024, 0, std::numeric_limits<unsigned>::max()));
   args.rejectUnknown();
   if (mpi::rank() != 0) return 0;
 

@@ -78,19 +78,20 @@ int runCommand(int argc, char** argv) {
   sim::RunOptions options;
   options.out_dir = args.value("out", "");
   if (options.out_dir.empty()) throw UsageError("polydem run needs --out DIR");
-  if (const auto v = args.value("steps")) options.steps = args.integer("steps", 0);
+  if (const auto v = args.value("steps"))
+    options.steps = args.integer("steps", 0, 1, Args::kInt64Max);
   if (const auto v = args.value("end-time")) options.end_time = args.number("end-time", 0.0);
   options.kernel = args.value("kernel");
   options.contact_model = args.value("contact-model");
-  options.progress_every = args.integer("progress", 0);
+  options.progress_every = args.integer("progress", 0, 1, Args::kInt64Max);
   options.snapshots = !args.flag("no-snapshots");
   if (args.value("checkpoint-every"))
-    options.checkpoint_every = args.integer("checkpoint-every", 0);
+    options.checkpoint_every = args.integer("checkpoint-every", 0, 0, Args::kInt64Max);
   if (args.value("checkpoint-seconds")) {
-    options.checkpoint_seconds = args.number("checkpoint-seconds", 0.0);
+    options.checkpoint_seconds = args.number("checkpoint-seconds", 0.0, 0.0);
   }
   if (args.value("checkpoint-keep")) {
-    options.checkpoint_keep = static_cast<int>(args.integer("checkpoint-keep", 2));
+    options.checkpoint_keep = static_cast<int>(args.integer("checkpoint-keep", 2, 1));
   }
   const bool check = args.flag("check");
   bool picture = args.flag("picture");
@@ -98,17 +99,7 @@ int runCommand(int argc, char** argv) {
   if (args.flag("verbose")) log::setLevel(log::Level::kDetail);
   args.rejectUnknown();
   if (args.positional().size() > 1) throw UsageError("polydem run takes one scene file");
-  if (options.steps && *options.steps <= 0) throw UsageError("--steps must be positive");
   if (options.end_time && !(*options.end_time > 0)) throw UsageError("--end-time must be > 0");
-  if (options.checkpoint_every && *options.checkpoint_every < 0) {
-    throw UsageError("--checkpoint-every must be >= 0");
-  }
-  if (options.checkpoint_seconds && !(*options.checkpoint_seconds >= 0)) {
-    throw UsageError("--checkpoint-seconds must be >= 0");
-  }
-  if (options.checkpoint_keep && *options.checkpoint_keep < 1) {
-    throw UsageError("--checkpoint-keep must be >= 1");
-  }
   if (options.kernel && restart) throw UsageError("--kernel cannot change a restarted run");
   if (options.contact_model && restart) {
     throw UsageError("--contact-model cannot change a restarted run");

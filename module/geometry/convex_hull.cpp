@@ -196,6 +196,38 @@ void canonicalise(std::vector<std::vector<int>>& faces) {
   std::sort(faces.begin(), faces.end());
 }
 
+/// The hull's least width over its face directions: the smallest depth, below a face, of the
+/// vertex deepest below it. Each face's deepest vertex is found by climbing the vertex graph
+/// (supportIndex), which ends at the same vertex from any start; the faces are visited
+/// breadth-first across their edges and each climb starts from the deepest vertex of the face
+/// it was reached from, which lies near its own, so the climbs are short even on a hull of 10^5
+/// faces (a climb from the face's own vertex crosses the whole hull).
+double leastWidth(const ConvexPolyhedron& poly) {
+  const auto& faces = poly.faces();
+  const auto& edges = poly.edges();
+  std::vector<int> deepest(faces.size(), -1);
+  double width = std::numeric_limits<double>::infinity();
+  for (std::size_t root = 0; root < faces.size(); ++root) {  // one tree: the hull is connected
+    if (deepest[root] >= 0) continue;
+    std::deque<std::pair<int, int>> queue{{static_cast<int>(root), faces[root].vertices[0]}};
+    deepest[root] = faces[root].vertices[0];
+    while (!queue.empty()) {
+      const auto [f, hint] = queue.front();
+      queue.pop_front();
+      const Face& face = faces[f];
+      deepest[f] = poly.supportIndex(-face.normal, hint);
+      width = std::min(width, face.offset - face.normal.dot(poly.vertices()[deepest[f]]));
+      for (int e : face.edges) {
+        const int g = edges[e].f0 == f ? edges[e].f1 : edges[e].f0;
+        if (deepest[g] >= 0) continue;
+        deepest[g] = deepest[f];  // queued; its own climb starts here
+        queue.emplace_back(g, deepest[f]);
+      }
+    }
+  }
+  return width;
+}
+
 }  // namespace
 
 ConvexPolyhedron ConvexPolyhedron::fromPoints(std::span<const Vec3> points, BuildReport* report) {
@@ -245,11 +277,7 @@ ConvexPolyhedron ConvexPolyhedron::fromPoints(std::span<const Vec3> points, Buil
   // The least-squares flatness check cannot see every thin cloud; the hull can: its width is at
   // most the largest depth of the vertices below any one face.
   const double size_tol = absTol(frame.size, RelTol::kPlane);
-  double width = std::numeric_limits<double>::infinity();
-  for (const Face& face : poly.faces_) {
-    const Vec3& deepest = poly.vertices_[poly.supportIndex(-face.normal, face.vertices[0])];
-    width = std::min(width, face.offset - face.normal.dot(deepest));
-  }
+  const double width = leastWidth(poly);
   if (width <= size_tol) {
     throw GeometryError(cat("flat point cloud: the hull of ", points.size(), " points is only ",
                             width, " thick, less than ", RelTol::kPlane, " of the cloud size ",

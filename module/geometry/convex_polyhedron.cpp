@@ -10,6 +10,7 @@
 
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
+#include "polydem/geometry/distinct_directions.h"
 
 namespace polydem::geometry {
 
@@ -93,24 +94,15 @@ void ConvexPolyhedron::buildTopology(const std::vector<Vec3>& points,
 }
 
 void ConvexPolyhedron::buildAxes() {
-  // Keeps the first of every family of directions parallel up to sign: |d x e| <= sin(angle).
-  const auto distinct = [](std::vector<int>& kept, const std::vector<Vec3>& directions) {
-    kept.clear();
-    for (int i = 0; i < static_cast<int>(directions.size()); ++i) {
-      const bool parallel = std::any_of(kept.begin(), kept.end(), [&](int k) {
-        return directions[k].cross(directions[i]).norm() <= kParallelAxes;
-      });
-      if (!parallel) kept.push_back(i);
-    }
-  };
+  // The first of every family of directions parallel up to sign: |d x e| <= sin(angle).
   std::vector<Vec3> directions;
   for (const Face& face : faces_) directions.push_back(face.normal);
-  distinct(axis_faces_, directions);
+  axis_faces_ = distinctDirections(directions, kParallelAxes);
   directions.clear();
   for (const Edge& edge : edges_) {
     directions.push_back((vertices_[edge.v1] - vertices_[edge.v0]).normalized());
   }
-  distinct(axis_edges_, directions);
+  axis_edges_ = distinctDirections(directions, kParallelAxes);
   box_ = findBoxFrame(*this);
 }
 

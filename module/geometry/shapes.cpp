@@ -180,7 +180,9 @@ std::vector<Vec3> hexagonalPrism(double side, double length) {
 
 std::vector<Vec3> randomConvex(int n, std::uint64_t seed, const Vec3& semi_axes,
                                double perturbation) {
-  if (n < 4) throw GeometryError("randomConvex needs n >= 4, got " + std::to_string(n));
+  if (n < 4 || n > kMaxRandomPoints) {
+    throw GeometryError(cat("randomConvex needs 4 <= n <= ", kMaxRandomPoints, " points, got ", n));
+  }
   for (int k = 0; k < 3; ++k) requirePositive(semi_axes[k], "ellipsoid semi-axis");
   if (!(perturbation >= 0.0 && perturbation < 1.0)) {
     throw GeometryError("randomConvex: perturbation must be in [0, 1), got " + cat(perturbation));

@@ -62,10 +62,17 @@ inline std::vector<Vec3> icosahedron(double edge) {
 /// (corners at distance `side` from the axis, one on +x), total length `length`.
 std::vector<Vec3> hexagonalPrism(double side, double length);
 
+/// The most points randomConvex() takes (and a scene's `random` shape): all of them are
+/// corners of the hull, whose faces (about 2 n) the contact kernels test pair by pair, and whose
+/// build takes seconds at this size. Far above any rock's need; far below a count that would
+/// exhaust memory before the hull is built.
+inline constexpr int kMaxRandomPoints = 100000;
+
 /// `n` >= 4 points on an ellipsoid with the given semi-axes, centred at the origin, from
 /// std::mt19937_64(seed); the same seed gives the same bits everywhere. Every point lies on the
 /// strictly convex ellipsoid, so all n are corners of their hull (up to round-off coincidences).
 /// The ellipsoid is perturbed per seed: each semi-axis is scaled by a factor in [1 - p, 1 + p].
+/// GeometryError for n outside [4, kMaxRandomPoints], before anything is allocated.
 std::vector<Vec3> randomConvex(int n, std::uint64_t seed, const Vec3& semi_axes = Vec3::Ones(),
                                double perturbation = 0.0);
 

@@ -1,7 +1,6 @@
 // [[shape]], [[particle]] and [[particle_grid]]: shapes become the vertex lists of their convex
 // hulls (geometry::shapes builds the named ones), particles get uids in file order.
 #include <algorithm>
-#include <limits>
 #include <map>
 
 #include "polydem/core/error.h"
@@ -136,7 +135,11 @@ std::vector<Vec3> typeVertices(const Section& s, const std::string& type, bool& 
     if (!s.has("count")) s.missing("count");
     const std::int64_t count = *s.integer("count");
     if (count < 4) s.fail("count", "must be >= 4 (a polyhedron has at least 4 corners)");
-    if (count > std::numeric_limits<int>::max()) s.fail("count", "is too large");
+    if (count > shapes::kMaxRandomPoints) {
+      s.fail("count", cat(count, " is above the limit of ", shapes::kMaxRandomPoints,
+                          " points (every point is a corner of the hull, and every contact with "
+                          "the shape tests its faces)"));
+    }
     const double radius = positive("radius");
     const std::int64_t seed = s.integer("seed", 0, Range::kNonNegative);
     return shapes::randomConvex(static_cast<int>(count), static_cast<std::uint64_t>(seed),

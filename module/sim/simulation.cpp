@@ -172,10 +172,31 @@ void Simulation::applyForceOperators() {
   step.equilibrium = stage_ == Stage::kEquilibrium;
   step.particles = &storage_;
   step.forces = std::span<dynamics::ForceAccumulator>(forces_.data(), storage_.localCount());
-  for (const auto& op : force_operators_) op.apply(step);
+  for (const auto& op : force_operators_) callForceOperator(op.name, op.apply, step);
+}
+
+void Simulation::callForceOperator(const std::string& name, const ForceOperator& op,
+                                   const ForceStep& step) {
+  running_operator_ = &name;
+  try {
+    op(step);
+  } catch (...) {
+    running_operator_ = nullptr;
+    throw;
+  }
+  running_operator_ = nullptr;
+}
+
+void Simulation::requireBetweenSteps(std::string_view what) const {
+  if (!running_operator_) return;
+  throw Error(cat(what, " called from inside force operator '", *running_operator_,
+                  "': the step that calls the operator is half done (forces summed, particles ",
+                  "not moved); step, change or checkpoint the simulation between steps, after ",
+                  "step() or run() has returned"));
 }
 
 void Simulation::addForceOperator(std::string name, ForceOperator op) {
+  requireBetweenSteps("addForceOperator");
   if (name.empty()) throw Error("addForceOperator: a force operator needs a name");
   if (!op) throw Error(cat("addForceOperator: force operator '", name, "' is empty"));
   for (const auto& existing : force_operators_) {
@@ -183,21 +204,21 @@ void Simulation::addForceOperator(std::string name, ForceOperator op) {
       throw Error(cat("addForceOperator: a force operator named '", name, "' is already added"));
     }
   }
-  if (leapfrog_fresh_) startLeapfrogWith(op);
+  if (leapfrog_fresh_) startLeapfrogWith(name, op);
   force_operators_.push_back({std::move(name), std::move(op)});
 }
 
 // The constructor started the leapfrog (velocities to t = -dt/2) with the forces it knew; an
 // operator added before the first step gets its half kick too, as if it had been there (the
 // start is linear in the forces). Its velocities are then those at -dt/2, not the scene's.
-void Simulation::startLeapfrogWith(const ForceOperator& op) {
+void Simulation::startLeapfrogWith(const std::string& name, const ForceOperator& op) {
   std::vector<dynamics::ForceAccumulator> extra(storage_.localCount());
   ForceStep step;
   step.time = 0.0;
   step.dt = dt();
   step.particles = &storage_;
   step.forces = extra;
-  op(step);
+  callForceOperator(name, op, step);
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
     auto& p = storage_[i];
     if (p.isFree()) {
@@ -316,6 +337,7 @@ void Simulation::startLeapfrog() {
 }
 
 void Simulation::step() {
+  requireBetweenSteps("step");
   loop_.singleStep();
 }
 
@@ -332,6 +354,7 @@ void Simulation::enterEquilibrium() {
 }
 
 std::int64_t Simulation::runEquilibrium() {
+  requireBetweenSteps("runEquilibrium");
   if (!scene_.equilibrium.enabled || equilibrium_done_) return equilibrium_steps_;
   if (stage_ != Stage::kEquilibrium) enterEquilibrium();
   log::info(cat("initial equilibrium: local damping ", scene_.equilibrium.local_damping,
@@ -369,6 +392,7 @@ void requireStopCondition(const setup::Setup& scene) {
 }
 
 timeloop::StopReason Simulation::run() {
+  requireBetweenSteps("run");
   requireStopCondition(scene_);
   if (scene_.end_time) loop_.stopAtTime(*scene_.end_time);
   if (scene_.steps) loop_.stopAtStep(*scene_.steps);

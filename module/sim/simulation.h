@@ -17,6 +17,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "polydem/broadphase/broad_phase.h"
@@ -146,13 +147,25 @@ class Simulation {
   void addForceOperator(std::string name, ForceOperator op);
   /// The names of the force operators, in the order they run.
   std::vector<std::string> forceOperatorNames() const;
+  /// Throws polydem::Error naming `what` and the operator when called from inside a force
+  /// operator: the step that called it is half done (its forces summed, its particles not yet
+  /// moved), so stepping, changing or checkpointing the simulation there would change the run
+  /// behind the step's back or store half a step. Every state-changing method calls it first.
+  void requireBetweenSteps(std::string_view what) const;
+
+  /// The farthest any point of a free particle may move in one step: the ghost range (the
+  /// largest free circumradius plus the contact margin), the most the exchange between ranks
+  /// follows (comm/particle_exchange.h). The same on any rank count.
+  double stepReach() const { return ghost_range_; }
 
   /// Sets the velocity and/or angular velocity [rad/s, world frame] of the free particle `uid`
   /// between steps, as the leapfrog holds them (at time() - dt/2): a driving script's change of
   /// state, which a checkpoint then keeps. Collective, with the same arguments on every rank: the
   /// owner changes it and the ghosts are refreshed, so the next step sees it on any rank count.
-  /// Returns false (on every rank) if no rank owns a free particle `uid`
-  /// (sim/simulation_edit.cpp).
+  /// Returns false (on every rank) if no rank owns a free particle `uid`. Throws polydem::Error
+  /// ("particle <uid>: ...", on every rank, changing nothing) for a value that is not finite or
+  /// would move a point of the particle more than stepReach() in one step: |v| dt, or |w| r dt
+  /// with r its circumradius (sim/simulation_edit.cpp).
   bool setVelocity(Uid uid, const std::optional<Vec3>& velocity,
                    const std::optional<Vec3>& angular_velocity);
 
@@ -190,7 +203,10 @@ class Simulation {
   /// particles().localCount())), between steps; not collective. No result changes: pairs are
   /// evaluated and summed in uid order (contact_phase.h). The step does this itself into the
   /// broad phase's cell order (scene domain.sort_every); tests shuffle with it.
-  void reorderParticles(std::span<const std::int32_t> order) { storage_.permuteLocals(order); }
+  void reorderParticles(std::span<const std::int32_t> order) {
+    requireBetweenSteps("reorderParticles");
+    storage_.permuteLocals(order);
+  }
   /// How many times the step reordered this rank's particles into cell order.
   std::int64_t sorts() const { return sorts_; }
 
@@ -236,7 +252,9 @@ class Simulation {
   void refreshGhosts();
   void computeContacts();
   void applyForceOperators();
-  void startLeapfrogWith(const ForceOperator& op);
+  /// Calls `op` marked as running (requireBetweenSteps refuses meanwhile).
+  void callForceOperator(const std::string& name, const ForceOperator& op, const ForceStep& step);
+  void startLeapfrogWith(const std::string& name, const ForceOperator& op);
   void integrate();
   void checkParticlesInside(std::int64_t step) const;
   void communicate();
@@ -307,7 +325,8 @@ class Simulation {
     ForceOperator apply;
   };
   std::vector<NamedForceOperator> force_operators_;
-  bool leapfrog_fresh_ = false;  // started from the setup and not stepped since
+  bool leapfrog_fresh_ = false;                    // started from the setup and not stepped since
+  const std::string* running_operator_ = nullptr;  // the force operator being called, if any
 };
 
 }  // namespace polydem::sim

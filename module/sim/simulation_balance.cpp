@@ -133,6 +133,7 @@ bool Simulation::balanceDecomposition() {
 }
 
 bool Simulation::rebalance() {
+  requireBetweenSteps("rebalance");
   if (!balanceDecomposition()) return false;
   const auto moved = exchange_.migrate(*forest_, storage_, history_, loop_.step());
   migrated_histories_ += moved.histories_received;

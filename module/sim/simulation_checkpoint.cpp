@@ -41,6 +41,7 @@ bool writesPair(const particles::ParticleStorage& storage, const particles::Pair
 
 CheckpointData Simulation::checkpoint(const std::string& scene_toml, const std::string& scene_file,
                                       const std::string& run_state) const {
+  requireBetweenSteps("checkpoint");
   CheckpointData d;
   d.scene_toml = scene_toml;
   d.scene_file = scene_file;

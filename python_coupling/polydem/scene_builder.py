@@ -103,24 +103,27 @@ class Scene(Bodies):
 
     def set_simulation(self, **settings):
         """Sets keys of [simulation]: kernel, broadphase, contact_model, contact_point, dt,
-        end_time, steps, gravity, contact_margin (None removes a key)."""
+        end_time, steps, gravity, contact_margin (None removes a key). All or nothing: the
+        settings are checked on a copy, so one bad value leaves every key as it was."""
+        table = dict(self._simulation)
         for key, value in settings.items():
             if key not in _SIMULATION_KEYS:
                 raise TypeError("set_simulation: unknown key %r (known: %s)"
                                 % (key, ", ".join(_SIMULATION_KEYS)))
             where = "Scene %s" % key
             if value is None:
-                self._simulation.pop(key, None)
+                table.pop(key, None)
             elif key in ("kernel", "broadphase", "contact_model", "contact_point"):
-                self._simulation[key] = v.name(value, where)
+                table[key] = v.name(value, where)
             elif key == "steps":
-                self._simulation[key] = v.integer(value, where, 1)
+                table[key] = v.integer(value, where, 1)
             elif key == "gravity":
-                self._simulation[key] = v.vec3(value, where)
+                table[key] = v.vec3(value, where)
             elif key == "contact_margin":
-                self._simulation[key] = v.scalar(value, where, 0.0)
+                table[key] = v.scalar(value, where, 0.0)
             else:  # dt, end_time
-                self._simulation[key] = v.scalar(value, where, 0.0, exclusive=True)
+                table[key] = v.scalar(value, where, 0.0, exclusive=True)
+        self._simulation = table
         self._changed()
         return self
 

@@ -222,8 +222,9 @@ polydem.GeometryError.)");
       },
       py::arg("n"), py::arg("seed"), py::arg("semi_axes") = py::make_tuple(1.0, 1.0, 1.0),
       py::arg("perturbation") = 0.0,
-      "`n` >= 4 points on an ellipsoid with the given semi-axes (each scaled by a factor in\n"
-      "[1 - perturbation, 1 + perturbation]), from the seed: the same bits on every machine.");
+      "`n` points (4 to 100000) on an ellipsoid with the given semi-axes (each scaled by a\n"
+      "factor in [1 - perturbation, 1 + perturbation]), from the seed: the same bits on every\n"
+      "machine. polydem.GeometryError (a ValueError) for another n.");
 }
 
 }  // namespace

@@ -167,6 +167,7 @@ py::dict monitors(Simulation& sim) {
 }
 
 void step(Simulation& sim, std::int64_t n) {
+  sim.requireBetweenSteps("Simulation.step");
   if (n < 0) throw py::value_error(cat("step count must be >= 0, got ", n));
   for (std::int64_t k = 0; k < n; ++k) {
     sim.step();
@@ -175,6 +176,7 @@ void step(Simulation& sim, std::int64_t n) {
 }
 
 const char* run(Simulation& sim) {
+  sim.requireBetweenSteps("Simulation.run");
   if (!sim.scene().end_time && !sim.scene().steps) {
     throw py::value_error("the scene has neither end_time nor steps: nothing tells run() to stop");
   }
@@ -186,14 +188,31 @@ const char* run(Simulation& sim) {
   return timeloop::toString(reason);
 }
 
+// A force an operator returned for particle `uid`: finite, and not so large that it alone would
+// move the particle farther than `reach` (Simulation::stepReach) in one step: |F| dt^2 / m.
+void checkForce(const Vec3& f, Uid uid, double mass, double dt, double reach,
+                const std::string& name) {
+  const double moves = f.norm() / mass * dt * dt;
+  if (f.allFinite() && moves <= reach) return;
+  throw py::value_error(
+      cat("force operator '", name, "' returned the force (", f.transpose(), ") N for particle ",
+          uid, ", which ",
+          f.allFinite() ? cat("would move it ", moves, " m in one step (|F| dt^2 / m, m = ", mass,
+                              " kg, dt = ", dt, " s), more than ", reach,
+                              " m, the farthest a particle may move in one step")
+                        : std::string("is not finite")));
+}
+
 // A Python force operator: fn(time, dt, particles) -> forces, with `particles` a dict of numpy
 // arrays of this rank's own particles (uid, position, velocity, mass, free) and `forces` an
 // (n, 3) array-like (or None: no force). The forces are added at the centroids of the free ones.
 void addPythonForceOperator(Simulation& sim, const std::string& name, py::object fn) {
+  sim.requireBetweenSteps("Simulation.add_force_operator");
   if (!PyCallable_Check(fn.ptr())) {
     throw py::type_error(cat("add_force_operator: '", name, "' is not given a callable"));
   }
-  sim.addForceOperator(name, [fn = std::move(fn), name](const sim::ForceStep& step) {
+  const double reach = sim.stepReach();
+  sim.addForceOperator(name, [fn = std::move(fn), name, reach](const sim::ForceStep& step) {
     const auto& storage = *step.particles;
     const auto n = static_cast<py::ssize_t>(step.forces.size());
     auto uid = emptyArray<std::uint64_t>({n});
@@ -225,10 +244,10 @@ void addPythonForceOperator(Simulation& sim, const std::string& name, py::object
       throw py::value_error(cat("force operator '", name, "' returned ", forces.size(),
                                 " forces for ", n, " particles"));
     }
-    for (py::ssize_t i = 0; i < n; ++i) {
-      if (storage[static_cast<std::size_t>(i)].isFree()) {
-        step.forces[static_cast<std::size_t>(i)].addBodyForce(forces[static_cast<std::size_t>(i)]);
-      }
+    for (std::size_t i = 0; i < forces.size(); ++i) {
+      if (!storage[i].isFree()) continue;
+      checkForce(forces[i], storage[i].uid, storage.mass(i), step.dt, reach, name);
+      step.forces[i].addBodyForce(forces[i]);
     }
   });
 }
@@ -265,7 +284,11 @@ communicator (its ranks run the simulation; every rank of it must build it).)");
            "Runs the main stage to the scene's end time or step count (collective); returns why\n"
            "it stopped ('end time', 'step limit', ...).")
       .def(
-          "run_equilibrium", method(&Simulation::runEquilibrium),
+          "run_equilibrium",
+          [](Simulation& s) {
+            s.requireBetweenSteps("Simulation.run_equilibrium");
+            return s.runEquilibrium();
+          },
           "Runs the initial-equilibrium stage if the scene has one (collective); returns its step\n"
           "count (0 without one). Call it before stepping the main stage, as polydem run does.")
       .def("add_force_operator", &addPythonForceOperator, py::arg("name"), py::arg("fn"),
@@ -276,7 +299,10 @@ velocity (n, 3) [m/s] at time - dt/2, mass (n,) [kg], free (n,) bool. It returns
 array of forces [N] acting at the centroids (entries of particles that are not free are
 ignored), or None. `name` must be new. Added before the first step (collective then), fn is
 also called at once, for its share of the leapfrog's start. Exceptions from fn end the step (or
-the call adding it) with that error.)")
+the call adding it) with that error; so does a force that is not finite or would alone move its
+particle more than `step_reach` in one step (|F| dt^2 / m). fn must not step, change or
+checkpoint the simulation (step, run, set_velocity, add_force_operator, write_checkpoint raise
+polydem.Error when called from fn): its step is half done.)")
       .def_property_readonly("force_operators", method(&Simulation::forceOperatorNames),
                              "Names of the force operators, in the order they run.")
       .def_property_readonly("time", method(&Simulation::time), "Simulated time [s].")
@@ -291,6 +317,10 @@ the call adding it) with that error.)")
           "'equilibrium' or 'main'.")
       .def_property_readonly("suggested_time_step", method(&Simulation::suggestedTimeStep),
                              "The dt suggested by masses and stiffnesses [s].")
+      .def_property_readonly(
+          "step_reach", method(&Simulation::stepReach),
+          "The farthest any point of a particle may move in one step [m]: the largest free\n"
+          "circumradius plus the contact margin (set_velocity and force operators are held to it).")
       .def_property_readonly(
           "scene", [](const Simulation& s) { return s.scene(); },
           "A copy of the scene the simulation was built from.")

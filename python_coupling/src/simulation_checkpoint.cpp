@@ -35,6 +35,7 @@ std::string fspath(const py::object& path, const char* what) {
 }
 
 void writeCheckpoint(const Simulation& sim, const py::object& path_object) {
+  sim.requireBetweenSteps("Simulation.write_checkpoint");
   const std::string path = fspath(path_object, "path");
   if (sim.scene().text.empty()) {
     throw py::value_error("the simulation's scene has no TOML text to store in a checkpoint");
@@ -68,10 +69,19 @@ std::optional<Vec3> optionalVec3(const py::object& object, const char* what) {
 
 void setVelocity(Simulation& sim, std::int64_t uid, const py::object& velocity,
                  const py::object& angular_velocity) {
+  sim.requireBetweenSteps("Simulation.set_velocity");
   const auto v = optionalVec3(velocity, "velocity");
   const auto w = optionalVec3(angular_velocity, "angular_velocity");
   if (uid <= 0) throw py::value_error(cat("uid must be positive, got ", uid));
-  if (!sim.setVelocity(static_cast<Uid>(uid), v, w)) {
+  bool found = false;
+  try {
+    found = sim.setVelocity(static_cast<Uid>(uid), v, w);
+  } catch (const SimulationError&) {
+    throw;
+  } catch (const Error& e) {  // a refused value, on every rank
+    throw py::value_error(cat("set_velocity: ", e.what()));
+  }
+  if (!found) {
     throw py::value_error(
         cat("no free particle has uid ", uid, " (fixed and driven bodies move as the scene says)"));
   }
@@ -104,7 +114,8 @@ polydem.CheckpointError if the file cannot be written (an older file at `path` i
            R"(Sets the velocity [m/s] and/or angular velocity [rad/s, world frame] of the free
 particle `uid` between steps (collective: the same call on every rank). They are the leapfrog's
 values at time - dt/2, as particles() reports them; checkpoints keep the change. ValueError if no
-free particle has that uid.)")
+free particle has that uid, or for a value that is not finite or would move a point of the
+particle more than `step_reach` in one step (|v| dt, or |w| r dt with r its circumradius).)")
       .def_static("restart", &restart, py::arg("path"), py::arg("comm") = py::none(),
                   py::keep_alive<0, 2>(),
                   R"(Continues the run stored in the checkpoint `path` (collective) on `comm`

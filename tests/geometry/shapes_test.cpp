@@ -113,6 +113,9 @@ TEST(Shapes, InvalidParametersThrow) {
   EXPECT_THROW(shapes::ridgePrism(Vec3(0, 0, 0), Vec3(1, 0, 0.1), 0.5, 1.0), GeometryError);
   EXPECT_THROW(shapes::squarePyramid(Vec3::Zero(), 1.0, 0.0, Apex::kUp), GeometryError);
   EXPECT_THROW(shapes::randomConvex(3, 1), GeometryError);
+  // Refused before the points are allocated (2e9 of them would take 48 GB).
+  EXPECT_THROW(shapes::randomConvex(2'000'000'000, 1), GeometryError);
+  EXPECT_THROW(shapes::randomConvex(shapes::kMaxRandomPoints + 1, 1), GeometryError);
   EXPECT_THROW(shapes::prism({Vec3(0, 0, 0), Vec3(1, 0, 0)}, Vec3(0, 0, 1)), GeometryError);
 }
 

@@ -325,6 +325,30 @@ class ChangeBetweenSteps(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "angular_velocity must be a 3-vector"):
             sim.set_velocity(uids[0], angular_velocity=(1, 0))
 
+    def test_kicks_beyond_the_step_reach(self):
+        # Finite but absurd: a value that would move a point of the particle more than
+        # step_reach in one step (|v| dt, |w| r dt) is refused on every rank and changes
+        # nothing; one just within it is taken.
+        s, uids = falling_cubes(steps=5)
+        sim = polydem.Simulation(s)
+        reach, dt = sim.step_reach, sim.dt
+        before = sim.particles(gather=True)
+        r = sim.shapes[before["shape"][0]].circumradius
+        for kick, text in ((dict(velocity=(1e308, 0, 0)), "the velocity"),
+                           (dict(velocity=(0, 0, -1.001 * reach / dt)), "the velocity"),
+                           (dict(velocity=(0, 0, 1), angular_velocity=(0, 1.001 * reach / (r * dt), 0)),
+                            "the angular velocity")):
+            with self.assertRaisesRegex(ValueError, "set_velocity: particle %d: %s .* would move "
+                                        "it .* more than" % (uids[0], text)):
+                sim.set_velocity(uids[0], **kick)
+            after = sim.particles(gather=True)
+            for key in ("velocity", "angular_velocity"):
+                np.testing.assert_array_equal(after[key], before[key])
+        sim.set_velocity(uids[0], velocity=(0, 0, -0.999 * reach / dt),
+                         angular_velocity=(0, 0.999 * reach / (r * dt), 0))
+        p = sim.particles(gather=True)
+        self.assertEqual(p["velocity"][0, 2], -0.999 * reach / dt)
+
 
 class BadArguments(unittest.TestCase):
     def setUp(self):
@@ -374,6 +398,21 @@ class BadArguments(unittest.TestCase):
         self.assertRaisesWith(TypeError, "path must be a str", sim.write_checkpoint, 42)
         # The scene still builds: every refused call left it as it was.
         self.assertEqual(s.build().num_particles, 3)
+
+    def test_a_refused_setting_changes_nothing(self):
+        # The good keys before and after the bad one are not taken either: all or nothing.
+        s = self.s
+        before = s.to_toml()
+        for bad in (dict(kernel="lp", dt=-1.0, steps=7), dict(steps=7, gravity=(0, 0)),
+                    dict(end_time=2.0, dtt=1e-3), dict(dt=None, contact_margin=-1.0)):
+            with self.assertRaises((TypeError, ValueError)):
+                s.set_simulation(**bad)
+            self.assertEqual(s.to_toml(), before)
+        with self.assertRaises(ValueError):
+            s.steps = 0
+        self.assertEqual(s.to_toml(), before)
+        s.set_simulation(kernel="lp", steps=7)
+        self.assertEqual((s.kernel, s.steps), ("lp", 7))
 
     def test_the_interpreter_survives_bad_calls(self):
         if SIZE > 1:

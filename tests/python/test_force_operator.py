@@ -69,6 +69,69 @@ class ForceOperator(unittest.TestCase):
         sim.add_force_operator("fails", fails)
         with self.assertRaisesRegex(RuntimeError, "user error"):
             sim.step()
+    def test_an_operator_cannot_step_or_change_the_simulation(self):
+        # Each call that would step, change or checkpoint the simulation from inside its own
+        # step is refused, naming the operator; the run goes on as if none had been tried.
+        os.makedirs(os.environ["POLYDEM_TEST_WORK"], exist_ok=True)
+        path = os.path.join(os.environ["POLYDEM_TEST_WORK"], "force_operator_reentrant.h5")
+        if os.path.exists(path):
+            os.remove(path)
+        sim = polydem.Simulation(SCENE)
+        attempts = [lambda: sim.step(), sim.run, sim.run_equilibrium,
+                    lambda: sim.set_velocity(1, velocity=(1, 0, 0)),
+                    lambda: sim.add_force_operator("late", lambda t, dt, p: None),
+                    lambda: sim.write_checkpoint(path)]
+        refused = []
+
+        def meddles(time, dt, particles):
+            for attempt in attempts:
+                with self.assertRaisesRegex(polydem.Error, "inside force operator 'meddles'"):
+                    attempt()
+                refused.append(attempt)
+            return None
+
+        sim.add_force_operator("meddles", meddles)  # called at once: the leapfrog's start
+        sim.step(3)
+        self.assertEqual(len(refused), 4 * len(attempts))
+        self.assertEqual(sim.step_count, 3)
+        self.assertEqual(sim.force_operators, ["meddles"])
+        self.assertFalse(os.path.exists(path))
+        plain = polydem.Simulation(SCENE)
+        plain.step(3)
+        self.assertEqual(sim.state_hash(), plain.state_hash())
+
+    def test_a_stepping_operator_ends_the_step(self):
+        sim = polydem.Simulation(SCENE)
+        sim.step()
+        sim.add_force_operator("steps", lambda t, dt, p: sim.step())
+        with self.assertRaisesRegex(polydem.Error,
+                                    "Simulation.step called from inside force operator 'steps'"):
+            sim.step()
+
+    def test_forces_out_of_reach_are_refused(self):
+        # A force is refused if it is not finite or would alone move its particle more than
+        # step_reach in one step (|F| dt^2 / m); one just within that is taken.
+        limit = 1 - 1e-9
+        for factor, error in ((limit, None), (1 / limit, "would move it"),
+                              (float("inf"), "is not finite"), (float("nan"), "is not finite")):
+            sim = polydem.Simulation(SCENE)
+            sim.step()
+            reach, dt = sim.step_reach, sim.dt
+
+            def push(time, step, particles):
+                forces = np.zeros((len(particles["uid"]), 3))
+                forces[:, 0] = factor * reach * particles["mass"] / (dt * dt)
+                return forces
+
+            sim.add_force_operator("push", push)
+            if error is None:
+                sim.step()
+                self.assertEqual(sim.step_count, 2)
+            else:
+                with self.assertRaisesRegex(ValueError, "force operator 'push' returned the "
+                                            "force .* for particle 1, which " + error):
+                    sim.step()
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -106,6 +106,8 @@ class Shapes(unittest.TestCase):
         a = polydem.shapes.random_convex(30, 7, [1, 2, 3], 0.1)
         self.assertEqual(a.shape, (30, 3))
         np.testing.assert_array_equal(a, polydem.shapes.random_convex(30, 7, [1, 2, 3], 0.1))
+        with self.assertRaisesRegex(polydem.GeometryError, "4 <= n <= 100000 points, got 2000000000"):
+            polydem.shapes.random_convex(2000000000, 7)  # refused before 48 GB are asked for
 
 
 class Errors(unittest.TestCase):

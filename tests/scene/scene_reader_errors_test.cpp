@@ -207,6 +207,12 @@ TEST(SceneReaderErrors, InvalidShapesAtTheShapeLine) {
                        "[[shape]]  # <-\nname = \"cube\"\ntype = \"box\"\nsize = [1, 1, 1]\n"
                        "min = [0, 0, 0]"),
               {"give either size = [x, y, z] or min and max"});
+  // A point count that would exhaust memory is refused before anything is allocated.
+  const std::string random = "type = \"random\"\nradius = 1\ncount = ";
+  expectError(replaced(kBase, "type = \"cube\"\nedge = 1", random + "2000000000  # <-"),
+              {"[[shape]] 'cube' count", "2000000000 is above the limit of 100000 points"});
+  expectError(replaced(kBase, "type = \"cube\"\nedge = 1", random + "100001  # <-"),
+              {"100001 is above the limit of 100000 points"});
 }
 
 }  // namespace

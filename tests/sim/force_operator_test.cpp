@@ -4,6 +4,9 @@
 #include <mpi.h>
 
 #include <cmath>
+#include <functional>
+#include <optional>
+#include <string>
 
 #include "polydem/core/error.h"
 #include "polydem/geometry/shapes.h"
@@ -95,6 +98,43 @@ TEST(ForceOperator, OperatorsRunInOrderAndNeedNewNames) {
   EXPECT_THROW(sim.addForceOperator("first", [](const ForceStep&) {}), Error);
   EXPECT_THROW(sim.addForceOperator("", [](const ForceStep&) {}), Error);
   EXPECT_THROW(sim.addForceOperator("empty", ForceOperator{}), Error);
+}
+
+TEST(ForceOperator, AnOperatorCannotStepChangeOrCheckpointItsSimulation) {
+  // Every such call from inside the operator throws, naming it, and changes nothing: the run
+  // ends with the bits of one whose operator tried none.
+  Simulation sim(fallingCubes(6), MPI_COMM_WORLD);
+  int refused = 0;
+  const auto expectRefused = [&](const char* what, const std::function<void()>& call) {
+    try {
+      call();
+      ADD_FAILURE() << what << " was taken inside the operator";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string(what) + " called from inside force " +
+                                           "operator 'meddles'"),
+                std::string::npos)
+          << e.what();
+      ++refused;
+    }
+  };
+  sim.addForceOperator("meddles", [&](const ForceStep&) {
+    expectRefused("step", [&] { sim.step(); });
+    expectRefused("run", [&] { sim.run(); });
+    expectRefused("runEquilibrium", [&] { sim.runEquilibrium(); });
+    expectRefused("setVelocity", [&] { sim.setVelocity(1, Vec3(1, 0, 0), std::nullopt); });
+    expectRefused("addForceOperator", [&] { sim.addForceOperator("x", [](const ForceStep&) {}); });
+    expectRefused("checkpoint", [&] { sim.checkpoint("", "", ""); });
+    expectRefused("rebalance", [&] { sim.rebalance(); });
+    expectRefused("reorderParticles", [&] { sim.reorderParticles({}); });
+  });
+  sim.run();
+  EXPECT_EQ(refused, 8 * 401);  // the leapfrog's start and every step
+  Simulation plain(fallingCubes(6), MPI_COMM_WORLD);
+  plain.addForceOperator("nothing", [](const ForceStep&) {});
+  plain.run();
+  EXPECT_EQ(plain.stateHash().hex(), sim.stateHash().hex());
+  // Between steps the same calls are taken again.
+  EXPECT_NO_THROW(sim.checkpoint("", "", ""));
 }
 
 }  // namespace
