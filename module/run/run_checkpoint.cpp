@@ -7,6 +7,7 @@
 #include "polydem/checkpoint/checkpoint.h"
 #include "polydem/contact/contact.h"
 #include "polydem/core/error.h"
+#include "polydem/core/interrupt.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
@@ -49,6 +50,7 @@ void installStopSignals() {
   action.sa_flags = SA_RESTART;
   sigaction(SIGTERM, &action, nullptr);
   sigaction(SIGUSR1, &action, nullptr);
+  setInterruptProbe(&stopSignalReceived);  // long set-up work (a rock mass cut) stops too
 }
 
 int stopSignalReceived() {
