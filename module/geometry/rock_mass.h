@@ -120,7 +120,7 @@ struct RockMassReport {
   std::vector<RockPiece> dropped;       // each piece dropped (kDrop)
   std::vector<RockPiece> kept_slivers;  // slivers no neighbour could take in convexly (kMerge):
                                         // kept as blocks of their own rather than leave a void
-  double smallest_volume = 0.0;     // of the blocks kept
+  double smallest_volume = 0.0;         // of the blocks kept
   double smallest_thickness = 0.0;  // diameter of the largest inscribed sphere, of the blocks kept
 };
 
@@ -140,9 +140,9 @@ constexpr double kMaxRockBlocks = 1e6;
 /// (rock_mass_limits.cpp).
 struct RockMassEstimate {
   struct Family {
-    std::string name;     // a joint set's or a single plane's
-    double spacing = 0.0; // m (a single plane: the region's width along its normal)
-    double planes = 0.0;  // expected planes across the region
+    std::string name;      // a joint set's or a single plane's
+    double spacing = 0.0;  // m (a single plane: the region's width along its normal)
+    double planes = 0.0;   // expected planes across the region
   };
   std::vector<Family> families;
   double planes = 0.0;  // all families
