@@ -58,45 +58,95 @@ Vec3 normalFromDip(double dip_deg, double dip_direction_deg) {
   return Vec3(std::sin(dip) * std::sin(azimuth), std::sin(dip) * std::cos(azimuth), std::cos(dip));
 }
 
-std::vector<JointPlane> jointSetPlanes(const JointSet& set, const std::vector<Vec3>& points) {
-  checkSet(set);
-  const Vec3 n0 = normalFromDip(set.dip, set.dip_direction);
-  // Extent of the region along the set's normal, from plane 0; tilted planes reach up to
-  // (diameter) sin(jitter) further, so the range is widened by that.
+namespace {
+
+// Where the hull of `points` lies along the set's normal, measured from plane 0 (m).
+struct Extent {
   double lo = INFINITY, hi = -INFINITY;
+  double diameter = 0.0;  // of the points' bounding box
+};
+
+Extent extentOf(const JointSet& set, const std::vector<Vec3>& points) {
+  const Vec3 n0 = normalFromDip(set.dip, set.dip_direction);
+  Extent e;
   Vec3 box_lo = Vec3::Constant(INFINITY), box_hi = Vec3::Constant(-INFINITY);
   for (const Vec3& p : points) {
     const double s = n0.dot(p - set.origin) - set.offset;
-    lo = std::min(lo, s);
-    hi = std::max(hi, s);
+    e.lo = std::min(e.lo, s);
+    e.hi = std::max(e.hi, s);
     box_lo = box_lo.cwiseMin(p);
     box_hi = box_hi.cwiseMax(p);
   }
+  if (!points.empty()) e.diameter = (box_hi - box_lo).norm();
+  return e;
+}
+
+// Refuses a set with more planes across the region than a rock mass may have, naming the
+// spacing and the region's width that give them.
+void checkCount(const JointSet& set, const Extent& e) {
+  const double width = e.hi - e.lo;
+  const double planes = width / set.spacing;
+  if (!(planes <= kMaxRockPlanes)) {
+    throw GeometryError(cat("joint set '", set.name, "': spacing ", num(set.spacing),
+                            " m gives about ", num(planes), " planes across the region (",
+                            num(width), " m wide along the set's normal), more than the limit of ",
+                            num(kMaxRockPlanes), ": is the spacing in metres? Increase it"));
+  }
+}
+
+}  // namespace
+
+double expectedPlaneCount(const JointSet& set, const std::vector<Vec3>& points) {
+  checkSet(set);
+  if (points.empty()) return 0.0;
+  const Extent e = extentOf(set, points);
+  return (e.hi - e.lo) / set.spacing;
+}
+
+void checkPlaneCount(const JointSet& set, const std::vector<Vec3>& points) {
+  checkSet(set);
+  if (!points.empty()) checkCount(set, extentOf(set, points));
+}
+
+std::vector<JointPlane> jointSetPlanes(const JointSet& set, const std::vector<Vec3>& points) {
+  checkSet(set);
   if (points.empty()) return {};
-  if (std::max(std::abs(lo), std::abs(hi)) > 1e7 * set.spacing) {
-    throw GeometryError(cat("joint set '", set.name, "': the region lies more than 1e7 spacings ",
-                            "from the set's plane 0 (check origin and offset)"));
+  const Vec3 n0 = normalFromDip(set.dip, set.dip_direction);
+  Extent e = extentOf(set, points);
+  checkCount(set, e);
+  // Planes are counted from plane 0, gap by gap: the region must not lie too many gaps away.
+  const double away = std::min(std::abs(e.lo), std::abs(e.hi)) * (e.lo * e.hi > 0.0);
+  if (away > 1e7 * set.spacing) {
+    throw GeometryError(cat("joint set '", set.name, "': the region lies ", num(away), " m (",
+                            num(away / set.spacing), " spacings) from the set's plane 0 at origin",
+                            " + offset along the normal, more than 1e7 spacings: planes are ",
+                            "counted from plane 0, so put origin (or offset) near the region"));
   }
-  const double reach = (box_hi - box_lo).norm() * std::sin(degToRad(set.orientation_jitter));
-  lo -= reach;
-  hi += reach;
-  // Gaps are at least (1 - jitter) spacing: this bounds the number of planes.
-  const double planes = (hi - lo) / (set.spacing * (1.0 - set.spacing_jitter));
-  if (planes > 1e6) {
-    throw GeometryError(cat("joint set '", set.name, "': spacing ", set.spacing, " m gives about ",
-                            num(planes), " planes across the region"));
-  }
+  // Tilted planes reach up to (diameter) sin(jitter) further: the range is widened by that.
+  const double reach = e.diameter * std::sin(degToRad(set.orientation_jitter));
+  const double lo = e.lo - reach, hi = e.hi + reach;
+  // Jittered gaps average the spacing but may be as small as (1 - jitter) spacing: the count is
+  // checked as the planes are made.
+  const auto tooMany = [&](std::size_t n) {
+    if (static_cast<double>(n) <= kMaxRockPlanes) return;
+    throw GeometryError(cat("joint set '", set.name, "': more than ", num(kMaxRockPlanes),
+                            " planes across the region (about ", num((hi - lo) / set.spacing),
+                            " expected at spacing ", num(set.spacing), " m, spacing_jitter ",
+                            num(set.spacing_jitter), "): increase the spacing"));
+  };
   // Positions s_k of plane k along n0: s_0 = 0, s_{k+1} = s_k + gap(k).
   std::vector<std::pair<std::int64_t, double>> positions;
   double s = 0.0;
   for (std::int64_t k = 0; s <= hi; ++k) {
     if (s >= lo) positions.emplace_back(k, s);
+    tooMany(positions.size());
     s += gapAfter(set, k);
   }
   s = 0.0;
   for (std::int64_t k = -1; s >= lo; --k) {
     s -= gapAfter(set, k);
     if (s >= lo && s <= hi) positions.emplace_back(k, s);
+    tooMany(positions.size());
   }
   std::sort(positions.begin(), positions.end());
   std::vector<JointPlane> out;

@@ -41,9 +41,23 @@ struct JointPlane {
   std::int64_t index = 0;  // k: plane 0 passes through origin + offset * normal
 };
 
+/// Most planes a rock mass may have (all sets and single planes together): more would take hours
+/// to cut (a spacing in mm for m), and the blocks would exhaust the memory before saying so.
+constexpr double kMaxRockPlanes = 2e4;
+
+/// How many planes of `set` are expected across the convex hull of `points`: its extent along
+/// the set's normal over the spacing (the mean gap, with or without jitter). Checks the set's
+/// values (GeometryError naming the set); makes no plane.
+double expectedPlaneCount(const JointSet& set, const std::vector<Vec3>& points);
+
+/// Throws GeometryError if more than kMaxRockPlanes of the set's planes are expected across the
+/// hull of `points`, naming the spacing, the count and the region's width.
+void checkPlaneCount(const JointSet& set, const std::vector<Vec3>& points);
+
 /// The planes of `set` that may meet the convex hull of `points` (the region's corners), ordered
 /// by their index k along the normal (lowest first). Normals are the upward ones of normalFromDip
-/// (jittered), so "above" a plane means the side its normal points to.
+/// (jittered), so "above" a plane means the side its normal points to. Throws GeometryError,
+/// with the numbers, for more than kMaxRockPlanes planes, before making them.
 std::vector<JointPlane> jointSetPlanes(const JointSet& set, const std::vector<Vec3>& points);
 
 }  // namespace polydem::geometry

@@ -3,14 +3,35 @@
 #include <algorithm>
 
 #include "polydem/core/tolerance.h"
-#include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/geometry/polyhedron_split.h"
 
 namespace polydem::geometry {
 
+namespace {
+
+// A part no deeper than this is no part: the joint only grazes the polyhedron.
+double thinPart(const ConvexPolyhedron& poly) {
+  return 1e-9 * poly.lengthScale();
+}
+
+}  // namespace
+
+int splitSide(const ConvexPolyhedron& poly, const Plane& plane) {
+  const double thin = thinPart(poly);
+  double lowest = 0.0, highest = 0.0;
+  for (const Vec3& v : poly.vertices()) {
+    const double s = plane.signedDistance(v);
+    lowest = std::min(lowest, s);
+    highest = std::max(highest, s);
+  }
+  if (-lowest <= thin) return 1;
+  if (highest <= thin) return -1;
+  return 0;
+}
+
 ConvexPolyhedron::Split ConvexPolyhedron::split(const Plane& plane) const {
   const double scale = lengthScale();
-  // A part no deeper than this is no part: the joint only grazes the polyhedron.
-  const double thin = 1e-9 * scale;
+  const double thin = thinPart(*this);  // as splitSide() decides
   // Vertices this close to the plane are on it: they go to both parts and edges ending there are
   // not cut, so no intersection point lands next to a vertex (that would be a near-duplicate).
   const double on_plane = absTol(scale, RelTol::kPlane);

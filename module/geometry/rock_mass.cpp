@@ -4,23 +4,53 @@
 #include "polydem/geometry/rock_mass.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <optional>
 
 #include "polydem/core/error.h"
+#include "polydem/core/interrupt.h"
+#include "polydem/core/random.h"
 #include "polydem/core/strings.h"
+#include "polydem/core/tolerance.h"
+#include "polydem/geometry/polyhedron_split.h"
 
 namespace polydem::geometry {
 
 namespace {
 
-// A block being cut.
+// A block being cut. `key` digests the block's side of every plane applied so far (-1, 0, +1, in
+// order): parts of one block in neighbouring pieces of a profile have the same key. `last` is
+// its side of the plane just applied. `sides` keeps only the planes it touches (RockBlock).
 struct Work {
   ConvexPolyhedron poly;
-  std::vector<std::int8_t> sides;
+  std::vector<PlaneSide> sides;
   bool fixed = false;
+  std::uint64_t key = 0;
+  std::int8_t last = 0;
 };
+
+// Records w's side of the plane being applied.
+void note(Work& w, std::int8_t side) {
+  w.key = splitMix64(w.key ^ static_cast<std::uint64_t>(side + 2));
+  w.last = side;
+}
+
+// Vertices of p within the plane tolerance of `plane`.
+int onPlane(const ConvexPolyhedron& p, const Plane& plane) {
+  const double tol = absTol(p.lengthScale(), RelTol::kPlane);
+  int n = 0;
+  for (const Vec3& v : p.vertices()) n += std::abs(plane.signedDistance(v)) <= tol;
+  return n;
+}
+
+// Whether p still touches the plane as `s` says: a face on it (three vertices), or across it.
+// A later cut may have taken the face away: the plane then no longer bounds the block.
+bool touches(const ConvexPolyhedron& p, const Plane& plane, const PlaneSide& s) {
+  if (s.side == 0) return sideOf(p.vertices(), plane) == 0;
+  return onPlane(p, plane) >= 3;
+}
 
 struct Cut {
   Plane plane;
@@ -54,22 +84,28 @@ std::optional<ConvexPolyhedron> convexUnion(const ConvexPolyhedron& a, const Con
   return hull;
 }
 
-// A description that would cut more blocks than this is a mistake (a spacing in mm for m), and
-// would exhaust the memory before saying so.
-constexpr std::size_t kMaxBlocks = 1'000'000;
+// Blocks cut (or not) by a plane between two looks at the stop flag and the clock.
+constexpr std::size_t kPollEvery = 256;
 
 class Cutter {
  public:
-  explicit Cutter(const RockMassSpec& spec) : spec_(spec) {}
+  explicit Cutter(const RockMassSpec& spec)
+      : spec_(spec), start_(std::chrono::steady_clock::now()), last_progress_(start_) {}
 
   RockMass run() {
-    const std::vector<Cut> cuts = allCuts();
+    cuts_ = allCuts();
+    if (static_cast<double>(cuts_.size()) > kMaxRockPlanes) {
+      throw GeometryError(cat(cuts_.size(), " planes cross the region, more than the limit of ",
+                              num(kMaxRockPlanes), ": increase the joint sets' spacings"));
+    }
     for (const ConvexPolyhedron& piece : spec_.region.pieces) work_.push_back({piece, {}, false});
     report_.region_volume = spec_.region.volume;
-    for (std::size_t c = 0; c < cuts.size(); ++c) apply(cuts[c], c);
+    for (std::size_t c = 0; c < cuts_.size(); ++c) apply(cuts_[c], c);
     if (spec_.region.pieces.size() > 1) joinPieces();
     sweepSlivers();
-    return result(cuts);
+    RockMass mass = result();
+    checkVolumes(mass);
+    return mass;
   }
 
  private:
@@ -89,75 +125,122 @@ class Cutter {
     std::vector<Work> next;
     next.reserve(work_.size());
     bool cut_something = false;
-    for (Work& w : work_) {
+    for (std::size_t i = 0; i < work_.size(); ++i) {
+      if (++ticks_ % kPollEvery == 0) poll(index, next.size() + (work_.size() - i));
+      Work& w = work_[i];
       if (!cut.single && w.fixed && !spec_.joints_cut_fixed) {
-        w.sides.push_back(0);
+        note(w, 0);  // not cut by the joint: fixed rock stays whole
         next.push_back(std::move(w));
         continue;
       }
-      cut_something |= split(std::move(w), cut.plane, next);
+      cut_something |= split(std::move(w), cut.plane, static_cast<std::int32_t>(index), next);
     }
     work_ = std::move(next);
-    if (work_.size() > kMaxBlocks) {
-      throw GeometryError(cat("more than ", kMaxBlocks, " blocks after plane '", cut.name,
-                              "': are the spacings right?"));
+    // The estimate (checkRockMassLimits) came first; this guards against its being far off.
+    if (static_cast<double>(work_.size()) > kMaxRockBlocks) {
+      throw GeometryError(cat("more than ", num(kMaxRockBlocks), " blocks after plane '", cut.name,
+                              "' (", index + 1, " of ", cuts_.size(),
+                              "): increase the joint sets' spacings"));
     }
     report_.planes += cut_something;
-    if (cut.single) classify(*cut.single, index);
+    if (cut.single) classify(*cut.single);
+  }
+
+  // Every kPollEvery blocks: a stop signal ends the cut; a progress line every few seconds.
+  void poll(std::size_t plane, std::size_t blocks) {
+    throwIfInterrupted([&] {
+      return cat("cutting the rock mass (plane ", plane + 1, " of ", cuts_.size(), ", ", blocks,
+                 " blocks so far)");
+    });
+    if (!spec_.progress) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_progress_).count() < spec_.progress_seconds) {
+      return;
+    }
+    last_progress_ = now;
+    spec_.progress(
+        {plane, cuts_.size(), blocks, std::chrono::duration<double>(now - start_).count()});
   }
 
   // Splits w by the plane into `out` (one or two blocks, or the sliver rule's answer); whether
   // it cut.
-  bool split(Work w, const Plane& plane, std::vector<Work>& out) {
-    const ConvexPolyhedron::Split parts = w.poly.split(plane);
-    if (parts.below.empty() || parts.above.empty()) {
-      w.sides.push_back(parts.below.empty() ? 1 : -1);
+  bool split(Work w, const Plane& plane, std::int32_t index, std::vector<Work>& out) {
+    // Most planes miss most blocks: that is decided without making the parts.
+    if (const int side = splitSide(w.poly, plane); side != 0) {
+      note(w, static_cast<std::int8_t>(side));
       out.push_back(std::move(w));
       return false;
     }
+    const ConvexPolyhedron::Split parts = w.poly.split(plane);
     std::optional<ConvexPolyhedron> below = tryBuild(parts.below);
     std::optional<ConvexPolyhedron> above = tryBuild(parts.above);
     const bool small_below = !below || isSliver(*below);
     const bool small_above = !above || isSliver(*above);
     if (!small_below && !small_above) {
-      Work lo{std::move(*below), w.sides, w.fixed};
-      lo.sides.push_back(-1);
-      w.sides.push_back(1);
+      Work lo{std::move(*below), w.sides, w.fixed, w.key, 0};
       w.poly = std::move(*above);
-      out.push_back(std::move(lo));
-      out.push_back(std::move(w));
+      out.push_back(cutPart(std::move(lo), index, -1));
+      out.push_back(cutPart(std::move(w), index, 1));
       return true;
     }
     if (spec_.slivers == Slivers::kMerge || (small_below && small_above)) {
       ++report_.slivers_merged;
-      w.sides.push_back(0);
+      note(w, 0);
+      w.sides.push_back({index, 0});  // the joint ends at this block
       out.push_back(std::move(w));
       return false;
     }
-    ++report_.slivers_dropped;
     const double whole = w.poly.volume();
+    const std::optional<ConvexPolyhedron>& small = small_below ? below : above;
+    const std::vector<Vec3>& small_points = small_below ? parts.below : parts.above;
     w.poly = small_below ? std::move(*above) : std::move(*below);
-    report_.dropped_volume += whole - w.poly.volume();
-    w.sides.push_back(small_below ? 1 : -1);
-    out.push_back(std::move(w));
+    drop({small ? small->centroid() : mean(small_points), whole - w.poly.volume()});
+    out.push_back(cutPart(std::move(w), index, small_below ? 1 : -1));
     return true;
+  }
+
+  // A part of a cut block: the new face on plane `index`; planes whose face the cut took off
+  // are forgotten.
+  Work cutPart(Work w, std::int32_t index, std::int8_t side) {
+    note(w, side);
+    w.sides.push_back({index, side});
+    forgetUntouched(w);
+    return w;
+  }
+
+  void forgetUntouched(Work& w) const {
+    std::erase_if(w.sides, [&](const PlaneSide& s) {
+      return !touches(w.poly, cuts_[static_cast<std::size_t>(s.plane)].plane, s);
+    });
+  }
+
+  static Vec3 mean(const std::vector<Vec3>& points) {
+    Vec3 sum = Vec3::Zero();
+    for (const Vec3& p : points) sum += p;
+    return points.empty() ? sum : Vec3(sum / static_cast<double>(points.size()));
+  }
+
+  void drop(const RockPiece& piece) {
+    ++report_.slivers_dropped;
+    report_.dropped_volume += piece.volume;
+    report_.dropped.push_back(piece);
   }
 
   bool isSliver(const ConvexPolyhedron& p) const {
     return p.volume() < spec_.min_volume || 2.0 * p.inradius() < spec_.min_thickness;
   }
 
-  // The side of plane `index` a block is on; a block straddling it goes by its centroid.
-  static Side sideOf(const Work& w, const Plane& plane, std::size_t index) {
-    const std::int8_t s = w.sides[index];
-    if (s != 0) return s > 0 ? Side::kAbove : Side::kBelow;
+  // The side of the plane just applied a block is on; a block straddling it goes by its
+  // centroid.
+  static Side sideOfLast(const Work& w, const Plane& plane) {
+    if (w.last != 0) return w.last > 0 ? Side::kAbove : Side::kBelow;
     return plane.signedDistance(w.poly.centroid()) > 0.0 ? Side::kAbove : Side::kBelow;
   }
 
-  void classify(const SinglePlane& p, std::size_t index) {
+  void classify(const SinglePlane& p) {
     std::vector<Work> kept;
     for (Work& w : work_) {
-      const Side side = sideOf(w, p.plane, index);
+      const Side side = sideOfLast(w, p.plane);
       if (p.remove != Side::kNone && side == p.remove) {
         ++report_.removed_blocks;
         report_.removed_volume += w.poly.volume();
@@ -171,10 +254,12 @@ class Cutter {
 
   // A profile's pieces are not joints: parts of one block (same side of every plane) in
   // neighbouring pieces are joined again wherever their union is convex.
+  // (Parts with the same key are on the same side of every plane: a 64-bit digest of the sides,
+  // whose collisions would only offer a pair to the convexity test below.)
   void joinPieces() {
-    std::map<std::pair<std::vector<std::int8_t>, bool>, std::vector<std::size_t>> groups;
+    std::map<std::pair<std::uint64_t, bool>, std::vector<std::size_t>> groups;
     for (std::size_t i = 0; i < work_.size(); ++i) {
-      groups[{work_[i].sides, work_[i].fixed}].push_back(i);
+      groups[{work_[i].key, work_[i].fixed}].push_back(i);
     }
     std::vector<bool> gone(work_.size(), false);
     for (auto& [key, members] : groups) {
@@ -184,7 +269,7 @@ class Cutter {
           for (std::size_t b = a + 1; b < members.size() && !joined; ++b) {
             auto u = convexUnion(work_[members[a]].poly, work_[members[b]].poly);
             if (!u) continue;
-            work_[members[a]].poly = std::move(*u);
+            absorb(work_[members[a]], std::move(*u), work_[members[b]]);
             gone[members[b]] = true;
             members.erase(members.begin() + static_cast<std::ptrdiff_t>(b));
             joined = true;
@@ -199,36 +284,72 @@ class Cutter {
     work_ = std::move(kept);
   }
 
-  // Blocks still slivers (parts of a profile's pieces that could not be joined): merged
-  // into a neighbour where the union is convex, else dropped.
+  // `into` becomes `hull`, the convex union of itself and `other`, and touches the planes
+  // either touched that its new faces still lie on.
+  void absorb(Work& into, ConvexPolyhedron hull, const Work& other) const {
+    into.poly = std::move(hull);
+    for (const PlaneSide& s : other.sides) {
+      const bool known = std::any_of(into.sides.begin(), into.sides.end(),
+                                     [&](const PlaneSide& t) { return t.plane == s.plane; });
+      if (!known) into.sides.push_back(s);
+    }
+    std::sort(into.sides.begin(), into.sides.end(),
+              [](const PlaneSide& a, const PlaneSide& b) { return a.plane < b.plane; });
+    forgetUntouched(into);
+  }
+
+  // Blocks still slivers (parts of a profile's pieces that could not be joined). kMerge: merged
+  // into a neighbour where the union is convex (they share a face), else kept as a block of its
+  // own, never dropped: that would leave a void in the rock. kDrop: dropped.
   void sweepSlivers() {
     for (std::size_t i = 0; i < work_.size();) {
       if (!isSliver(work_[i].poly)) {
         ++i;
         continue;
       }
+      if (spec_.slivers == Slivers::kDrop) {
+        drop({work_[i].poly.centroid(), work_[i].poly.volume()});
+        work_.erase(work_.begin() + static_cast<std::ptrdiff_t>(i));
+        continue;
+      }
       bool merged = false;
-      for (std::size_t j = 0; j < work_.size() && spec_.slivers == Slivers::kMerge; ++j) {
+      for (std::size_t j = 0; j < work_.size(); ++j) {
         if (j == i || work_[j].fixed != work_[i].fixed) continue;
         if (auto u = convexUnion(work_[j].poly, work_[i].poly)) {
-          work_[j].poly = std::move(*u);
+          absorb(work_[j], std::move(*u), work_[i]);
           merged = true;
           break;
         }
       }
-      if (merged) {
-        ++report_.slivers_merged;
-      } else {
-        ++report_.slivers_dropped;
-        report_.dropped_volume += work_[i].poly.volume();
+      if (!merged) {
+        report_.kept_slivers.push_back({work_[i].poly.centroid(), work_[i].poly.volume()});
+        ++i;
+        continue;
       }
+      ++report_.slivers_merged;
       work_.erase(work_.begin() + static_cast<std::ptrdiff_t>(i));
     }
   }
 
-  RockMass result(const std::vector<Cut>& cuts) {
+  // Nothing is lost: the blocks kept, removed and dropped fill the region (each split and join
+  // conserves volume up to round-off; convexUnion accepts 1e-9 of a block).
+  void checkVolumes(const RockMass& mass) const {
+    double kept = 0.0;
+    for (const RockBlock& b : mass.blocks) kept += b.volume;
+    const double sum = kept + report_.removed_volume + report_.dropped_volume;
+    const double region = report_.region_volume;
+    if (std::abs(sum - region) > 1e-6 * region) {
+      throw GeometryError(cat("the blocks (", num(kept), " m^3), removed (",
+                              num(report_.removed_volume), " m^3) and dropped pieces (",
+                              num(report_.dropped_volume), " m^3) add up to ", num(sum),
+                              " m^3, not the region's ", num(region),
+                              " m^3: please report this as a bug, with the scene"));
+    }
+  }
+
+  RockMass result() {
     RockMass mass;
-    for (const Cut& c : cuts) {
+    for (const Cut& c : cuts_) {
       mass.planes.push_back(c.plane);
       mass.plane_names.push_back(c.name);
     }
@@ -251,8 +372,11 @@ class Cutter {
   }
 
   const RockMassSpec& spec_;
+  std::vector<Cut> cuts_;
   std::vector<Work> work_;
   RockMassReport report_;
+  std::chrono::steady_clock::time_point start_, last_progress_;
+  std::size_t ticks_ = 0;  // blocks offered to planes so far
 };
 
 }  // namespace
@@ -265,6 +389,19 @@ std::vector<Vec3> RockRegion::corners() const {
   return out;
 }
 
+std::int8_t sideOf(const std::vector<Vec3>& vertices, const Plane& plane) {
+  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+  for (const Vec3& v : vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const double tol = vertices.empty() ? 0.0 : absTol((hi - lo).norm(), RelTol::kPlane);
+  bool below = false, above = false;
+  for (const Vec3& v : vertices) {
+    const double s = plane.signedDistance(v);
+    below |= s < -tol;
+    above |= s > tol;
+  }
+  return below && above ? 0 : (above ? 1 : -1);
+}
+
 RockMass cutRockMass(const RockMassSpec& spec) {
   if (spec.region.pieces.empty() || !(spec.region.volume > 0.0)) {
     throw GeometryError("the rock mass region has no volume");
@@ -275,6 +412,7 @@ RockMass cutRockMass(const RockMassSpec& spec) {
   if (!(spec.min_thickness >= 0.0) || !std::isfinite(spec.min_thickness)) {
     throw GeometryError("min_thickness must be >= 0");
   }
+  checkRockMassLimits(spec);
   return Cutter(spec).run();
 }
 

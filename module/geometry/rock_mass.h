@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,13 @@ enum class Slivers : std::uint8_t {
   kDrop,   // the sliver is cut off and dropped (its volume is reported)
 };
 
+/// How far a cut has got (RockMassSpec::progress).
+struct CutProgress {
+  std::size_t planes_done = 0, planes = 0;  // planes applied so far, of all
+  std::size_t blocks = 0;                   // blocks so far
+  double seconds = 0.0;                     // since the cut began
+};
+
 struct RockMassSpec {
   RockRegion region;
   std::vector<SinglePlane> planes;   // applied first, in order
@@ -67,6 +75,16 @@ struct RockMassSpec {
                                      // flake's small rotational inertia sets the time step)
   Slivers slivers = Slivers::kMerge;
   bool joints_cut_fixed = false;  // joint sets cut fixed blocks too (default: free only)
+  /// Called every `progress_seconds` of a long cut (not at all if unset or the cut is quicker).
+  std::function<void(const CutProgress&)> progress;
+  double progress_seconds = 5.0;
+};
+
+/// A plane a block touches: `plane` indexes RockMass::planes; `side` is -1 where the block lies
+/// below it, +1 above, 0 where the plane runs through the block uncut (a sliver merge).
+struct PlaneSide {
+  std::int32_t plane = 0;
+  std::int8_t side = 0;
 };
 
 struct RockBlock {
@@ -74,9 +92,20 @@ struct RockBlock {
   double volume = 0.0;
   Vec3 centroid = Vec3::Zero();
   bool fixed = false;
-  /// For every plane of RockMass::planes: -1 below it, +1 above, 0 where the block straddles it
-  /// (the cut was not made: a sliver merge) or was not cut by it (a fixed block and a joint).
-  std::vector<std::int8_t> sides;
+  /// Only the planes that bound the block (a face of it lies on the plane: side -1 or +1) or
+  /// run through it uncut (side 0), in the order applied: a few per block, however many planes
+  /// cut the mass. The block lies wholly on one side of every other plane (sideOf tells which).
+  std::vector<PlaneSide> sides;
+};
+
+/// The side of `plane` a block of these vertices is on: -1 below, +1 above, 0 across it (its
+/// vertices on both sides, beyond a relative tolerance of the block's size).
+std::int8_t sideOf(const std::vector<Vec3>& vertices, const Plane& plane);
+
+/// A piece of rock named in a warning: where it is and how big.
+struct RockPiece {
+  Vec3 centroid = Vec3::Zero();
+  double volume = 0.0;  // m^3
 };
 
 struct RockMassReport {
@@ -86,9 +115,12 @@ struct RockMassReport {
   int removed_blocks = 0;  // on a `remove` side
   double removed_volume = 0.0;
   int slivers_merged = 0;   // cuts not made (kMerge), and parts of a profile's pieces merged
-  int slivers_dropped = 0;  // pieces dropped (kDrop, or a profile piece that could not merge)
+  int slivers_dropped = 0;  // pieces dropped (kDrop only)
   double dropped_volume = 0.0;
-  double smallest_volume = 0.0;     // of the blocks kept
+  std::vector<RockPiece> dropped;       // each piece dropped (kDrop)
+  std::vector<RockPiece> kept_slivers;  // slivers no neighbour could take in convexly (kMerge):
+                                        // kept as blocks of their own rather than leave a void
+  double smallest_volume = 0.0;         // of the blocks kept
   double smallest_thickness = 0.0;  // diameter of the largest inscribed sphere, of the blocks kept
 };
 
@@ -99,8 +131,32 @@ struct RockMass {
   RockMassReport report;
 };
 
+/// Most blocks a rock mass may be cut into (and most planes: kMaxRockPlanes, joint_planes.h):
+/// beyond it a description is a mistake (a spacing in mm for m) that would take hours and
+/// exhaust the memory before saying so.
+constexpr double kMaxRockBlocks = 1e6;
+
+/// What a description would give, estimated from the region and the spacings before any cutting
+/// (rock_mass_limits.cpp).
+struct RockMassEstimate {
+  struct Family {
+    std::string name;      // a joint set's or a single plane's
+    double spacing = 0.0;  // m (a single plane: the region's width along its normal)
+    double planes = 0.0;   // expected planes across the region
+  };
+  std::vector<Family> families;
+  double planes = 0.0;  // all families
+  double blocks = 0.0;  // expected blocks
+};
+RockMassEstimate estimateRockMass(const RockMassSpec& spec);
+
+/// Throws GeometryError, with the numbers and what to change, if the estimate exceeds
+/// kMaxRockPlanes or kMaxRockBlocks. Allocates nothing in proportion to the planes or blocks.
+void checkRockMassLimits(const RockMassSpec& spec);
+
 /// Cuts the region. Throws GeometryError for an invalid description (a joint set's spacing, a
-/// region without volume); the message names the set or plane.
+/// region without volume, one beyond the limits above: checked first); the message names the
+/// set or plane. Throws Interrupted (core/interrupt.h) if a stop signal comes meanwhile.
 RockMass cutRockMass(const RockMassSpec& spec);
 
 }  // namespace polydem::geometry

@@ -7,6 +7,7 @@
 #include "polydem/checkpoint/checkpoint.h"
 #include "polydem/contact/contact.h"
 #include "polydem/core/error.h"
+#include "polydem/core/interrupt.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
@@ -50,6 +51,7 @@ void installStopSignals(bool interrupt) {
   sigaction(SIGTERM, &action, nullptr);
   sigaction(SIGUSR1, &action, nullptr);
   if (interrupt) sigaction(SIGINT, &action, nullptr);
+  setInterruptProbe(&stopSignalReceived);  // long set-up work (a rock mass cut) stops too
 }
 
 int stopSignalReceived() {

@@ -3,8 +3,10 @@
 // a plane says so. Syntax in docs/scene-format.md.
 #include <cmath>
 #include <limits>
+#include <new>
 
 #include "polydem/core/error.h"
+#include "polydem/core/interrupt.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/strings.h"
 #include "polydem/geometry/rock_mass.h"
@@ -157,9 +159,59 @@ void requireUniqueNames(const std::vector<Section>& sections, const std::vector<
 }
 
 std::string sliverText(const geometry::RockMassReport& r) {
-  if (r.slivers_merged + r.slivers_dropped == 0) return "no slivers";
-  return cat(r.slivers_merged, " sliver(s) merged, ", r.slivers_dropped, " dropped (",
-             num(r.dropped_volume), " m^3)");
+  const std::size_t kept = r.kept_slivers.size();
+  if (r.slivers_merged + r.slivers_dropped == 0 && kept == 0) return "no slivers";
+  return cat(r.slivers_merged, " sliver(s) merged, ", kept > 0 ? cat(kept, " kept, ") : "",
+             r.slivers_dropped, " dropped (", num(r.dropped_volume), " m^3)");
+}
+
+// One warning for each piece (the first few, then a count): where it is and how big.
+void warnPieces(const Section& s, const std::vector<geometry::RockPiece>& pieces,
+                const std::string& what, const std::string& why) {
+  constexpr std::size_t kListed = 10;
+  for (std::size_t i = 0; i < pieces.size() && i < kListed; ++i) {
+    const geometry::RockPiece& p = pieces[i];
+    log::warning(cat(s.context().file(), ":", s.line(), ": ", s.name(), ": ", what, " of ",
+                     num(p.volume), " m^3 at (", num(p.centroid.x()), ", ", num(p.centroid.y()),
+                     ", ", num(p.centroid.z()), ")", why));
+  }
+  if (pieces.size() > kListed) {
+    log::warning(cat(s.context().file(), ":", s.line(), ": ", s.name(), ": and ",
+                     pieces.size() - kListed, " more like it"));
+  }
+}
+
+// Each joint set's planes checked at its own line (spacing, origin), before the whole mass.
+void checkJointSets(const std::vector<Section>& sections, const geometry::RockMassSpec& spec) {
+  const std::vector<Vec3> corners = spec.region.corners();
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    try {
+      geometry::jointSetPlanes(spec.joint_sets[i], corners);
+    } catch (const GeometryError& e) {
+      std::string message = e.what();  // without "joint set 'J1': ": the section names it
+      const std::string named = cat("joint set '", spec.joint_sets[i].name, "': ");
+      if (message.starts_with(named)) message.erase(0, named.size());
+      sections[i].failHere(message);
+    }
+  }
+}
+
+// Cuts, with a progress line every few seconds; a stop signal ends it with this file and line.
+geometry::RockMass cut(const Section& s, geometry::RockMassSpec& spec) {
+  const std::string where = cat(s.context().file(), ":", s.line(), ": ", s.name());
+  spec.progress = [&where](const geometry::CutProgress& p) {
+    log::info(cat(where, ": cutting, plane ", p.planes_done, " of ", p.planes, ", ", p.blocks,
+                  " blocks so far (", num(p.seconds), " s)"));
+  };
+  try {
+    return geometry::cutRockMass(spec);
+  } catch (const GeometryError& e) {
+    s.failHere(std::string("cannot cut the rock mass: ") + e.what());
+  } catch (const Interrupted& e) {
+    throw Interrupted(cat(where, ": ", e.what()));
+  } catch (const std::bad_alloc&) {
+    s.failHere("ran out of memory cutting the rock mass: increase the joint sets' spacings");
+  }
 }
 
 }  // namespace
@@ -196,13 +248,13 @@ RockMassCut readRockMass(const Section& s, const Scene& scene) {
   for (const Section& p : planes) spec.planes.push_back(readPlane(p));
   requireUniqueNames(planes, spec.planes);
 
-  try {
-    out.mass = geometry::cutRockMass(spec);
-  } catch (const GeometryError& e) {
-    s.failHere(std::string("cannot cut the rock mass: ") + e.what());
-  }
+  checkJointSets(sets, spec);
+  out.mass = cut(s, spec);
   const geometry::RockMassReport& r = out.mass.report;
   if (out.mass.blocks.empty()) s.failHere("no block is left (every block was removed)");
+  warnPieces(s, r.dropped, "dropped a sliver", " (slivers = \"drop\")");
+  warnPieces(s, r.kept_slivers, "kept a sliver",
+             " as a block of its own: no neighbour can take it in and stay convex");
   if (r.free_blocks == 0)
     log::warning(cat(s.context().file(), ":", s.line(), ": ", s.name(), ": every block is fixed"));
   out.info.plane_names = out.mass.plane_names;

@@ -29,6 +29,7 @@ std::size_t bytesPerCandidatePair() {
 
 std::optional<std::string> pairMemoryProblem(const setup::Setup& scene,
                                              const particles::ParticleStorage& storage,
+                                             std::span<const double> radii, double margin,
                                              std::span<const broadphase::CandidatePair> candidates,
                                              std::int64_t step, std::uint64_t available) {
   const double needed =
@@ -53,14 +54,25 @@ std::optional<std::string> pairMemoryProblem(const setup::Setup& scene,
   }
   const Uid a = storage[most].uid, b = storage[nearest].uid;
   const std::string where = whereIs(scene, a);
-  return cat(where, where.empty() ? "" : ": ", "step ", step, ": ", candidates.size(),
-             " candidate pairs would need about ", formatBytes(needed), " (",
-             bytesPerCandidatePair(), " bytes each), more than the ", formatBytes(available),
-             " of memory available: particles overlap massively. Particle ", a, " at (", at.x(),
-             ", ", at.y(), ", ", at.z(), ") has ", partners[most],
-             " candidate partners; the nearest, particle ", b, " (", whereIs(scene, b), "), is ",
-             distance, " m from it. Check the scene for particles placed on top of ",
-             "each other.");
+  const std::string head =
+      cat(where, where.empty() ? "" : ": ", "step ", step, ": ", candidates.size(),
+          " candidate pairs would need about ", formatBytes(needed), " (", bytesPerCandidatePair(),
+          " bytes each), more than the ", formatBytes(available), " of memory available. Particle ",
+          a, " at (", at.x(), ", ", at.y(), ", ", at.z(), ") has ", partners[most],
+          " candidate partners; the nearest, particle ", b, " (", whereIs(scene, b), "), is ",
+          distance, " m from it");
+  const double spheres = radii[most] + radii[nearest];
+  if (distance <= spheres) {
+    return cat(head, ": particles overlap massively. Check the scene for particles placed on top ",
+               "of each other.");
+  }
+  // Pairs are listed within r_i + r_j + margin: beyond the spheres, only the margin reaches.
+  return cat(head, ", beyond their bounding spheres (", spheres,
+             " m together): no particle overlaps it; the pairs come from the contact margin of ",
+             margin, " m ([scene] contact_margin = ", scene.contact_margin,
+             " times the largest free particle's circumradius), which reaches across the gaps "
+             "between the particles. Reduce contact_margin, or check the scene for a free "
+             "particle far larger than the others.");
 }
 
 }  // namespace polydem::sim

@@ -21,9 +21,13 @@ std::size_t bytesPerCandidatePair();
 
 /// Empty if `candidates` fit in `available` bytes; otherwise the message: how many pairs, how
 /// much memory, and the particle with the most candidate partners with its nearest partner and
-/// their lines in the scene file. `step` labels the message.
+/// their lines in the scene file, and the cause: particles on top of each other, or (when even
+/// the nearest partner lies beyond both bounding spheres) the contact margin `margin` (m) that
+/// reaches across the gaps. `radii`: circumradius of each particle of the storage. `step`
+/// labels the message.
 std::optional<std::string> pairMemoryProblem(const setup::Setup& scene,
                                              const particles::ParticleStorage& storage,
+                                             std::span<const double> radii, double margin,
                                              std::span<const broadphase::CandidatePair> candidates,
                                              std::int64_t step, std::uint64_t available);
 

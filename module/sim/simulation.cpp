@@ -105,8 +105,8 @@ void Simulation::findCandidates() {
   findPairs(candidates_);
   // Before the contact phase allocates its records and histories for every pair.
   if (candidates_.size() * bytesPerCandidatePair() > (std::size_t{64} << 20)) {
-    if (const auto problem = pairMemoryProblem(scene_, storage_, candidates_, loop_.step(),
-                                               availableMemoryBytes())) {
+    if (const auto problem = pairMemoryProblem(scene_, storage_, radii_, margin_, candidates_,
+                                               loop_.step(), availableMemoryBytes())) {
       throw SimulationError(*problem);
     }
   }
@@ -121,9 +121,9 @@ void Simulation::findPairs(std::vector<broadphase::CandidatePair>& out) {
   } catch (const std::bad_alloc&) {
     throw SimulationError(cat("step ", loop_.step(), ": the broad phase ran out of memory for ",
                               "its candidate pairs (", out.size(),
-                              " so far): particles "
-                              "overlap massively; check the scene for particles placed on top of "
-                              "each other"));
+                              " so far): particles overlap massively, or the contact margin of ",
+                              margin_, " m reaches across many of them; check the scene for ",
+                              "particles placed on top of each other and its contact_margin"));
   }
 }
 

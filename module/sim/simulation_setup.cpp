@@ -4,6 +4,7 @@
 #include <set>
 
 #include "polydem/core/error.h"
+#include "polydem/core/interrupt.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
@@ -42,7 +43,15 @@ Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm)
 Simulation::~Simulation() = default;
 
 void Simulation::buildTables() {
+  // A stop signal ends a long build (a rock mass of many blocks) every 256 shapes.
+  constexpr std::size_t kPollEvery = 256;
   for (const auto& spec : scene_.shapes) {
+    if ((shapes_.size() + 1) % kPollEvery == 0) {
+      throwIfInterrupted([&] {
+        return cat("building the shapes' hulls (", shapes_.size(), " of ", scene_.shapes.size(),
+                   ")");
+      });
+    }
     try {
       geometry::BuildReport report;
       const auto poly = geometry::ConvexPolyhedron::fromPoints(spec.vertices, &report);

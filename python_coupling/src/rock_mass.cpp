@@ -147,7 +147,10 @@ py::dict cut(const py::dict& region_dict, const py::list& joint_sets, const py::
     volume.mutable_data()[i] = b.volume;
     for (int c = 0; c < 3; ++c) centroid.mutable_data()[3 * i + c] = b.centroid[c];
     fixed.mutable_data()[i] = b.fixed;
-    for (py::ssize_t k = 0; k < m; ++k) sides.mutable_data()[i * m + k] = b.sides[k];
+    // The planes it touches are listed; of every other it lies wholly on one side.
+    std::int8_t* row = sides.mutable_data() + i * m;
+    for (py::ssize_t k = 0; k < m; ++k) row[k] = sideOf(b.vertices, mass.planes[k]);
+    for (const PlaneSide& s : b.sides) row[s.plane] = s.side;
   }
   py::dict d;
   d["vertices"] = vertices;
@@ -181,7 +184,7 @@ dip, dip_direction, point and optionally fixed / remove = 'below' | 'above'. Pie
 sphere) are merged ('merge': the cut is not made there) or dropped ('drop').
 
 Returns a dict: vertices (list of (k, 3) arrays), volume (n,), centroid (n, 3), fixed (n,) bool,
-sides (n, planes) int8 (-1 below, +1 above, 0 not cut), plane_names, report (dict of counts and
+sides (n, planes) int8 (-1 below, +1 above, 0 across it uncut), plane_names, report (dict of counts and
 volumes). The same description gives the same bits on every machine.)");
 }
 

@@ -163,7 +163,9 @@ TEST(RockMass, SliversAreMergedOrDropped) {
   ASSERT_EQ(merged.blocks.size(), 1u);
   EXPECT_NEAR(merged.blocks[0].volume, 1.0, 1e-14);
   EXPECT_EQ(merged.report.slivers_merged, 1);
-  EXPECT_EQ(merged.blocks[0].sides[0], 0);  // the joint ends at this block
+  ASSERT_EQ(merged.blocks[0].sides.size(), 1u);  // the joint ends at this block
+  EXPECT_EQ(merged.blocks[0].sides[0].plane, 0);
+  EXPECT_EQ(merged.blocks[0].sides[0].side, 0);
 
   spec.slivers = Slivers::kDrop;
   const RockMass dropped = cutRockMass(spec);

@@ -141,6 +141,25 @@ TEST(SceneRockMassErrors, EveryMistakeHasItsLine) {
               {"rock mass 'slope' is already defined"});
 }
 
+// Descriptions beyond the limits are refused before any cutting, at the line of the table
+// that says too much, with the numbers and what to change.
+TEST(SceneRockMassErrors, LimitsAreRefusedWithTheirLine) {
+  const std::string base = sceneWithRockMass();
+  // 1 um joints: the set's own line, its spacing and plane count (not its origin).
+  expectError(replaced(replaced(base, "spacing = 1\n", "spacing = \"1 um\"\n"),
+                       "[[rock_mass.joint_set]]\nname = \"J2\"",
+                       "[[rock_mass.joint_set]]  # <-\nname = \"J2\""),
+              {"[[joint_set]] 'J2': spacing 1e-06 m gives about", "planes across the region",
+               "is the spacing in metres?"});
+  // Two sets of 8 mm in a 30 m box: the [[rock_mass]] line, the estimate and both sets.
+  std::string fine = replaced(base, "max = [6, 4, 3] }", "max = [30, 30, 30] }");
+  fine = replaced(fine, "spacing = \"1.5 m\"", "spacing = \"8 mm\"");
+  fine = replaced(fine, "spacing = 1\n", "spacing = \"8 mm\"\n");
+  fine = replaced(fine, "[[rock_mass]]\n", "[[rock_mass]]  # <-\n");
+  expectError(fine, {"cannot cut the rock mass", "blocks ('base' 1 plane, 'J1'", "0.008 m",
+                     "more than the limit of 1e+06", "increase the joint sets' spacings"});
+}
+
 TEST(SceneRockMassErrors, RemovingEverythingIsAnError) {
   const std::string text =
       replaced(sceneWithRockMass(), "[[rock_mass]]\n", "[[rock_mass]]  # <-\n");

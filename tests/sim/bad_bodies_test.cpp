@@ -51,6 +51,15 @@ TEST(BadBodies, AMassThatUnderflowsIsRefused) {
   EXPECT_NE(message.find("not a usable number"), std::string::npos) << message;
 }
 
+// The circumradius of each particle of the simulation's storage.
+std::vector<double> radiiOf(const Simulation& sim) {
+  std::vector<double> radii;
+  for (std::size_t i = 0; i < sim.particles().size(); ++i) {
+    radii.push_back(sim.shapes()[sim.particles()[i].shape].circumradius);
+  }
+  return radii;
+}
+
 TEST(BadBodies, CoincidentParticlesThatWouldNotFitInMemory) {
   // 27 cubes within 1e-9 m of each other: 351 candidate pairs.
   const std::string text =
@@ -71,13 +80,60 @@ TEST(BadBodies, CoincidentParticlesThatWouldNotFitInMemory) {
   }
   if (storage.localCount() < 27) GTEST_SKIP() << "the grid is split over ranks";
   ASSERT_EQ(pairs.size(), 351u);
-  EXPECT_FALSE(pairMemoryProblem(sc, storage, pairs, 0, 1 << 30));
-  const auto problem = pairMemoryProblem(sc, storage, pairs, 0, 1000);
+  const std::vector<double> radii = radiiOf(sim);
+  EXPECT_FALSE(pairMemoryProblem(sc, storage, radii, 0.0, pairs, 0, 1 << 30));
+  const auto problem = pairMemoryProblem(sc, storage, radii, 0.0, pairs, 0, 1000);
   ASSERT_TRUE(problem);
   EXPECT_NE(problem->find("coincident.toml:"), std::string::npos) << *problem;
   EXPECT_NE(problem->find("351 candidate pairs would need about"), std::string::npos) << *problem;
   EXPECT_NE(problem->find("has 26 candidate partners"), std::string::npos) << *problem;
   EXPECT_NE(problem->find("particles placed on top of each other"), std::string::npos) << *problem;
+}
+
+// Cubes 100 m apart, none touching another, but a contact margin of kilometres (contact_margin
+// times a free 20 km block's circumradius) makes every pair a candidate: the message blames the
+// margin, not overlapping particles.
+TEST(BadBodies, AHugeMarginIsNamedNotOverlaps) {
+  const std::string text =
+      scene("type = \"cube\"\nedge = 1\n", "2500",
+            "[[particle_grid]]\nshape = \"s\"\nmaterial = \"rock\"\nspacing = 100\n"
+            "count = [3, 3, 3]\norigin = [0, 0, 0]\n");
+  io::Scene sc = io::parseScene(text, "margin.toml");
+  sc.contact_margin = 1.0;
+  io::ShapeSpec big = sc.shapes[0];
+  big.name = "big";
+  for (Vec3& v : big.vertices) v *= 20000.0;
+  sc.shapes.push_back(big);
+  io::ParticleSpec far = sc.particles.back();
+  far.uid = static_cast<Uid>(sc.particles.size() + 1);
+  far.shape = static_cast<int>(sc.shapes.size() - 1);
+  far.position = Vec3(30000.0, 0, 0);
+  far.label.clear();
+  sc.particles.push_back(far);
+  const Simulation sim(sc, MPI_COMM_WORLD);
+  const auto& storage = sim.particles();
+  if (storage.localCount() < storage.size()) GTEST_SKIP() << "split over ranks";
+  const std::vector<double> radii = radiiOf(sim);
+  const double margin = 1.0 * radii.back();
+  std::vector<broadphase::CandidatePair> pairs;
+  for (std::size_t i = 0; i < storage.size(); ++i) {
+    for (std::size_t j = i + 1; j < storage.size(); ++j) {
+      const double d = (storage[i].position - storage[j].position).norm();
+      if (d <= radii[i] + radii[j] + margin) {
+        const bool lower = storage[i].uid < storage[j].uid;
+        pairs.push_back(
+            {static_cast<std::int32_t>(lower ? i : j), static_cast<std::int32_t>(lower ? j : i)});
+      }
+    }
+  }
+  ASSERT_EQ(pairs.size(), storage.size() * (storage.size() - 1) / 2);  // every pair
+  const auto problem = pairMemoryProblem(sc, storage, radii, margin, pairs, 0, 1000);
+  ASSERT_TRUE(problem);
+  EXPECT_EQ(problem->find("overlap massively"), std::string::npos) << *problem;
+  EXPECT_NE(problem->find("no particle overlaps it"), std::string::npos) << *problem;
+  EXPECT_NE(problem->find("the pairs come from the contact margin of"), std::string::npos)
+      << *problem;
+  EXPECT_NE(problem->find("contact_margin = 1 times"), std::string::npos) << *problem;
 }
 
 }  // namespace
