@@ -10,6 +10,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
+#include "polydem/output/output_file.h"
 #include "polydem/run/run_checkpoint.h"
 
 namespace {
@@ -65,6 +66,10 @@ int dispatch(int argc, char** argv) {
     return 1;
   } catch (const polydem::CheckpointError& e) {
     // Checkpoints are read, verified and written collectively: every rank throws the same error.
+    if (polydem::mpi::rank() == 0) polydem::log::error(e.what());
+    return 1;
+  } catch (const polydem::io::OutputError& e) {
+    // Output errors are agreed among the ranks (a full disk): every rank throws the same one.
     if (polydem::mpi::rank() == 0) polydem::log::error(e.what());
     return 1;
   } catch (const std::exception& e) {

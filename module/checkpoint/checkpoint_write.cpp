@@ -97,8 +97,9 @@ std::uint64_t estimatedBytes(const CheckpointData& data, MPI_Comm comm) {
   return total + (std::uint64_t{1} << 20);
 }
 
-/// A write that cannot fit is refused before it starts: HDF5 cannot close a parallel file cleanly
-/// once its metadata flush failed (disk full, file size limit), and may then hang or crash.
+/// A write that cannot fit is refused before it starts, from an estimate; the file layer takes
+/// the exact space as the file grows (disk_space.h). A file size limit is checked on every rank:
+/// a write beyond it kills the process (SIGXFSZ).
 std::optional<std::string> noRoomFor(std::uint64_t bytes, const fs::path& path, int rank) {
   rlimit limit{};
   if (getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
@@ -111,8 +112,8 @@ std::optional<std::string> noRoomFor(std::uint64_t bytes, const fs::path& path, 
   if (rank == 0 && statvfs(dir.c_str(), &fs_info) == 0) {
     const std::uint64_t available = std::uint64_t{fs_info.f_bavail} * fs_info.f_frsize;
     if (bytes > available) {
-      return cat("needs about ", bytes, " bytes but only ", available, " are free in ",
-                 dir.string());
+      return cat("no space left on device: it needs about ", bytes, " bytes but only ", available,
+                 " are free in ", dir.string());
     }
   }
   return std::nullopt;
@@ -144,7 +145,7 @@ void writeCheckpoint(const fs::path& path, const CheckpointData& data, MPI_Comm 
 
   std::optional<std::string> failure;
   try {
-    h5::File file = h5::File::create(temporary, comm, options);
+    h5::File file = h5::File::create(temporary, comm, options, path.string());
     if (rank == 0) testPause("checkpoint-write");  // test hook (core/test_pause.h)
     writeContents(file, data);
     file.close();  // H5Fflush (MPI_File_sync) and H5Fclose

@@ -136,6 +136,7 @@ Dataset File::create(const std::string& dataset, std::uint64_t total, std::size_
                        context("cannot create dataset " + dataset)),
                  H5Dclose);
   d.file_space_ = Handle(H5Dget_space(d.id_.get()), H5Sclose);
+  reserve(d.id_.get());  // the data's blocks, before any rank writes there
   return d;
 }
 
@@ -244,12 +245,14 @@ void File::write(const ReplicatedBatch& batch) {
                               dcpl.get(), H5P_DEFAULT),
                    context("cannot create dataset " + item.name)),
              H5Dclose);
+    reserve(d.get());
     // Rank 0 writes the data alone (an independent transfer); a failure is agreed below.
     const bool empty = item.kind != kText && rows == 0;
     if (rank_ == 0 && !empty &&
         H5Dwrite(d.get(), mem_type, H5S_ALL, H5S_ALL, independent_.get(), item.bytes.data()) < 0 &&
         !error) {
-      error = context("cannot write dataset " + item.name + ": " + hdf5ErrorMessage());
+      error = context("cannot write dataset " + item.name + ": " + hdf5ErrorMessage() +
+                      freeSpaceNote(directoryOf(path_)));
     }
     writeInfo(item.name, shapes[4 * i + 3], item.info);
     if (item.kind == kText) writeAttribute<std::uint64_t>(item.name, "length", rows);

@@ -15,6 +15,11 @@ namespace polydem::io::h5 {
 
 namespace {
 
+/// Disk space a writable file holds beyond the end of its last dataset's data (File::reserve):
+/// room for the metadata HDF5 allocates after it (object headers, attributes, group entries; a
+/// checkpoint's or snapshot's are a few kilobytes), which its flushes write.
+constexpr std::uint64_t kSpaceAhead = std::uint64_t{128} << 10;
+
 herr_t walkError(unsigned, const H5E_error2_t* e, void* out) {
   auto& messages = *static_cast<std::vector<std::string>*>(out);
   if (e->desc && *e->desc) messages.emplace_back(e->desc);
@@ -179,13 +184,22 @@ Rounds::Rounds(const Slice& slice, std::size_t row_bytes, std::size_t round_byte
 // --- file -------------------------------------------------------------------------------------
 
 File::File(std::string name, MPI_Comm comm, const CheckpointIoOptions& options, bool writable)
-    : name_(std::move(name)), comm_(comm), options_(options), writable_(writable) {
+    : name_(name), path_(std::move(name)), comm_(comm), options_(options), writable_(writable) {
   MPI_Comm_rank(comm, &rank_);
 }
 
 File::~File() {
   collective_.reset();
   independent_.reset();
+  if (writable_ && file_.get() >= 0) {
+    // Not closed: an agreed error is unwinding, and the caller removes the file. Its blocks are
+    // given back first, so that the metadata HDF5 still writes when it closes the file fits on
+    // a full disk even where its space could not be taken ahead: a failed close would leave the
+    // library in a state that crashes it at exit.
+    if (rank_ == 0) space_.discard();
+    MPI_Barrier(comm_);
+  }
+  space_.close();
   file_.reset();  // collective; every rank unwinds through here at the same point
 }
 
@@ -194,12 +208,13 @@ std::string File::context(const std::string& what) const {
 }
 
 File File::create(const std::filesystem::path& path, MPI_Comm comm,
-                  const CheckpointIoOptions& options) {
-  File f(path.string(), comm, options, true);
+                  const CheckpointIoOptions& options, const std::string& shown_as) {
+  File f(path.string(), comm, options, false);  // writable once created on every rank
+  if (!shown_as.empty()) f.name_ = shown_as;
   std::optional<std::string> error;
   try {
     Handle fapl = accessList(comm);
-    f.file_ = Handle(check(H5Fcreate(f.name_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+    f.file_ = Handle(check(H5Fcreate(f.path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
                            f.context("cannot create the file")),
                      H5Fclose);
     f.collective_ = transferList(H5FD_MPIO_COLLECTIVE);
@@ -208,7 +223,42 @@ File File::create(const std::filesystem::path& path, MPI_Comm comm,
     error = e.what();
   }
   agree(error, comm);
+  f.writable_ = true;
+  // Rank 0 allocates the file's space (disk_space.h); where it cannot open the file for that,
+  // the file is written without.
+  int opened = f.rank_ == 0 ? f.space_.open(f.path_) : 0;  // kept open for ~File too
+  MPI_Bcast(&opened, 1, MPI_INT, 0, comm);
+  f.reserving_ = opened == 0;
+  f.reserve();
   return f;
+}
+
+void File::reserve(hid_t dataset) {
+  if (!writable_ || !reserving_) return;
+  // HDF5 allocates in increasing addresses: a dataset's data at creation (H5D_ALLOC_TIME_EARLY),
+  // metadata in small blocks as it goes. The end of the newest data is the same on every rank
+  // (dataset creation is collective), and so is the decision below. (HDF5's own end of
+  // allocation cannot be asked for with MPI-IO once a rank has written data.)
+  if (dataset >= 0) {
+    const haddr_t offset = H5Dget_offset(dataset);
+    if (offset != HADDR_UNDEF) {
+      data_end_ = std::max<std::uint64_t>(data_end_, offset + H5Dget_storage_size(dataset));
+    }
+    H5Eclear2(H5E_DEFAULT);  // no offset: a dataset without data
+  }
+  if (data_end_ + kSpaceAhead / 2 <= reserved_) return;
+  const std::uint64_t target = data_end_ + kSpaceAhead;
+  int code = rank_ == 0 ? space_.allocate(target) : 0;
+  MPI_Bcast(&code, 1, MPI_INT, 0, comm_);
+  if (code == 0) {
+    reserved_ = target;
+  } else if (cannotAllocateAhead(code)) {
+    reserving_ = false;
+  } else {
+    std::optional<std::string> error;
+    if (rank_ == 0) error = context(allocationFailure(code, target, directoryOf(path_)));
+    agree(error, comm_);
+  }
 }
 
 File File::open(const std::filesystem::path& path, MPI_Comm comm,
@@ -233,15 +283,20 @@ File File::open(const std::filesystem::path& path, MPI_Comm comm,
 }
 
 void File::close() {
-  std::optional<std::string> error;
   collective_.reset();
   independent_.reset();
-  if (file_.get() >= 0) {
-    if (writable_ && options_.sync_on_close && H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) < 0) {
-      error = context("cannot flush the file: " + hdf5ErrorMessage());
-    }
-    const hid_t id = file_.release();
-    if (H5Fclose(id) < 0 && !error) error = context("cannot close the file: " + hdf5ErrorMessage());
+  if (file_.get() < 0) return;
+  std::optional<std::string> error;
+  if (writable_ && options_.sync_on_close && H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) < 0) {
+    error =
+        context("cannot flush the file: " + hdf5ErrorMessage() + freeSpaceNote(directoryOf(path_)));
+  }
+  space_.close();
+  agree(error, comm_);  // a failed flush throws on every rank; ~File then closes the file
+  const hid_t id = file_.release();
+  if (H5Fclose(id) < 0) {
+    error = context("cannot close the file: " + hdf5ErrorMessage() +
+                    (writable_ ? freeSpaceNote(directoryOf(path_)) : std::string()));
   }
   agree(error, comm_);
 }
@@ -301,7 +356,10 @@ void File::finish(std::span<Dataset* const> datasets, bool replicated) {
   std::optional<std::string> error;
   std::vector<std::uint64_t> sums;
   for (const Dataset* d : datasets) {
-    if (d->error_ && !error) error = d->error_;
+    if (d->error_ && !error) {
+      // MPI-IO does not say why a write failed; the free space tells the likeliest cause.
+      error = *d->error_ + (d->writing_ ? freeSpaceNote(directoryOf(path_)) : std::string());
+    }
     sums.push_back(d->partial_);
   }
   agree(error, comm_);

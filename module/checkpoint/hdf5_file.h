@@ -9,6 +9,13 @@
 // only (data transfers, flushes, the caller's data) is remembered and agreed on at a few points
 // (file creation, the end of each table, close): there, if any rank failed, every rank throws
 // the lowest failing rank's message, so that no rank is left waiting in a collective.
+//
+// Full disks. A writable file takes its disk space before HDF5 writes into it (disk_space.h):
+// when the file and each dataset are created, the blocks up to the end of the data allocated so
+// far plus room for the metadata after it are allocated, rank 0 allocates and every rank learns
+// the result, so a full disk throws the same CheckpointError ("no space left on device") on
+// every rank, and the metadata flush of the close that follows writes only into blocks the file
+// already holds.
 #pragma once
 
 #include <hdf5.h>
@@ -23,6 +30,7 @@
 
 #include "polydem/checkpoint/checkpoint.h"
 #include "polydem/checkpoint/checkpoint_digest.h"
+#include "polydem/checkpoint/disk_space.h"
 
 namespace polydem::io::h5 {
 
@@ -171,16 +179,18 @@ class ReplicatedBatch {
 
 class File {
  public:
-  /// Creates (truncating) `path` for parallel writing with collective metadata.
+  /// Creates (truncating) `path` for parallel writing with collective metadata. Messages name
+  /// `shown_as` (the final name of a file written under a temporary one), or else `path`.
   static File create(const std::filesystem::path& path, MPI_Comm comm,
-                     const CheckpointIoOptions& options);
+                     const CheckpointIoOptions& options, const std::string& shown_as = "");
   /// Opens `path` read-only for parallel reading.
   static File open(const std::filesystem::path& path, MPI_Comm comm,
                    const CheckpointIoOptions& options);
   File(File&&) noexcept = default;
   ~File();
 
-  /// Flushes (writable files: MPI_File_sync) and closes; errors are agreed and thrown.
+  /// Flushes (writable files: MPI_File_sync) and closes; errors are agreed and thrown: the
+  /// flush's before HDF5's collective close is entered, the close's after it.
   void close();
 
   MPI_Comm comm() const { return comm_; }
@@ -239,6 +249,11 @@ class File {
 
  private:
   File(std::string name, MPI_Comm comm, const CheckpointIoOptions& options, bool writable);
+  /// Writable files: takes the disk space up to the end of the data of `dataset` (just created)
+  /// and of every dataset before it, plus room for the metadata that follows (disk_space.h).
+  /// Collective: call it after every dataset is created, before its data is written. Throws
+  /// CheckpointError on every rank if the disk is full.
+  void reserve(hid_t dataset = -1);
   bool exists(const std::string& path) const;
   Handle openDataset(const std::string& dataset) const;
   /// The fields of a Dataset of T both create() and open() set, before the HDF5 handles.
@@ -254,7 +269,8 @@ class File {
   void readAttributeRaw(const std::string& object, const std::string& attribute, hid_t file_type,
                         hid_t mem_type, std::size_t count, void* values) const;
 
-  std::string name_;
+  std::string name_;  // in messages
+  std::string path_;  // on disk
   MPI_Comm comm_ = MPI_COMM_NULL;
   int rank_ = 0;
   CheckpointIoOptions options_;
@@ -263,6 +279,10 @@ class File {
   Handle collective_;   // dataset transfer list: collective MPI-IO
   Handle independent_;  // dataset transfer list: independent MPI-IO (replicated data)
   std::vector<CheckpointDatasetInfo> datasets_;
+  DiskSpace space_;             // rank 0's descriptor (writable files)
+  bool reserving_ = false;      // false: the file system cannot allocate ahead
+  std::uint64_t data_end_ = 0;  // end of the data of the datasets created so far
+  std::uint64_t reserved_ = 0;  // bytes allocated on disk (both the same on every rank)
 };
 
 }  // namespace polydem::io::h5

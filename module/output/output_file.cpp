@@ -83,7 +83,7 @@ void throwIfAnyRankFailed(const std::string& error, MPI_Comm comm) {
   MPI_Bcast(message.data(), length, MPI_CHAR, first, comm);
   std::string text(message.begin(), message.end());
   if (rank != first) text = cat(text, " (on rank ", first, ")");
-  throw Error(text);
+  throw OutputError(text);
 }
 
 void createDirectories(const std::string& dir) {

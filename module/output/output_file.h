@@ -11,7 +11,17 @@
 #include <string>
 #include <string_view>
 
+#include "polydem/core/error.h"
+
 namespace polydem::io {
+
+/// A failure of output that every rank of a communicator throws at the same point
+/// (throwIfAnyRankFailed): the apps end with one message and a non-zero status on every rank,
+/// with no rank left waiting and no MPI_Abort.
+class OutputError : public Error {
+ public:
+  using Error::Error;
+};
 
 /// A file written under "<path>.tmp" and renamed to `path` by commit(). Destroyed without
 /// commit() (an exception on the way), it removes the temporary and leaves `path` untouched.
@@ -41,7 +51,7 @@ class AtomicFile {
 void writeFileAtomic(const std::string& path, std::string_view content);
 
 /// Collective over `comm`. `error` is this rank's failure message (empty: no failure). When any
-/// rank failed, every rank throws polydem::Error with the message of the lowest failing rank, so
+/// rank failed, every rank throws OutputError with the message of the lowest failing rank, so
 /// that no rank is left waiting in a later collective call while another one unwinds.
 void throwIfAnyRankFailed(const std::string& error, MPI_Comm comm);
 

@@ -279,9 +279,9 @@ std::string XdmfSnapshotWriter::snapshotPath(std::int64_t step) const {
   return dir_ + "/snapshots/" + name;
 }
 
-void XdmfSnapshotWriter::writeFile(const std::string& path, std::int64_t step, double time,
-                                   const PolyhedraBatch& unsorted, const ContactBatch& c,
-                                   XdmfSnapshot& counts) const {
+void XdmfSnapshotWriter::writeFile(const std::string& path, const std::string& tmp,
+                                   std::int64_t step, double time, const PolyhedraBatch& unsorted,
+                                   const ContactBatch& c, XdmfSnapshot& counts) const {
   // Particles, points, faces and topology in uid order, so that these tables are the same on any
   // rank count; the contacts in rank order.
   const PolyhedraBatch b = byUid(unsorted);
@@ -338,7 +338,7 @@ void XdmfSnapshotWriter::writeFile(const std::string& path, std::int64_t step, d
   io.kind = "snapshot";
   io.sync_on_close = false;
   const h5::ErrorSilencer quiet;  // HDF5's errors become exceptions, not printed stacks
-  File file = File::create(path, comm_, io);
+  File file = File::create(tmp, comm_, io, path);
   std::vector<Dataset> open;
   file.createGroup("/mesh", "the faces of all blocks as polygons (XDMF Mixed topology)");
   put(file, open, "/mesh/points", place[kPointRow], 3, points, {"m", "vertices, world frame"});
@@ -385,7 +385,7 @@ void XdmfSnapshotWriter::write(double time, std::int64_t step, const PolyhedraBa
   counts.file = "snapshots/" + std::filesystem::path(path).filename().string();
   std::string error;
   try {
-    writeFile(tmp, step, time, particles, *contacts, counts);  // throws on every rank alike
+    writeFile(path, tmp, step, time, particles, *contacts, counts);  // throws on every rank alike
   } catch (const std::exception& e) {
     error = e.what();
   }

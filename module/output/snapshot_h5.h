@@ -1,7 +1,7 @@
 // Parallel snapshots: one HDF5 file per snapshot, written collectively by all ranks through the
-// checkpoints' MPI-IO layer (checkpoint/hdf5_file.h), plus two XDMF collections (output/xdmf_writer.h) that
-// ParaView opens. A run on P ranks writes 1 file per snapshot instead of the VTK output's
-// 2 (1 + P). Layout of DIR:
+// checkpoints' MPI-IO layer (checkpoint/hdf5_file.h), plus two XDMF collections
+// (output/xdmf_writer.h) that ParaView opens. A run on P ranks writes 1 file per snapshot instead
+// of the VTK output's 2 (1 + P). Layout of DIR:
 //
 //   snapshots.xmf                   temporal collection of the blocks (open this one)
 //   contacts.xmf                    temporal collection of the contact points
@@ -60,7 +60,8 @@ class XdmfSnapshotWriter {
   std::string snapshotPath(std::int64_t step) const;
 
  private:
-  void writeFile(const std::string& path, std::int64_t step, double time,
+  /// Writes the snapshot `path` under the name `tmp` (collective).
+  void writeFile(const std::string& path, const std::string& tmp, std::int64_t step, double time,
                  const PolyhedraBatch& particles, const ContactBatch& contacts,
                  XdmfSnapshot& counts) const;
   void writeCollections() const;

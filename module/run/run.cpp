@@ -12,6 +12,7 @@
 #include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
 #include "polydem/core/test_pause.h"
+#include "polydem/output/output_file.h"
 #include "polydem/run/checks.h"
 #include "polydem/run/run_checkpoint.h"
 #include "polydem/run/run_output.h"
@@ -218,6 +219,7 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
                                         {"new_decompositions_computed", log.proposals},
                                         {"new_decompositions_adopted", log.adopted},
                                         {"work_imbalance_at_last_check", log.last_imbalance}};
+  std::string summary_error;  // rank 0 writes summary.json; every rank ends if it cannot
   if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
     auto summary = summaryJson(scene, sim, result, reason, timing);
     summary["stopped_by_signal"] =
@@ -229,7 +231,14 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
     summary["balance"] = balance["balance"];
     summary["balance"]["rebalancing"] = decomposition;
     summary["communication_seconds_per_step"] = balance["communication_seconds_per_step"];
-    io::writeJsonAtomic(options.out_dir + "/summary.json", summary);
+    try {
+      io::writeJsonAtomic(options.out_dir + "/summary.json", summary);
+    } catch (const Error& e) {
+      summary_error = e.what();
+    }
+  }
+  if (!options.out_dir.empty()) io::throwIfAnyRankFailed(summary_error, comm);
+  if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
     log::info("wrote " + options.out_dir + "/summary.json, series.csv" +
               (!options.snapshots                      ? ""
                : scene.output.snapshot_format == "vtk" ? ", snapshots.pvd, contacts.pvd"

@@ -5,6 +5,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/dynamics/integrator.h"
+#include "polydem/output/output_file.h"
 #include "polydem/run/contact_sums.h"
 
 namespace polydem::sim {
@@ -22,7 +23,7 @@ std::string sanitize(const std::string& name) {
 RunOutput::RunOutput(const std::string& dir, Simulation& sim, const Tracker& tracker,
                      const std::vector<std::pair<Uid, std::string>>& monitored,
                      const std::vector<std::unique_ptr<Check>>& checks, bool snapshots)
-    : monitored_(monitored) {
+    : comm_(sim.comm()), monitored_(monitored) {
   (void)tracker;
   if (mpi::rank(sim.comm()) == 0) std::filesystem::create_directories(dir);
   MPI_Barrier(sim.comm());
@@ -93,7 +94,15 @@ void RunOutput::writeSeries(Simulation& sim, const Tracker& tracker,
   for (const auto& c : checks) {
     for (const auto& [name, value] : c->seriesColumns(sim)) row_.push_back(value);
   }
-  series_->write(row_);
+  // Rank 0 writes (and may fail, on a full disk) alone; the others learn of it here, so that
+  // every rank ends with the error instead of waiting in the next collective call.
+  std::string error;
+  try {
+    series_->write(row_);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  io::throwIfAnyRankFailed(error, comm_);
 }
 
 void RunOutput::writeSnapshot(const Simulation& sim) {
@@ -146,7 +155,13 @@ void RunOutput::writeSnapshot(const Simulation& sim) {
 }
 
 void RunOutput::close() {
-  if (series_) series_->close();
+  std::string error;
+  try {
+    if (series_) series_->close();
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  io::throwIfAnyRankFailed(error, comm_);
 }
 
 }  // namespace polydem::sim

@@ -22,7 +22,8 @@ class RunOutput {
             const std::vector<std::pair<Uid, std::string>>& monitored,
             const std::vector<std::unique_ptr<Check>>& checks, bool snapshots);
 
-  /// A row of series.csv (collective: computes global monitors).
+  /// A row of series.csv (collective: computes global monitors; a failed write throws on every
+  /// rank).
   void writeSeries(Simulation& sim, const Tracker& tracker,
                    const std::vector<std::unique_ptr<Check>>& checks);
   /// A snapshot of particles and contacts (collective).
@@ -32,6 +33,7 @@ class RunOutput {
   void writeSeriesOnce(Simulation& sim, const Tracker& tracker,
                        const std::vector<std::unique_ptr<Check>>& checks);
   void writeSnapshotOnce(const Simulation& sim);
+  /// Flushes and closes series.csv (collective: a failed write throws on every rank).
   void close();
 
  private:
@@ -42,6 +44,7 @@ class RunOutput {
     bool operator==(const Written&) const = default;
   };
   static Written labelOf(const Simulation& sim);
+  MPI_Comm comm_;
   Written last_series_, last_snapshot_;
   std::vector<std::pair<Uid, std::string>> monitored_;
   std::unique_ptr<io::SeriesWriter> series_;
