@@ -67,6 +67,10 @@ int dispatch(int argc, char** argv) {
     // Checkpoints are read, verified and written collectively: every rank throws the same error.
     if (polydem::mpi::rank() == 0) polydem::log::error(e.what());
     return 1;
+  } catch (const polydem::OutputError& e) {
+    // Agreed among the ranks (a busy output folder): every rank throws the same error.
+    if (polydem::mpi::rank() == 0) polydem::log::error(e.what());
+    return 1;
   } catch (const std::exception& e) {
     // An error that may be local to this rank: the others may be waiting in a collective.
     polydem::log::error(e.what());

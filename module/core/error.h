@@ -37,6 +37,13 @@ class CheckpointError : public Error {
   using Error::Error;
 };
 
+/// An output folder or file polydem must not write: a folder another run holds (its lock file),
+/// a path that is not a regular file. Raised alike on every rank.
+class OutputError : public Error {
+ public:
+  using Error::Error;
+};
+
 /// A physical state that cannot continue (NaN force, particle left the domain).
 class SimulationError : public Error {
  public:
