@@ -68,8 +68,8 @@ int dispatch(int argc, char** argv) {
     // Checkpoints are read, verified and written collectively: every rank throws the same error.
     if (polydem::mpi::rank() == 0) polydem::log::error(e.what());
     return 1;
-  } catch (const polydem::io::OutputError& e) {
-    // Output errors are agreed among the ranks (a full disk): every rank throws the same one.
+  } catch (const polydem::OutputError& e) {
+    // Agreed among the ranks (a busy output folder, a full disk): every rank throws the same error.
     if (polydem::mpi::rank() == 0) polydem::log::error(e.what());
     return 1;
   } catch (const std::exception& e) {

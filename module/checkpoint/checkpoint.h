@@ -71,8 +71,16 @@ struct CheckpointIoOptions {
 
 /// Writes `data` to `path` (collective; see the top of this file). Throws CheckpointError on every
 /// rank if any rank fails (invalid data, I/O error, rename); `path` is then left as it was.
+/// `path` must be new, an empty file or a polydem checkpoint (checkpointTarget).
 void writeCheckpoint(const std::filesystem::path& path, const CheckpointData& data, MPI_Comm comm,
                      const CheckpointIoOptions& options = {});
+
+/// The file a checkpoint for `path` is written to (collective): `path` itself if nothing has that
+/// name, or it is an empty regular file or a polydem checkpoint (replaced); for a symbolic link,
+/// the file it names, under the same rules. Anything else (a directory, FIFO, socket, device, a
+/// link to one or to nothing, a file that is not a polydem checkpoint) is refused with
+/// CheckpointError on every rank, naming the path and what it is; nothing is touched.
+std::filesystem::path checkpointTarget(const std::filesystem::path& path, MPI_Comm comm);
 
 /// Reads and verifies `path` (collective; see the top of this file).
 CheckpointData readCheckpoint(const std::filesystem::path& path, MPI_Comm comm,
@@ -126,22 +134,35 @@ void closeHdf5Library();
 // --- files in a checkpoint directory (not collective: call on one rank)
 // ---------------------------
 
-/// dir / "checkpoint_<step, 12 digits>.h5", e.g. checkpoint_000000001500.h5. Negative step: Error.
-std::filesystem::path checkpointFileName(const std::filesystem::path& dir, std::int64_t step);
+/// Each run that takes checkpoints has an id, drawn at random when it starts (a continued run
+/// gets a new one), in the names of its files: it keeps and deletes only its own checkpoints, so
+/// that runs sharing a folder never prune or overwrite each other's (docs/checkpoint.md).
+inline constexpr int kCheckpointRunIdDigits = 8;  // lowercase hexadecimal
+
+/// dir / "checkpoint_<step, 12 digits>_<run id>.h5", e.g. checkpoint_000000001500_5f3a09c2.h5.
+/// Negative step or a run id of other than 8 lowercase hexadecimal digits: Error.
+std::filesystem::path checkpointFileName(const std::filesystem::path& dir, std::int64_t step,
+                                         const std::string& run_id);
+
+/// A run id that no file in `dir` carries (a missing directory: any).
+std::string newCheckpointRunId(const std::filesystem::path& dir);
 
 struct CheckpointFile {
   std::int64_t step = 0;
+  std::string run_id;  // empty: checkpoint_<step>.h5, named before runs had ids
   std::filesystem::path path;
 };
-/// The regular files in `dir` named exactly as checkpointFileName() names them, by step. Temporary
-/// files of unfinished writes and every other name are left out. A missing directory: none.
+/// The regular files in `dir` (not symbolic links) named exactly as checkpointFileName() names
+/// them, or checkpoint_<step>.h5, by step (then run id). Temporary files of unfinished writes and
+/// every other name are left out. A missing directory: none.
 std::vector<CheckpointFile> listCheckpoints(const std::filesystem::path& dir);
 
-/// Deletes all but the `keep` (>= 1) newest checkpoints of listCheckpoints(dir); nothing else is
-/// touched. Returns the deleted paths.
-std::vector<std::filesystem::path> pruneCheckpoints(const std::filesystem::path& dir, int keep);
+/// Deletes all but the `keep` (>= 1) newest checkpoints of run `run_id` in `dir`; no other run's
+/// checkpoints and no other file are touched. Returns the deleted paths.
+std::vector<std::filesystem::path> pruneCheckpoints(const std::filesystem::path& dir,
+                                                    const std::string& run_id, int keep);
 
-/// A temporary file of a checkpoint write: named exactly checkpointFileName(dir, step) +
+/// A temporary file of a checkpoint write: named exactly as a checkpoint of listCheckpoints +
 /// ".tmp.<pid>", pid being rank 0's process id of the writer (writeCheckpoint).
 struct TemporaryCheckpointFile {
   std::filesystem::path path;

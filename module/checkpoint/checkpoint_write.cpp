@@ -129,8 +129,10 @@ void syncDirectory(const fs::path& dir) {
 
 }  // namespace
 
-void writeCheckpoint(const fs::path& path, const CheckpointData& data, MPI_Comm comm,
+void writeCheckpoint(const fs::path& requested, const CheckpointData& data, MPI_Comm comm,
                      const CheckpointIoOptions& options) {
+  const fs::path path =
+      checkpointTarget(requested, comm);  // nothing but a new file or a checkpoint
   const h5::ErrorSilencer silence;
   const int rank = mpi::rank(comm);
   std::optional<std::string> problem = invalidData(data, rank);

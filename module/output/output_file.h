@@ -15,14 +15,6 @@
 
 namespace polydem::io {
 
-/// A failure of output that every rank of a communicator throws at the same point
-/// (throwIfAnyRankFailed): the apps end with one message and a non-zero status on every rank,
-/// with no rank left waiting and no MPI_Abort.
-class OutputError : public Error {
- public:
-  using Error::Error;
-};
-
 /// A file written under "<path>.tmp" and renamed to `path` by commit(). Destroyed without
 /// commit() (an exception on the way), it removes the temporary and leaves `path` untouched.
 /// Every failure (cannot create, disk full, rename refused) throws polydem::Error naming the path.

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "polydem/checkpoint/checkpoint.h"
 #include "polydem/contact/contact.h"
@@ -13,6 +14,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/core/test_pause.h"
 #include "polydem/output/output_file.h"
+#include "polydem/output/output_lock.h"
 #include "polydem/run/checks.h"
 #include "polydem/run/run_checkpoint.h"
 #include "polydem/run/run_output.h"
@@ -125,6 +127,9 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
                   const io::CheckpointData* restart, const std::string& restart_file) {
   applyOverrides(scene, options);
   requireStopCondition(scene);  // before anything is built or written
+  // One run per output folder: held until this run's last file is written (output_lock.h).
+  std::optional<io::OutputLock> lock;
+  if (!options.out_dir.empty()) lock.emplace(options.out_dir, comm);
   const auto wall0 = std::chrono::steady_clock::now();
   log::info(cat("scene ", scene.id, " (", scene.file, "): ", scene.particles.size(),
                 " particles, kernel ", scene.kernel, ", ", mpi::size(comm), " rank(s)"));
@@ -227,6 +232,7 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
     if (result.signal_after_end) summary["signal_after_end"] = result.stop_signal;
     if (!result.checkpoint.empty()) summary["checkpoint"] = result.checkpoint;
     if (restart) summary["restarted_from"] = restart_file;
+    summary["checkpoint_run_id"] = schedule.runId();  // in the names of this run's checkpoints
     summary["communication"] = communication;
     summary["balance"] = balance["balance"];
     summary["balance"]["rebalancing"] = decomposition;

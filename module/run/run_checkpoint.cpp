@@ -149,7 +149,9 @@ CheckpointSchedule::CheckpointSchedule(const io::CheckpointSpec& spec, std::file
       tracker_(tracker),
       checks_(checks),
       comm_(comm) {
-  if (dir_.empty() || mpi::rank(comm_) != 0) return;
+  if (dir_.empty()) return;
+  drawRunId();
+  if (mpi::rank(comm_) != 0) return;
   // Temporary files that a write cut short (kill -9, a crash, a node failure) left behind: only
   // files named as polydem names them, only in this run's checkpoint directory.
   for (const auto& t : io::removeStaleTemporaryCheckpoints(dir_ / "checkpoints")) {
@@ -162,6 +164,16 @@ CheckpointSchedule::CheckpointSchedule(const io::CheckpointSpec& spec, std::file
                                       : std::string("a process that is gone (cannot remove it)")));
     }
   }
+}
+
+void CheckpointSchedule::drawRunId() {
+  char id[io::kCheckpointRunIdDigits + 1] = {};
+  if (mpi::rank(comm_) == 0) {
+    const std::string drawn = io::newCheckpointRunId(dir_ / "checkpoints");
+    drawn.copy(id, io::kCheckpointRunIdDigits);
+  }
+  MPI_Bcast(id, io::kCheckpointRunIdDigits, MPI_CHAR, 0, comm_);
+  run_id_ = id;
 }
 
 bool CheckpointSchedule::afterStep(Simulation& sim) {
@@ -199,7 +211,7 @@ bool CheckpointSchedule::signalAfterRun() {
 }
 
 std::filesystem::path CheckpointSchedule::write(Simulation& sim) {
-  const auto path = io::checkpointFileName(dir_ / "checkpoints", runSteps(sim));
+  const auto path = io::checkpointFileName(dir_ / "checkpoints", runSteps(sim), run_id_);
   if (mpi::rank(comm_) == 0) std::filesystem::create_directories(path.parent_path());
   MPI_Barrier(comm_);
   io::CheckpointData data =
@@ -207,7 +219,7 @@ std::filesystem::path CheckpointSchedule::write(Simulation& sim) {
   data.code_version = code_version_;
   io::writeCheckpoint(path, data, comm_);
   if (mpi::rank(comm_) == 0) {
-    io::pruneCheckpoints(path.parent_path(), spec_.keep);
+    io::pruneCheckpoints(path.parent_path(), run_id_, spec_.keep);  // this run's files only
     log::info(
         cat("checkpoint ", path.string(), " (",
             io::toString(sim.stage() == Stage::kEquilibrium ? io::CheckpointStage::kEquilibrium

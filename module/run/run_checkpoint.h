@@ -1,6 +1,7 @@
 // Checkpoints of a run as `polydem run` takes them: on a schedule (every N steps, every T seconds
 // of wall clock) and when the process is asked to stop (SIGTERM, SIGUSR1), into
-// <out>/checkpoints/checkpoint_<step>.h5, keeping the newest K. See docs/checkpoint.md.
+// <out>/checkpoints/checkpoint_<step>_<run id>.h5, keeping the newest K of this run's (the run id
+// is new for every run, a continued one too). See docs/checkpoint.md.
 #pragma once
 
 #include <mpi.h>
@@ -52,7 +53,7 @@ void restoreRunState(const std::string& json, const std::string& file, Tracker& 
 class CheckpointSchedule {
  public:
   /// `scene_toml`: the scene text the checkpoints store. `dir`: where they go (empty: nowhere,
-  /// but a stop signal still stops the run).
+  /// but a stop signal still stops the run). Collective: rank 0 draws the run id.
   CheckpointSchedule(const io::CheckpointSpec& spec, std::filesystem::path dir,
                      std::string scene_toml, std::string scene_file, std::string code_version,
                      const Tracker& tracker, const std::vector<std::unique_ptr<Check>>& checks,
@@ -68,14 +69,18 @@ class CheckpointSchedule {
   /// (collective). If so, stopSignal() is that signal from now on.
   bool signalAfterRun();
 
+  /// The id in the names of this run's checkpoints (empty without a directory).
+  const std::string& runId() const { return run_id_; }
   /// The signal that stopped the run (0: none).
   int stopSignal() const { return stop_signal_; }
   const std::filesystem::path& lastWritten() const { return last_; }
 
  private:
+  void drawRunId();  // collective
+
   io::CheckpointSpec spec_;
   std::filesystem::path dir_;
-  std::string scene_toml_, scene_file_, code_version_;
+  std::string scene_toml_, scene_file_, code_version_, run_id_;
   const Tracker& tracker_;
   const std::vector<std::unique_ptr<Check>>& checks_;
   MPI_Comm comm_;

@@ -107,8 +107,12 @@ void bindSimulationCheckpoint(py::class_<Simulation>& c) {
         R"(Writes a checkpoint of the current state to `path` (collective; docs/checkpoint.md).
 
 The file holds the scene's TOML text and everything needed to continue bit for bit, on this or
-any other number of ranks: Simulation.restart(path). Call it between steps. Raises
-polydem.CheckpointError if the file cannot be written (an older file at `path` is kept).)")
+any other number of ranks: Simulation.restart(path). Call it between steps. It is written under a
+temporary name next to `path` and renamed onto it when complete, so `path` must be new, an empty
+file or a polydem checkpoint (replaced); a symbolic link is followed. Raises
+polydem.CheckpointError, naming the path, for anything else (a FIFO, a device such as /dev/null, a
+directory, a file that is not a polydem checkpoint), which is left as it was, and if the file
+cannot be written (an older file at `path` is kept).)")
       .def("set_velocity", &setVelocity, py::arg("uid"), py::arg("velocity") = py::none(),
            py::arg("angular_velocity") = py::none(),
            R"(Sets the velocity [m/s] and/or angular velocity [rad/s, world frame] of the free

@@ -5,7 +5,8 @@
 #  2. `polydem checkpoint info` verifies a file on any rank count;
 #  3. a scene that differs (other than its stop settings) is refused, nothing is written;
 #  4. kill -9 between the collective write and the rename leaves the previous checkpoint intact,
-#     and the next start removes the temporary file it left (and nothing else);
+#     and the next start takes over the killed run's lock of the folder and removes the temporary
+#     file it left (and nothing else);
 #  5. corrupt files (truncated, flipped byte, wrong version, missing dataset) are refused;
 # (Signals: signal_cli_test.sh.)
 # usage: checkpoint_cli_test.sh POLYDEM MPIEXEC SCENE WORKDIR
@@ -19,7 +20,9 @@ field() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.ar
 hash_of() { field "$1/summary.json" state_hash 2> /dev/null; }
 mp() { timeout 120 $mpiexec -n "$1" "$polydem" "${@:2}"; }
 run() { mp "$@" --no-snapshots --quiet; }
-ckpt() { printf '%s/checkpoints/checkpoint_%012d.h5' "$1" "$2"; }
+# The checkpoint of step $2 in $1/checkpoints, whatever the id of the run that wrote it (one run
+# per folder here); the pattern itself, which names no file, if there is none.
+ckpt() { set -- "$(printf '%s/checkpoints/checkpoint_%012d_' "$1" "$2")"; set -- "$1"*.h5; echo "$1"; }
 
 # 1. Reference and checkpoints (eq. stage: 100 steps, then 200 main steps = 300 in all).
 run 2 run "$scene" --out ref || fail "reference run"
@@ -59,7 +62,7 @@ run 1 run --restart "$(ckpt a 300)" longer.toml --out ext2 || fail "longer scene
 [ "$(hash_of ext2)" = "$(hash_of long)" ] || fail "restart with a longer scene: other bits"
 
 # 4. kill -9 between the collective write and the rename.
-mkdir -p k/checkpoints; cp "$(ckpt a 250)" "$(ckpt k 250)"; before=$(cksum < "$(ckpt k 250)")
+mkdir -p k/checkpoints; cp "$(ckpt a 250)" k/checkpoints/; before=$(cksum < "$(ckpt k 250)")
 POLYDEM_TEST_PAUSE=before-rename:60 "$polydem" run "$scene" --out k --checkpoint-every 50 \
   --checkpoint-keep 1 --no-snapshots --quiet 2> k.log &
 pid=$!
@@ -71,18 +74,22 @@ kill -9 $pid; wait $pid 2> /dev/null
 mp 2 checkpoint info "$(ckpt k 250)" > /dev/null || fail "previous checkpoint does not verify"
 # The next start removes the killed write's temporary file, and only that: files of other names,
 # and a temporary file of a writer that still runs (this shell), stay.
-stale="$(ckpt k 50).tmp.$pid"
-[ -f "$stale" ] || fail "kill -9 left no temporary file $stale"
-alive="$(ckpt k 60).tmp.$$"
-for f in "$alive" k/checkpoints/notes.tmp.$pid "$(ckpt k 50).tmp.x$pid" k/checkpoints/other.h5; do
+stale=$(ls k/checkpoints/checkpoint_000000000050_*.h5.tmp.$pid 2> /dev/null)
+[ -f "$stale" ] || fail "kill -9 left no temporary file k/checkpoints/checkpoint_000000000050_*.h5.tmp.$pid"
+alive="k/checkpoints/checkpoint_000000000060_0badcafe.h5.tmp.$$"
+not_tmp="k/checkpoints/checkpoint_000000000050_0badcafe.h5.tmp.x$pid"
+for f in "$alive" k/checkpoints/notes.tmp.$pid "$not_tmp" k/checkpoints/other.h5; do
   echo keep > "$f"
 done
 run 1 run "$scene" --out k --steps 10 > k2.log 2>&1 || fail "run after kill -9: $(cat k2.log)"
 [ ! -e "$stale" ] || fail "the stale temporary file $stale is left"
+grep -q "took over k/polydem.lock from process $pid on host .*, which is gone" k2.log ||
+  fail "the killed run's lock was not taken over with a message: $(cat k2.log)"
+[ ! -e k/polydem.lock ] || fail "the lock of the folder is left after the run"
 grep -q "removed $stale" k2.log || fail "no message about the removed file: $(cat k2.log)"
 grep -q "left $alive: .* by process $$, which is still running" k2.log ||
   fail "no message about the live writer's file: $(cat k2.log)"
-[ "$(cat "$alive" k/checkpoints/notes.tmp.$pid "$(ckpt k 50).tmp.x$pid" k/checkpoints/other.h5)" = \
+[ "$(cat "$alive" k/checkpoints/notes.tmp.$pid "$not_tmp" k/checkpoints/other.h5)" = \
   "$(printf 'keep\nkeep\nkeep\nkeep')" ] || fail "files of other names were touched"
 
 # 5. Corrupt files: non-zero exit, the file named, nothing written.

@@ -1,5 +1,6 @@
 // Writing: the temporary file is renamed only when complete, a failure on any rank fails on every
-// rank and leaves the previous checkpoint intact; file names and keeping the last K.
+// rank and leaves the previous checkpoint intact; file names with run ids and keeping the last K of
+// one run.
 #include <gtest/gtest.h>
 #include <mpi.h>
 #include <signal.h>
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <set>
 #include <sstream>
 
 #include "checkpoint_test_data.h"
@@ -119,7 +121,8 @@ TEST_F(CheckpointWrite, InconsistentTimeIsRefused) {
   expectPreviousIntact();
 }
 
-TEST_F(CheckpointWrite, RenameFailureRemovesTheTemporary) {
+TEST_F(CheckpointWrite, DirectoryTargetIsRefusedBeforeAnyFileIsMade) {
+  // A rename onto a directory would fail after the whole write; the target is checked first.
   const fs::path target = dir_ / "occupied";
   if (mpi::rank() == 0) {
     fs::create_directory(target);
@@ -128,7 +131,8 @@ TEST_F(CheckpointWrite, RenameFailureRemovesTheTemporary) {
   MPI_Barrier(MPI_COMM_WORLD);
   const CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
   const std::string message = failureOf([&] { writeCheckpoint(target, share, MPI_COMM_WORLD); });
-  EXPECT_NE(message.find("cannot rename"), std::string::npos) << message;
+  EXPECT_NE(message.find("checkpoint " + target.string() + ": is a directory"), std::string::npos)
+      << message;
   MPI_Barrier(MPI_COMM_WORLD);
   EXPECT_EQ(entries(dir_), (std::vector<std::string>{"occupied", "run.h5"}));
   EXPECT_EQ(entries(target), std::vector<std::string>{"keep.txt"});
@@ -142,42 +146,91 @@ TEST_F(CheckpointWrite, MissingDirectory) {
   expectPreviousIntact();
 }
 
-TEST(CheckpointFiles, NamesListAndKeepLast) {
+TEST(CheckpointFiles, NamesListAndKeepLastOfOneRun) {
   if (mpi::rank() != 0) return;  // not collective
   const fs::path dir = fs::temp_directory_path() / ("polydem_ckfiles_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  EXPECT_EQ(checkpointFileName(dir, 1500), dir / "checkpoint_000000001500.h5");
-  EXPECT_EQ(checkpointFileName("", 0).string(), "checkpoint_000000000000.h5");
-  EXPECT_THROW(checkpointFileName(dir, -1), Error);
+  const std::string run = "0badcafe", other = "12345678";
+  EXPECT_EQ(checkpointFileName(dir, 1500, run), dir / "checkpoint_000000001500_0badcafe.h5");
+  EXPECT_EQ(checkpointFileName("", 0, run).string(), "checkpoint_000000000000_0badcafe.h5");
+  EXPECT_THROW(checkpointFileName(dir, -1, run), Error);
+  for (const std::string bad : {"", "0BADCAFE", "0badcafe0", "0badcaf", "0badcafg"}) {
+    EXPECT_THROW(checkpointFileName(dir, 1, bad), Error) << bad;
+  }
   EXPECT_TRUE(listCheckpoints(dir / "absent").empty());
 
   for (std::int64_t step : {100, 0, 1500, 5, 10})
-    std::ofstream(checkpointFileName(dir, step)) << step;
-  // Names that only look like checkpoints, and a directory with a checkpoint's name.
-  const std::vector<std::string> others = {
-      "checkpoint_000000000005.h5.tmp.4242", "checkpoint_5.h5", "checkpoint_00000000001x.h5",
-      "checkpoint_000000000007.h5.bak",      "notes.txt",       "Checkpoint_000000000003.h5"};
+    std::ofstream(checkpointFileName(dir, step, run)) << step;
+  // Another run's checkpoints, among them steps of the same numbers, and one named before runs had
+  // ids: none of them is this run's to prune.
+  for (std::int64_t step : {0, 5, 2000}) std::ofstream(checkpointFileName(dir, step, other)) << 1;
+  std::ofstream(dir / "checkpoint_000000000001.h5") << "older polydem";
+  // Names that only look like checkpoints, a directory with a checkpoint's name, and a link.
+  const std::vector<std::string> others = {"checkpoint_000000000005_0badcafe.h5.tmp.4242",
+                                           "checkpoint_5.h5",
+                                           "checkpoint_00000000001x.h5",
+                                           "checkpoint_000000000007_0badcafe.h5.bak",
+                                           "checkpoint_000000000007-0badcafe.h5",
+                                           "checkpoint_000000000007_0badcafe0.h5",
+                                           "notes.txt",
+                                           "Checkpoint_000000000003_0badcafe.h5"};
   for (const auto& name : others) std::ofstream(dir / name) << "x";
-  fs::create_directory(dir / "checkpoint_000000000200.h5");
+  fs::create_directory(checkpointFileName(dir, 200, run));
+  fs::create_symlink("notes.txt", checkpointFileName(dir, 1, run));
 
   const auto listed = listCheckpoints(dir);
-  std::vector<std::int64_t> steps;
-  for (const auto& f : listed) steps.push_back(f.step);
-  EXPECT_EQ(steps, (std::vector<std::int64_t>{0, 5, 10, 100, 1500}));
+  std::vector<std::pair<std::int64_t, std::string>> found;
+  for (const auto& f : listed) found.emplace_back(f.step, f.run_id);
+  EXPECT_EQ(found, (std::vector<std::pair<std::int64_t, std::string>>{{0, run},
+                                                                      {0, other},
+                                                                      {1, ""},
+                                                                      {5, run},
+                                                                      {5, other},
+                                                                      {10, run},
+                                                                      {100, run},
+                                                                      {1500, run},
+                                                                      {2000, other}}));
 
-  const auto deleted = pruneCheckpoints(dir, 2);
-  EXPECT_EQ(deleted.size(), 3u);
+  const auto deleted = pruneCheckpoints(dir, run, 2);
+  EXPECT_EQ(deleted,
+            (std::vector<fs::path>{checkpointFileName(dir, 0, run), checkpointFileName(dir, 5, run),
+                                   checkpointFileName(dir, 10, run)}));
   std::vector<std::string> expected = others;
-  expected.push_back("checkpoint_000000000100.h5");
-  expected.push_back("checkpoint_000000000200.h5");
-  expected.push_back("checkpoint_000000001500.h5");
+  for (const auto& f : {checkpointFileName(dir, 100, run), checkpointFileName(dir, 200, run),
+                        checkpointFileName(dir, 1500, run), checkpointFileName(dir, 1, run),
+                        checkpointFileName(dir, 0, other), checkpointFileName(dir, 5, other),
+                        checkpointFileName(dir, 2000, other)}) {
+    expected.push_back(f.filename().string());
+  }
+  expected.push_back("checkpoint_000000000001.h5");
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(entries(dir), expected);
-  EXPECT_TRUE(pruneCheckpoints(dir, 2).empty());
-  EXPECT_EQ(pruneCheckpoints(dir, 1).size(), 1u);
-  EXPECT_TRUE(fs::exists(checkpointFileName(dir, 1500)));
-  EXPECT_THROW(pruneCheckpoints(dir, 0), Error);
+  EXPECT_TRUE(pruneCheckpoints(dir, run, 2).empty());
+  EXPECT_EQ(pruneCheckpoints(dir, run, 1).size(), 1u);
+  EXPECT_TRUE(fs::exists(checkpointFileName(dir, 1500, run)));
+  EXPECT_TRUE(fs::exists(checkpointFileName(dir, 0, other)));  // the other run's oldest
+  EXPECT_THROW(pruneCheckpoints(dir, run, 0), Error);
+  EXPECT_THROW(pruneCheckpoints(dir, "", 1), Error);  // the pre-id files have no run to prune
+  fs::remove_all(dir);
+}
+
+TEST(CheckpointFiles, NewRunIdsAvoidTheIdsInTheFolder) {
+  if (mpi::rank() != 0) return;  // not collective
+  const fs::path dir = fs::temp_directory_path() / ("polydem_ckids_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::set<std::string> ids;
+  for (int i = 0; i < 20; ++i) {
+    const std::string id = newCheckpointRunId(dir);
+    EXPECT_NO_THROW(checkpointFileName(dir, i, id)) << id;  // a well-formed id
+    EXPECT_FALSE(ids.contains(id)) << id;
+    ids.insert(id);
+    // The next one must avoid it: its file, or a temporary file of it, is in the folder.
+    const fs::path file = checkpointFileName(dir, i, id);
+    std::ofstream(i % 2 == 0 ? file : fs::path(file.string() + ".tmp.1")) << "x";
+  }
+  EXPECT_EQ(newCheckpointRunId(dir / "absent").size(), 8u);
   fs::remove_all(dir);
 }
 
@@ -194,7 +247,7 @@ TEST(CheckpointFiles, StaleTemporaryFilesOnlyOfPolydemsNaming) {
   const fs::path dir = fs::temp_directory_path() / ("polydem_cktmp_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const std::string base = checkpointFileName("", 50).string();
+  const std::string base = checkpointFileName("", 50, "0badcafe").string();
   const long gone = endedProcessId();
   const std::string stale = base + ".tmp." + std::to_string(gone);
   const std::string alive = base + ".tmp." + std::to_string(getppid());
@@ -204,6 +257,7 @@ TEST(CheckpointFiles, StaleTemporaryFilesOnlyOfPolydemsNaming) {
   const std::vector<std::string> others = {base + ".tmp." + std::to_string(gone) + "x",
                                            base + ".tmp.",
                                            "checkpoint_50.h5.tmp." + std::to_string(gone),
+                                           "checkpoint_000000000050.h5.tmp.x1",
                                            "notes.tmp." + std::to_string(gone),
                                            base,
                                            base + ".bak.tmp." + std::to_string(gone)};

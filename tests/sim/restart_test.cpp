@@ -230,8 +230,12 @@ TEST(Restart, CommandLineSettingsCarryOver) {
   RunOptions second;
   second.out_dir = out2.string();
   second.snapshots = false;
-  const auto continued = continueRun((out / "checkpoints" / "checkpoint_000000000200.h5").string(),
-                                     std::nullopt, second, MPI_COMM_WORLD);
+  std::string at_200;  // the run's checkpoint of step 200 (its name carries the run's id)
+  for (const auto& f : io::listCheckpoints(out / "checkpoints")) {
+    if (f.step == 200) at_200 = f.path.string();
+  }
+  ASSERT_FALSE(at_200.empty()) << "no checkpoint of step 200 in " << out / "checkpoints";
+  const auto continued = continueRun(at_200, std::nullopt, second, MPI_COMM_WORLD);
   EXPECT_EQ(continued.hash.combined, straight.hash.combined);
   EXPECT_NE(runScene(scene, RunOptions{}, MPI_COMM_WORLD).hash.combined, straight.hash.combined)
       << "the scene's own settings should give another run, or the test shows nothing";
