@@ -11,6 +11,8 @@
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
+#include "polydem/output/output_file.h"
+#include "polydem/output/output_lock.h"
 #include "polydem/particles/material.h"
 #include "polydem/run/fos.h"
 #include "polydem/scene/scene_reader.h"
@@ -165,6 +167,8 @@ int fosCommand(int argc, char** argv) {
   }
   if (quiet) log::setLevel(log::Level::kWarning);
   const sim::FosCriterion criterion = sim::fosCriterion(scene);
+  // One search per folder, as for polydem run: a second one into DIR is refused on every rank.
+  const io::OutputLock lock(out, MPI_COMM_WORLD);
   const int groups = ranks / static_cast<int>(per_trial);
   if (prior && prior->result.groups != groups) {
     log::warning(
@@ -180,13 +184,23 @@ int fosCommand(int argc, char** argv) {
   log::info("criterion: " + criterion.describe());
   const sim::FosResult result = sim::findFactorOfSafety(scene, criterion, groups, MPI_COMM_WORLD,
                                                         prior ? &prior->result : nullptr);
+  const std::string resume_command =
+      result.complete ? std::string()
+                      : cat("mpirun -n ", ranks, " ", programPath(), " fos --resume ", out,
+                            per_trial != 1 ? cat(" --ranks-per-trial ", per_trial) : "");
+  // Rank 0 writes the files; a failure (a full disk) is agreed, so that every rank ends with
+  // the same message and status 1 instead of one rank aborting the others.
+  std::string error;
   if (mpi::rank() == 0) {
-    const std::string resume_command =
-        result.complete ? std::string()
-                        : cat("mpirun -n ", ranks, " ", programPath(), " fos --resume ", out,
-                              per_trial != 1 ? cat(" --ranks-per-trial ", per_trial) : "");
     printResult(scene, result);
-    writeFosFiles(out, scene, criterion, result, resume_command);
+    try {
+      writeFosFiles(out, scene, criterion, result, resume_command);
+    } catch (const Error& e) {
+      error = e.what();
+    }
+  }
+  io::throwIfAnyRankFailed(error, MPI_COMM_WORLD);
+  if (mpi::rank() == 0) {
     log::info("wrote " + out + "/fos.json, fos_trials.csv, fos.svg");
     if (!result.complete) {
       // Printed whatever the log level: the one line a stopped job must leave.
