@@ -205,7 +205,12 @@ class Scene(Bodies):
             checked = v.scalar(value, "%s: %s" % (where, key), 0.0)
             if checked != 0.0:
                 j[key] = checked
-        self._probe([("joint", j, True)], where)  # units and ranges, as the reader checks them
+        # Units and ranges, as the reader checks them, in a scene of one probe particle.
+        material = {"name": "probe material", "density": 1.0, "kn": 1.0}
+        shape = {"name": "probe shape", "type": "cube", "edge": 1.0}
+        body = {"shape": shape["name"], "material": material["name"]}
+        self._probe([("joint", j, True), ("material", material, True), ("shape", shape, True),
+                     ("particle", body, True)], where)
         self._entries["joint"].append(j)
         self._changed()
         return self
