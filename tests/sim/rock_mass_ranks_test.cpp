@@ -155,8 +155,7 @@ TEST(RockMassRanks, JointsGiveTheSameRunOnAnyRankCountAndAfterARestart) {
   MPI_Bcast(&pid, 1, MPI_INT, 0, MPI_COMM_WORLD);
   const auto path = std::filesystem::temp_directory_path() /
                     ("polydem_rock_mass_joints_" + std::to_string(pid) + ".h5");
-  io::writeCheckpoint(path, before.checkpoint(text, "rock_mass_joints.toml", "{}"),
-                      MPI_COMM_WORLD);
+  io::writeCheckpoint(path, before.checkpoint(text, "rock_mass_joints.toml", "{}"), MPI_COMM_WORLD);
   const CheckpointData saved = io::readCheckpoint(path, MPI_COMM_WORLD);
   MPI_Barrier(MPI_COMM_WORLD);
   if (mpi::rank() == 0) std::filesystem::remove(path);
