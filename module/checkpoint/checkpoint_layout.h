@@ -49,6 +49,9 @@ inline constexpr Dataset kShapeMoments{
 inline constexpr Dataset kShapeCircumradius{"/shapes/circumradius", "m",
                                             "largest centroid-vertex distance"};
 inline constexpr Dataset kShapeInradius{"/shapes/inradius", "m", "largest inscribed sphere radius"};
+inline constexpr Dataset kShapeFacePlane{
+    "/shapes/face_plane", "",
+    "per face (rows as /shapes/face_vertex_offset): the scene's joint plane it lies on, -1: none"};
 
 // --- /materials
 // -----------------------------------------------------------------------------------

@@ -222,6 +222,10 @@ class Reader {
     const auto moments = table<double>(layout::kShapeMoments, n, 3);
     const auto circumradius = table<double>(layout::kShapeCircumradius, n);
     const auto inradius = table<double>(layout::kShapeInradius, n);
+    // Version 4 added the faces' joint planes; older files have none (saved_state.h).
+    const bool planes = d_.format_version >= 4;
+    const auto face_plane = planes ? table<std::int32_t>(layout::kShapeFacePlane, n_faces)
+                                   : std::vector<std::int32_t>{};
 
     for (std::uint64_t s = 0; s < n; ++s) {
       CheckpointShape shape;
@@ -244,6 +248,10 @@ class Reader {
       shape.principal_moments = vec3At(moments, s);
       shape.circumradius = circumradius[s];
       shape.inradius = inradius[s];
+      if (planes) {
+        shape.face_plane.emplace(face_plane.begin() + face_offset[s],
+                                 face_plane.begin() + face_offset[s + 1]);
+      }
       d_.shapes.push_back(std::move(shape));
     }
   }

@@ -197,8 +197,10 @@ class Writer {
     std::vector<std::string> names;
     std::vector<std::int64_t> vertex_offset{0}, face_offset{0}, face_vertex_offset{0};
     std::vector<double> vertices, volume, moments, circumradius, inradius;
-    std::vector<std::int32_t> face_vertices;
+    std::vector<std::int32_t> face_vertices, face_plane;
     for (const auto& s : data_.shapes) {
+      for (std::size_t f = 0; f < s.faces.size(); ++f)
+        face_plane.push_back(s.face_plane ? (*s.face_plane)[f] : -1);
       names.push_back(s.name);
       for (const Vec3& v : s.vertices) vertices.insert(vertices.end(), {v.x(), v.y(), v.z()});
       vertex_offset.push_back(vertex_offset.back() + static_cast<std::int64_t>(s.vertices.size()));
@@ -223,6 +225,7 @@ class Writer {
     table(layout::kShapeMoments, moments, 3);
     table(layout::kShapeCircumradius, circumradius, 1);
     table(layout::kShapeInradius, inradius, 1);
+    table(layout::kShapeFacePlane, face_plane, 1);
   }
 
   void addMaterials() {

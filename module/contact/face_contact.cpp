@@ -264,6 +264,7 @@ FaceContact FaceContactBuilder::conclude(const Contact& c, ContactArea kind) {
     subs_.assign(1, SubContact{0, c.point, c.normal, c.depth, 1.0});
     area_ = 0.0;
   }
+  if (kind == ContactArea::kFace) return {kind, area_, subs_, facing_a_.face, facing_b_.face};
   return {kind, area_, subs_};
 }
 

@@ -67,6 +67,7 @@ struct FaceContact {
   ContactArea kind = ContactArea::kPoint;
   double area = 0.0;                 // of the face overlap (kFace), m^2
   std::span<const SubContact> subs;  // sorted by feature; valid until the next build()
+  int face_a = -1, face_b = -1;      // kFace: the facing faces of A and B (their shapes' indices)
 };
 
 /// Builds the sub-contacts of one contact. Keeps its buffers, so that one builder reused for every

@@ -37,7 +37,30 @@ struct LawCoefficients {
   double damping_ratio = 0.0;  // zeta: viscous normal damping as a fraction of critical
   double jkn = 0.0;            // Pa/m: sub-contact model, face contacts (0: kn per pair)
   double jks = 0.0;            // Pa/m: likewise for the shear spring (0: ks per pair)
+  // A joint's strengths as stresses (sub-contact model, face contacts): each sub-contact of
+  // weight w of a face contact of area A adds w A cohesion_stress to its shear cap and may pull
+  // up to w A tensile_strength (dynamics/sub_contact_law.h). 0 for material pairs.
+  double cohesion_stress = 0.0;   // Pa
+  double tensile_strength = 0.0;  // Pa
 };
+
+/// A rock joint's own properties (a [[joint]] of the scene): stiffness per area and strengths as
+/// stresses, the law 3DEC calls Coulomb slip.
+struct JointProperties {
+  double jkn = 0.0, jks = 0.0;    // Pa/m
+  double friction_angle = 0.0;    // degrees
+  double cohesion = 0.0;          // Pa
+  double tensile_strength = 0.0;  // Pa
+};
+
+/// Coefficients of a face contact on a joint: the joint's stiffness and strength; kn, ks (not
+/// used by a face contact with jkn, jks > 0), penalty and damping are the material pair's `pair`,
+/// so the joint changes what a rock engineer gives for it and nothing numerical.
+/// `friction_angle_deg`, when given, replaces the joint's (the initial-equilibrium stage).
+/// Throws polydem::Error for a friction angle outside [0, 90), a stiffness <= 0 or a negative
+/// strength.
+LawCoefficients jointCoefficients(const JointProperties& joint, const LawCoefficients& pair,
+                                  std::optional<double> friction_angle_deg = std::nullopt);
 
 /// Coefficients from a pair's properties. `friction_angle_deg`, when given, replaces the pair's
 /// friction angle (the initial-equilibrium stage of Keissar section 3.3 uses 89 degrees).

@@ -62,6 +62,15 @@ PairForce subContactForces(const contact::FaceContact& fc,
   // same damping as a single-point contact would.
   const double dashpot =
       k.damping_ratio > 0.0 && kn > 0.0 ? 2.0 * k.damping_ratio * std::sqrt(m_eff * kn) : 0.0;
+  // A joint's strengths are stresses over the face contact's area (0 for a material pair, whose
+  // cohesion is a force per pair): w_i A c adds to sub-contact i's shear cap, and its normal
+  // spring may pull up to w_i A sigma_t, which it does as long as its gap is above
+  // -A sigma_t / Kn (Kn = jkn A: -sigma_t / jkn). For a material pair the sum below is exact
+  // (k.cohesion + 0) and the open gap is 0: the same bits as a law without joints.
+  const double area = fc.kind == contact::ContactArea::kFace ? fc.area : 0.0;
+  const double cohesion = k.cohesion + area * k.cohesion_stress;
+  const double tension = area * k.tensile_strength;  // N, the pair's whole tensile strength
+  const double open_gap = tension > 0.0 && kn > 0.0 ? -tension / kn : 0.0;
   const Vec3 spin = 0.5 * (kin.wa + kin.wb);
   // Hoisted (0.5 * dt * x is (0.5 * dt) * x): recomputed per sub-contact in the loop otherwise.
   const double half_dt = 0.5 * dt;
@@ -82,7 +91,7 @@ PairForce subContactForces(const contact::FaceContact& fc,
       given.shear += old[j++].shear_force;
     const particles::SubHistory* previous = nullptr;
     if (j < old_keys.size() && old_keys[j].feature == s.feature) previous = &old[j++];
-    if (!(s.gap > 0.0)) {
+    if (!(s.gap > open_gap)) {
       origin[i] = kOpen;
     } else if (previous && previous->normal.squaredNorm() > 0.0) {
       const Vec3 rotated = rotateShear(previous->shear_force, previous->normal, s.normal);
@@ -108,7 +117,7 @@ PairForce subContactForces(const contact::FaceContact& fc,
   std::size_t loaded = 0;
   bool sliding = false;
   const Vec3 xa = kin.xa, va = kin.va, wa = kin.wa, xb = kin.xb, vb = kin.vb, wb = kin.wb;
-  const double tan_friction = k.tan_friction, cohesion = k.cohesion;
+  const double tan_friction = k.tan_friction;
   for (std::size_t i = 0; i < m; ++i) {
     const auto& s = fc.subs[i];
     if (origin[i] == kOpen) continue;
@@ -118,7 +127,8 @@ PairForce subContactForces(const contact::FaceContact& fc,
     const Vec3 v = relativeVelocity(s.point, xa, va, wa, xb, vb, wb);
     const double v_normal = v.dot(n);
     const double f_elastic = w * kn * s.gap;
-    const double f_normal = std::max(f_elastic - w * dashpot * v_normal, 0.0);
+    const double f_normal =
+        std::max(f_elastic - w * dashpot * v_normal, tension > 0.0 ? -w * tension : 0.0);
 
     Vec3 shear = Vec3::Zero();
     if (origin[i] == kCarried) {
@@ -128,7 +138,8 @@ PairForce subContactForces(const contact::FaceContact& fc,
       shear -= shear.dot(n) * n;
     }
     shear -= (w * ks * dt) * (v - v_normal * n);
-    const double cap = f_elastic * tan_friction + w * cohesion;
+    // In tension (f_elastic < 0) friction lowers the cap, never below 0.
+    const double cap = std::max(f_elastic * tan_friction + w * cohesion, 0.0);
     const double magnitude = shear.norm();
     if (magnitude > cap) {
       shear *= cap / magnitude;

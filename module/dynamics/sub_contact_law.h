@@ -12,6 +12,14 @@
 //   f_s,i = S(R(n_i,old -> n_i) f_s,i,old) - ks_i dt (v_i - (v_i . n_i) n_i)   (Zhao eqs. 32-34),
 //   |f_s,i| <= kn_i g_i tan(phi) + w_i C                                  (Zhao eq. 35 per corner);
 //
+// On a rock joint (a face contact whose two faces lie on one joint plane, sim/pair_law.h) the
+// strengths are stresses, each sub-contact carrying its share of the area A: C = A c, and the
+// normal spring may also pull, f_n,i >= -w_i A sigma_t: a corner whose gap is between
+// -sigma_t / jkn and 0 keeps its springs in tension (its shear cap kn_i g_i tan(phi) + w_i A c,
+// not below 0); one pulled further carries nothing this step. The plain Coulomb joint keeps its
+// strengths: a corner that slipped or opened has the same c and sigma_t at the next step.
+// Tension acts only while the kernel reports the pair touching: there is no bond across a gap.
+//
 // R is the smallest rotation of the old normal onto the new (rotateShear), S the rotation about
 // n_i by the mean spin of the two bodies about it over the step, ((wA + wB) / 2 . n_i) dt: a
 // shear spring is attached to both surfaces, so a pair turning together carries it along, and a

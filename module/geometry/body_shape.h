@@ -3,7 +3,9 @@
 // of BodyShapes that every rank holds; messages and checkpoints carry the id, not the mesh.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "polydem/geometry/convex_polyhedron.h"
 
@@ -16,6 +18,13 @@ struct BodyShape {
   Vec3 principal_moments = Vec3::Zero();  // diagonal inertia per unit density, body frame
   double circumradius = 0.0;
   double inradius = 0.0;
+  /// Per face of `polyhedron`: the joint plane it lies on (an index into the scene's joint
+  /// planes, setup::Setup::joint_planes), -1 for a face not made by a joint. Empty: no face is.
+  std::vector<std::int32_t> face_plane;
+  /// The joint plane of face `f`, -1 if none.
+  std::int32_t facePlane(int f) const {
+    return face_plane.empty() ? -1 : face_plane[static_cast<std::size_t>(f)];
+  }
 };
 
 /// A shape given in some input frame, moved to its body frame. `input_from_body` is the rigid

@@ -132,6 +132,11 @@ void putContactField(File& file, std::vector<Dataset>& open, const SnapshotField
     put(file, open, dataset, contacts, cols,
         perContact<std::int32_t>(c, [rank](R, std::vector<std::int32_t>& o) { o.push_back(rank); }),
         info);
+  } else if (name == "joint") {
+    put(file, open, dataset, contacts, cols,
+        perContact<std::int32_t>(c,
+                                 [](R r, std::vector<std::int32_t>& o) { o.push_back(r.joint); }),
+        info);
   } else if (name == "normal_force") {
     put(file, open, dataset, contacts, cols,
         perContact<double>(c, [](R r, std::vector<double>& o) { o.push_back(r.normal_force); }),

@@ -186,6 +186,9 @@ Piece contactPiece(const ContactBatch& c, int rank) {
   data.arrays.push_back(array<double>("shear_force", 3, n, [&c] {
     return perContact<double>(c, [](R r) { return components(r.shear_force); });
   }));
+  data.arrays.push_back(array<std::int32_t>("joint", 1, n, [&c] {
+    return perContact<std::int32_t>(c, [](R r) { return std::array<std::int32_t, 1>{r.joint}; });
+  }));
   piece.sections.push_back(std::move(data));
   piece.sections.push_back({"Points", "", {array<double>("Points", 3, n, [&c] {
                               return perContact<double>(c, [](R r) { return components(r.point); });

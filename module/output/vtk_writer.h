@@ -81,6 +81,7 @@ struct ContactRecord {
   Vec3 normal = Vec3::Zero();
   double normal_force = 0.0;
   Vec3 shear_force = Vec3::Zero();
+  std::int32_t joint = -1;  // the [[joint]] whose properties it took, -1: the material pair's
 };
 
 struct ContactBatch {

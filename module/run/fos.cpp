@@ -229,6 +229,12 @@ io::Scene reduceStrength(const io::Scene& scene, double factor) {
       it->properties = p;
     }
   }
+  // Every [[joint]] likewise: its friction, cohesion and tensile strength.
+  for (auto& j : out.joints) {
+    j.friction_angle = radToDeg(std::atan(std::tan(degToRad(j.friction_angle)) / factor));
+    j.cohesion /= factor;
+    j.tensile_strength /= factor;
+  }
   return out;
 }
 

@@ -34,7 +34,8 @@ namespace polydem::sim {
 
 /// The scene with the strength of its [fos] interactions (or of every material pair) divided by
 /// `factor`: each such pair becomes an explicit [[interaction]] with friction angle
-/// atan(tan(phi) / factor) and cohesion c / factor; stiffness and damping are unchanged.
+/// atan(tan(phi) / factor) and cohesion c / factor; stiffness and damping are unchanged. Every
+/// [[joint]] is reduced likewise (its tensile strength too, as cohesion).
 io::Scene reduceStrength(const io::Scene& scene, double factor);
 
 /// The material pairs [fos] reduces (lower index first): its list, or every pair of materials.

@@ -110,6 +110,10 @@ void prepareContinuation(const io::CheckpointData& data, const std::string& file
                   " predates sub-contacts; continuing with contact_model = \"point\""));
     scene.contact_model = "point";
   }
+  if (data.format_version < 4 && !scene.joints.empty()) {
+    log::info(cat(file, ": format version ", data.format_version,
+                  " predates joint planes; continuing without joints (material pairs only)"));
+  }
 }
 
 void restoreRunState(const std::string& json, const std::string& file, Tracker& tracker,

@@ -148,6 +148,7 @@ void RunOutput::writeSnapshot(const Simulation& sim) {
     c.normal = r.normal;
     c.normal_force = r.normal_force;
     c.shear_force = r.force - r.force.dot(r.normal) * r.normal;
+    c.joint = r.joint;
     contacts_.contacts.push_back(c);
   }
   if (snapshots_) snapshots_->write(sim.time(), sim.stepCount(), batch_, &contacts_);

@@ -304,6 +304,12 @@ class ParticleReader {
     }
     cut.info.first_uid = static_cast<Uid>(scene_.particles.size() + 1);
     cut.info.blocks = static_cast<int>(cut.mass.blocks.size());
+    // Its planes join the scene's joint planes: the faces they made carry their index.
+    const int first_plane = static_cast<int>(scene_.joint_planes.size());
+    for (std::size_t k = 0; k < cut.mass.planes.size(); ++k) {
+      scene_.joint_planes.push_back(
+          {cat(cut.info.name, "/", cut.mass.plane_names[k]), cut.plane_joint[k]});
+    }
     for (std::size_t i = 0; i < cut.mass.blocks.size(); ++i) {
       geometry::RockBlock& block = cut.mass.blocks[i];
       ShapeSpec shape;
@@ -313,6 +319,7 @@ class ParticleReader {
         s.fail("name", cat("its block shape '", shape.name, "' clashes with the [[shape]] at line ",
                            scene_.shapes[other].line));
       }
+      shape.face_planes = blockFacePlanes(cut.mass, block, first_plane);
       shape.vertices = std::move(block.vertices);
       Common c;
       c.shape = static_cast<int>(scene_.shapes.size());

@@ -1,6 +1,6 @@
 // The run settings of a scene file: [scene], [simulation], [kernel_params], [[material]],
 // [[interaction]], [[driver]], [domain], [equilibrium], [output], [checkpoint]. Shapes and
-// particles are in scene_bodies.cpp, [[check]] in scene_checks.cpp.
+// particles are in scene_bodies.cpp, [[joint]] in scene_joints.cpp, [[check]] in scene_checks.cpp.
 #include "polydem/scene/scene_reader.h"
 
 #include <algorithm>
@@ -338,9 +338,9 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
                                                           ": " + std::string(e.description()));
   }
   Section(ctx, root, "top level")
-      .allowOnly({"scene", "simulation", "kernel_params", "material", "interaction", "shape",
-                  "driver", "particle", "particle_grid", "rock_mass", "domain", "equilibrium",
-                  "output", "checkpoint", "check", "fos"});
+      .allowOnly({"scene", "simulation", "kernel_params", "material", "interaction", "joint",
+                  "shape", "driver", "particle", "particle_grid", "rock_mass", "domain",
+                  "equilibrium", "output", "checkpoint", "check", "fos"});
   Scene scene;
   scene.file = name_for_messages;
   scene.text = std::string(text);
@@ -350,6 +350,7 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
   readKernelParams(ctx, root, scene);
   readMaterials(ctx, root, scene);
   readInteractions(ctx, root, scene);
+  detail::readJoints(ctx, root, scene);
   detail::readShapes(ctx, root, scene);
   readDrivers(ctx, root, scene);
   detail::readParticles(ctx, root, scene);

@@ -1,6 +1,7 @@
 // [[rock_mass]]: a region cut by [[rock_mass.joint_set]] and [[rock_mass.plane]] entries into
 // blocks (geometry/rock_mass.h). Each block becomes a shape of its own and a particle, fixed where
 // a plane says so. Syntax in docs/scene-format.md.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <new>
@@ -107,7 +108,7 @@ void readOrientation(const Section& s, double& dip, double& dip_direction) {
 
 geometry::JointSet readJointSet(const Section& s) {
   s.allowOnly({"name", "dip", "dip_direction", "spacing", "offset", "origin", "spacing_jitter",
-               "orientation_jitter", "seed"});
+               "orientation_jitter", "seed", "joint"});
   geometry::JointSet j;
   j.name = s.requiredString("name");
   readOrientation(s, j.dip, j.dip_direction);
@@ -128,7 +129,7 @@ geometry::Side readSide(const Section& s, std::string_view key) {
 }
 
 geometry::SinglePlane readPlane(const Section& s) {
-  s.allowOnly({"name", "dip", "dip_direction", "point", "fixed", "remove"});
+  s.allowOnly({"name", "dip", "dip_direction", "point", "fixed", "remove", "joint"});
   geometry::SinglePlane p;
   p.name = s.requiredString("name");
   double dip = 0.0, dip_direction = 0.0;
@@ -156,6 +157,29 @@ void requireUniqueNames(const std::vector<Section>& sections, const std::vector<
       }
     }
   }
+}
+
+// The [[joint]] of every plane of `mass` (-1: none): single planes first, in order, then the
+// planes of the joint sets, each named "<set>#<k>" (geometry/rock_mass.h).
+std::vector<int> planeJoints(const geometry::RockMass& mass, const std::vector<Section>& planes,
+                             const std::vector<Section>& sets, const Scene& scene) {
+  std::vector<int> set_joint;
+  for (const Section& j : sets) set_joint.push_back(jointReference(j, "joint", scene));
+  std::vector<int> out;
+  for (std::size_t k = 0; k < mass.planes.size(); ++k) {
+    if (k < planes.size()) {
+      out.push_back(jointReference(planes[k], "joint", scene));
+      continue;
+    }
+    const std::string& name = mass.plane_names[k];
+    const std::string set = name.substr(0, name.rfind('#'));
+    int joint = -1;
+    for (std::size_t j = 0; j < sets.size(); ++j) {
+      if (sets[j].string("name") == set) joint = set_joint[j];
+    }
+    out.push_back(joint);
+  }
+  return out;
 }
 
 std::string sliverText(const geometry::RockMassReport& r) {
@@ -216,6 +240,24 @@ geometry::RockMass cut(const Section& s, geometry::RockMassSpec& spec) {
 
 }  // namespace
 
+std::vector<FacePlane> blockFacePlanes(const geometry::RockMass& mass,
+                                       const geometry::RockBlock& block, int first_plane) {
+  // A plane with three of the block's corners on it holds a face of the block (three corners of
+  // a convex polyhedron are never in a line). The corners were computed on the planes that cut
+  // them, to round-off relative to their coordinates.
+  double reach = 0.0;
+  for (const Vec3& v : block.vertices) reach = std::max(reach, v.cwiseAbs().maxCoeff());
+  const double tolerance = 1e-9 * reach;
+  std::vector<FacePlane> out;
+  for (std::size_t k = 0; k < mass.planes.size(); ++k) {
+    const geometry::Plane& p = mass.planes[k];
+    int on = 0;
+    for (const Vec3& v : block.vertices) on += std::abs(p.normal.dot(v) - p.offset) <= tolerance;
+    if (on >= 3) out.push_back({p.normal, p.offset, first_plane + static_cast<int>(k)});
+  }
+  return out;
+}
+
 RockMassCut readRockMass(const Section& s, const Scene& scene) {
   s.allowOnly({"name", "material", "fixed_material", "label_prefix", "min_volume", "min_thickness",
                "slivers", "joints_cut_fixed", "region", "joint_set", "plane"});
@@ -250,6 +292,7 @@ RockMassCut readRockMass(const Section& s, const Scene& scene) {
 
   checkJointSets(sets, spec);
   out.mass = cut(s, spec);
+  out.plane_joint = planeJoints(out.mass, planes, sets, scene);
   const geometry::RockMassReport& r = out.mass.report;
   if (out.mass.blocks.empty()) s.failHere("no block is left (every block was removed)");
   warnPieces(s, r.dropped, "dropped a sliver", " (slivers = \"drop\")");

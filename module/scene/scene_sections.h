@@ -27,7 +27,19 @@ struct RockMassCut {
   geometry::RockMass mass;
   RockMassInfo info;  // first_uid and blocks are filled in by the particle reader
   int material = -1, fixed_material = -1;
+  std::vector<int> plane_joint;  // per plane of `mass`: its [[joint]], -1: none
 };
+
+/// The joint planes the faces of `block` lie on (their indices offset by `first_plane`, the
+/// index of the mass's first plane in Scene::joint_planes).
+std::vector<FacePlane> blockFacePlanes(const geometry::RockMass& mass,
+                                       const geometry::RockBlock& block, int first_plane);
+
+/// [[joint]] (scene_joints.cpp), before the rock masses that refer to them.
+void readJoints(const Context& ctx, const toml::table& root, Scene& scene);
+/// The [[joint]] named by `key` of `s` (its index), -1 if `s` has no such key; fails for a name
+/// that no [[joint]] has.
+int jointReference(const Section& s, std::string_view key, const Scene& scene);
 /// Reads and cuts one [[rock_mass]] (scene_rock_mass.cpp); needs the materials.
 RockMassCut readRockMass(const Section& s, const Scene& scene);
 

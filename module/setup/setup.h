@@ -37,12 +37,43 @@ inline std::string unknownContactModel(const std::string& name) {
   return "unknown contact model '" + name + "' (known: " + known + ")";
 }
 
+/// A plane that one face of a shape lies on, in the shape's own frame: a face of the hull whose
+/// outward normal is +-normal and whose vertices satisfy normal . x = offset (to round-off) gets
+/// joint plane `plane` (an index into Setup::joint_planes).
+struct FacePlane {
+  Vec3 normal = Vec3::UnitZ();  // unit
+  double offset = 0.0;          // m
+  int plane = -1;
+};
+
 /// A shape, resolved by the reader to the vertex list of its convex hull (in the shape's own
 /// frame; the simulation moves it to its body frame).
 struct ShapeSpec {
   std::string name;
   std::vector<Vec3> vertices;
+  // The joint planes its faces lie on (a block cut from a [[rock_mass]]); empty for [[shape]]s.
+  std::vector<FacePlane> face_planes;
   int line = 0;  // where it was defined, for error messages
+};
+
+/// A [[joint]]: the strength and stiffness of a rock joint (docs/scene-format.md). Stresses act
+/// on each sub-contact's share of the face contact's area.
+struct JointSpec {
+  std::string name;
+  std::string law = "coulomb";
+  double jkn = 0.0, jks = 0.0;    // Pa/m, normal and shear stiffness per area
+  double friction_angle = 0.0;    // degrees
+  double cohesion = 0.0;          // Pa
+  double tensile_strength = 0.0;  // Pa
+  int line = 0;
+};
+
+/// A plane that cut a [[rock_mass]] ("mass/J1#3", "mass/fault"): the faces it made carry its
+/// index. `joint` is the [[joint]] whose properties contacts on it take (index into
+/// Setup::joints), -1: the material pair's.
+struct JointPlaneSpec {
+  std::string name;
+  int joint = -1;
 };
 
 /// Defined with the driver code (dynamics/driver_spec.h), which must not depend on the setup.
@@ -200,6 +231,8 @@ struct Setup {
   std::vector<ParticleSpec> particles;
   std::vector<DriverSpec> drivers;
   std::vector<RockMassInfo> rock_masses;
+  std::vector<JointSpec> joints;             // [[joint]], in file order
+  std::vector<JointPlaneSpec> joint_planes;  // every plane of every rock mass, in cutting order
 
   DomainSpec domain;
   EquilibriumSpec equilibrium;
@@ -220,7 +253,10 @@ using setup::CheckSpec;
 using setup::DomainSpec;
 using setup::DriverSpec;
 using setup::EquilibriumSpec;
+using setup::FacePlane;
 using setup::FosSpec;
+using setup::JointPlaneSpec;
+using setup::JointSpec;
 using setup::kContactModels;
 using setup::OutputSpec;
 using setup::ParticleSpec;

@@ -44,6 +44,9 @@ inline const std::vector<SnapshotField> kContactFields = {
     {"normal_force", 1, FieldType::kFloat64, "N", "normal force magnitude (>= 0)"},
     {"shear_force", 3, FieldType::kFloat64, "N", "shear force on A"},
     {"force", 3, FieldType::kFloat64, "N", "total force on A: normal_force * normal + shear"},
+    {"joint", 1, FieldType::kInt32, "",
+     "index into the scene's [[joint]] list of the joint whose properties the contact took; -1: "
+     "the material pair's"},
 };
 
 /// Fields written when the scene does not choose: all of them but position (the faces show it).
@@ -51,7 +54,7 @@ inline const std::vector<std::string> kDefaultParticleFields = {
     "uid",          "rank",          "material", "fixed", "speed", "velocity", "angular_velocity",
     "displacement", "contact_count", "force"};
 inline const std::vector<std::string> kDefaultContactFields = {
-    "uid_a", "uid_b", "rank", "normal", "normal_force", "shear_force", "force"};
+    "uid_a", "uid_b", "rank", "normal", "normal_force", "shear_force", "force", "joint"};
 
 /// The declaration of `name` in `fields`, or null.
 inline const SnapshotField* findField(const std::vector<SnapshotField>& fields,

@@ -66,7 +66,17 @@ dynamics::PairKinematics drivenKinematics(const ContactSetup& setup,
   const double ma = storage.mass(c.a), mb = storage.mass(c.b);
   const double m_eff = pa.isFree() && pb.isFree() ? ma * mb / (ma + mb) : (pa.isFree() ? ma : mb);
   const auto& law = (*setup.law)[pa.material * setup.materials + pb.material];
-  return {law_.apply(modelled, body_a, body_b, kin, m_eff, setup.dt, law, h, last.sub_keys,
+  PairJoints joints;
+  if (setup.plane_joint && !setup.plane_joint->empty()) {
+    joints = {shapes[pa.shape].face_plane,
+              shapes[pb.shape].face_plane,
+              *setup.plane_joint,
+              *setup.joint_law,
+              setup.materials,
+              pa.material,
+              pb.material};
+  }
+  return {law_.apply(modelled, body_a, body_b, kin, m_eff, setup.dt, law, joints, h, last.sub_keys,
                      last.subs, next),
           frame.xa,
           frame.xb,
@@ -174,6 +184,7 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
       rec.shear_force = r.shear_force;
       rec.energy = r.energy;
       rec.subcontacts = r.subcontacts;
+      rec.joint = r.joint;
     }
     countStatus(stats, e.status);
   }

@@ -51,6 +51,10 @@ struct ContactSetup {
   // Law coefficients per material pair (index a * materials + b) for the current stage.
   const std::vector<dynamics::LawCoefficients>* law = nullptr;
   int materials = 0;
+  // The joints (sim/pair_law.h PairJoints): joint plane -> joint, and coefficients per joint and
+  // material pair for the current stage; empty without joints.
+  const std::vector<std::int32_t>* plane_joint = nullptr;
+  const std::vector<dynamics::LawCoefficients>* joint_law = nullptr;
   const std::vector<setup::DriverSpec>* drivers = nullptr;
   // How contacts become forces (dynamics/contact_models.h).
   dynamics::ContactModel model = dynamics::ContactModel::kSubContacts;

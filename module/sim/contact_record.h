@@ -24,6 +24,7 @@ struct ContactRecord {
   double energy = 0.0;  // elastic energy of the normal springs (penalty contacts), J
   contact::Status status = contact::Status::kOk;
   std::int32_t subcontacts = 0;  // sub-contacts in compression (0 for the single-point model)
+  std::int32_t joint = -1;       // the [[joint]] whose properties it took, -1: the material pair's
   bool a_is_local = false;       // A is stored on this rank as a local particle
   bool both_free = false;        // neither A nor B is fixed or driven
 };

@@ -1,6 +1,7 @@
 // The shape records of a saved state and their comparison with a built shape table.
 #include <cstring>
 
+#include "polydem/core/error.h"
 #include "polydem/core/strings.h"
 #include "polydem/sim/saved_state.h"
 
@@ -32,6 +33,9 @@ std::vector<CheckpointShape> shapeRecords(const particles::ShapeTable& shapes) {
     r.principal_moments = s.principal_moments;
     r.circumradius = s.circumradius;
     r.inradius = s.inradius;
+    r.face_plane.emplace(s.polyhedron.faces().size(), -1);
+    for (std::size_t f = 0; f < r.face_plane->size(); ++f)
+      (*r.face_plane)[f] = s.facePlane(static_cast<int>(f));
     out.push_back(std::move(r));
   }
   return out;
@@ -60,6 +64,30 @@ std::string shapeMismatch(const std::vector<CheckpointShape>& stored,
     }
   }
   return {};
+}
+
+void restoreFacePlanes(const std::vector<CheckpointShape>& stored, particles::ShapeTable& built,
+                       std::size_t planes, const std::string& file) {
+  for (std::size_t s = 0; s < stored.size() && s < built.size(); ++s) {
+    auto& face_plane = built[s].face_plane;
+    face_plane.clear();
+    if (!stored[s].face_plane) continue;
+    const auto& ids = *stored[s].face_plane;
+    if (ids.size() != built[s].polyhedron.faces().size()) {
+      throw CheckpointError(cat(file, ": shape ", s, " '", stored[s].name, "': ", ids.size(),
+                                " face joint planes stored for ",
+                                built[s].polyhedron.faces().size(), " faces"));
+    }
+    bool any = false;
+    for (const std::int32_t id : ids) {
+      if (id < -1 || id >= static_cast<std::int64_t>(planes)) {
+        throw CheckpointError(cat(file, ": shape ", s, " '", stored[s].name, "': joint plane ", id,
+                                  " of a face, but the scene has ", planes));
+      }
+      any = any || id >= 0;
+    }
+    if (any) face_plane = ids;
+  }
 }
 
 }  // namespace polydem::sim

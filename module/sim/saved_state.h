@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,14 +37,24 @@ struct CheckpointShape {
   double volume = 0.0;                        // m^3
   Vec3 principal_moments = Vec3::Zero();      // per unit density, m^5
   double circumradius = 0.0, inradius = 0.0;  // m
+  // Per face: the joint plane it lies on, -1: none (geometry::BodyShape::face_plane). A restart
+  // takes these over the rebuilt shapes' (the run continues with the joints it had); absent in
+  // files before layout version 4, where it continues without joints, as it was written.
+  std::optional<std::vector<std::int32_t>> face_plane;
 };
 
 /// The records of a shape table.
 std::vector<CheckpointShape> shapeRecords(const particles::ShapeTable& shapes);
 /// Empty if `built` matches the stored records bit for bit (names, vertices, faces, mass
-/// properties); otherwise the first difference, e.g. "shape 'cube': vertex 3 differs".
+/// properties; the faces' joint planes are the stored ones, see restoreFacePlanes); otherwise the
+/// first difference, e.g. "shape 'cube': vertex 3 differs".
 std::string shapeMismatch(const std::vector<CheckpointShape>& stored,
                           const particles::ShapeTable& built);
+
+/// Gives `built` the stored faces' joint planes (none where the file has none); throws
+/// CheckpointError, naming `file`, for a plane index outside [-1, planes).
+void restoreFacePlanes(const std::vector<CheckpointShape>& stored, particles::ShapeTable& built,
+                       std::size_t planes, const std::string& file);
 
 /// The block forest as the writer had it (domain/block_forest.h).
 struct CheckpointDomain {

@@ -133,6 +133,8 @@ ContactSetup Simulation::contactSetup() const {
   setup.kernel = kernel_.get();
   setup.law = stage_ == Stage::kEquilibrium ? &law_equilibrium_ : &law_main_;
   setup.materials = static_cast<int>(materials_.size());
+  setup.plane_joint = &plane_joint_;
+  setup.joint_law = stage_ == Stage::kEquilibrium ? &joint_law_equilibrium_ : &joint_law_main_;
   setup.drivers = &scene_.drivers;
   setup.model = contact_model_;
   setup.overlap_centroid = overlap_centroid_;

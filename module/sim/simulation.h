@@ -230,6 +230,7 @@ class Simulation {
   void buildDomain();
   void placeParticles();
   void buildLaws();
+  void buildJointLaws();  // the joints' coefficients, from buildLaws()
   void registerSteps();
   void startLeapfrog();
   void enterEquilibrium();
@@ -278,6 +279,10 @@ class Simulation {
   particles::MaterialTable materials_;
   std::vector<double> densities_;
   std::vector<dynamics::LawCoefficients> law_main_, law_equilibrium_;
+  // Joints: joint plane -> [[joint]] (-1: none), and coefficients per joint and material pair
+  // (sim/pair_law.h PairJoints); empty for a scene without joints.
+  std::vector<std::int32_t> plane_joint_;
+  std::vector<dynamics::LawCoefficients> joint_law_main_, joint_law_equilibrium_;
   std::unique_ptr<contact::Kernel> kernel_;
   std::unique_ptr<broadphase::BroadPhase> broadphase_;
   std::unique_ptr<domain::BlockForest> forest_;

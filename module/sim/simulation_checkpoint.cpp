@@ -91,6 +91,9 @@ Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoi
     throw CheckpointError(cat(file, ": the shapes built from scene '", scene_.file,
                               "' differ from the stored ones (", diff, ")"));
   }
+  // The faces' joint planes as the run had them: a file from before they were stored (layout
+  // version 4) continues as it was written, without joints.
+  restoreFacePlanes(checkpoint.shapes, shapes_, scene_.joint_planes.size(), file);
   if (checkpoint.dt != scene_.dt) {
     throw CheckpointError(cat(file, ": stored time step ", num(checkpoint.dt),
                               " s differs from the scene's ", num(scene_.dt), " s"));

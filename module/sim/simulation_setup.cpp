@@ -13,6 +13,7 @@
 #include "polydem/dynamics/integrator.h"
 #include "polydem/dynamics/time_step.h"
 #include "polydem/geometry/body_shape.h"
+#include "polydem/sim/face_planes.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
@@ -56,6 +57,8 @@ void Simulation::buildTables() {
       geometry::BuildReport report;
       const auto poly = geometry::ConvexPolyhedron::fromPoints(spec.vertices, &report);
       auto frame = geometry::toBodyFrame(poly, spec.name);
+      frame.shape.face_plane =
+          matchFacePlanes(frame.shape, frame.rotation, frame.centroid, spec.face_planes);
       shapes_.push_back(std::move(frame.shape));
       shape_frames_.push_back({frame.rotation, frame.centroid});
     } catch (const GeometryError& e) {  // e.g. a shape scaled flat after the reader built it
@@ -96,6 +99,7 @@ void Simulation::buildLaws() {
           dynamics::lawCoefficients(props, scene_.equilibrium.friction_angle);
     }
   }
+  buildJointLaws();
   // Every material a particle uses must have the stiffness the kernel needs.
   for (const auto& p : scene_.particles) {
     const auto& m = materials_[p.material];
@@ -104,6 +108,33 @@ void Simulation::buildLaws() {
       throw InputError(scene_.file, p.line,
                        cat("material '", m.name, "' has no ", potential ? "penalty" : "kn",
                            ", which kernel '", scene_.kernel, "' needs"));
+    }
+  }
+}
+
+void Simulation::buildJointLaws() {
+  plane_joint_.clear();
+  joint_law_main_.clear();
+  joint_law_equilibrium_.clear();
+  // Only joints some plane uses matter; without any, the contact phase skips the lookup.
+  bool used = false;
+  for (const auto& p : scene_.joint_planes) used = used || p.joint >= 0;
+  if (!used) return;
+  for (const auto& p : scene_.joint_planes) plane_joint_.push_back(p.joint);
+  const int n = static_cast<int>(materials_.size());
+  for (const auto& j : scene_.joints) {
+    const dynamics::JointProperties props{j.jkn, j.jks, j.friction_angle, j.cohesion,
+                                          j.tensile_strength};
+    try {
+      for (int a = 0; a < n; ++a) {
+        for (int b = 0; b < n; ++b) {
+          joint_law_main_.push_back(dynamics::jointCoefficients(props, law_main_[a * n + b]));
+          joint_law_equilibrium_.push_back(dynamics::jointCoefficients(
+              props, law_equilibrium_[a * n + b], scene_.equilibrium.friction_angle));
+        }
+      }
+    } catch (const Error& e) {
+      throw InputError(scene_.file, j.line, cat("[[joint]] '", j.name, "': ", e.what()));
     }
   }
 }

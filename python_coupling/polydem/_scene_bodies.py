@@ -125,9 +125,10 @@ class Bodies:
                       joints_cut_fixed=None):
         """Adds a [[rock_mass]]: `region` ({"type": "box", "min": .., "max": ..}, {"type":
         "polyhedron", "vertices": ..} or {"type": "profile", "profile": [(x, z), ..], "y": (y0,
-        y1)}) cut by `planes` (dicts: name, dip, dip_direction, point, fixed, remove) and then
-        `joint_sets` (dicts: name, dip, dip_direction, spacing, offset, origin, spacing_jitter,
-        orientation_jitter, seed); angles in degrees (docs/scene-format.md). The region is cut
+        y1)}) cut by `planes` (dicts: name, dip, dip_direction, point, fixed, remove, joint) and
+        then `joint_sets` (dicts: name, dip, dip_direction, spacing, offset, origin,
+        spacing_jitter, orientation_jitter, seed, joint); `joint` names an add_joint() joint;
+        angles in degrees (docs/scene-format.md). The region is cut
         now (errors are raised here); returns the uids of the blocks (a range)."""
         where = "add_rock_mass(%r)" % (name,)
         v.name(name, where + " name")

@@ -85,8 +85,8 @@ class Scene(Bodies):
                 self._scene[key] = v.text(value, "Scene " + key)
         self._simulation = {}
         self._sections = {}  # kernel_params, domain, ... : dicts
-        self._entries = {"material": [], "interaction": [], "shape": [], "driver": [],
-                         "check": []}
+        self._entries = {"material": [], "interaction": [], "joint": [], "shape": [],
+                         "driver": [], "check": []}
         self._bodies = []  # ("particle" | "particle_grid" | "rock_mass", dict), in order
         self._particle_uids = {}  # uid of a single particle -> its dict
         self._next_uid = 1
@@ -189,6 +189,33 @@ class Scene(Bodies):
                 m.get("kn", 0.0) > 0 or m.get("penalty", 0.0) > 0):
             raise ValueError(where + ": kn > 0 or penalty > 0 is required")
         self._entries["material"].append(m)
+        self._changed()
+        return self
+
+    def add_joint(self, name, jkn, jks, friction_angle, cohesion=0.0, tensile_strength=0.0,
+                  law="coulomb"):
+        """Adds a [[joint]] (docs/scene-format.md, "Joints"): jkn, jks [Pa/m] > 0;
+        friction_angle [deg] in [0, 90); cohesion and tensile_strength [Pa]; law "coulomb". A
+        rock mass's plane or joint set takes it with joint=name."""
+        where = "add_joint(%r)" % (name,)
+        v.name(name, where + " name")
+        self._unique("joint", name, where)
+        j = {"name": name, "law": v.name(law, where + ": law")}
+        j["jkn"] = v.scalar(jkn, where + ": jkn", 0.0, True)
+        j["jks"] = v.scalar(jks, where + ": jks", 0.0, True)
+        j["friction_angle"] = v.scalar(friction_angle, where + ": friction_angle", 0.0,
+                                       maximum=90.0)
+        for key, value in (("cohesion", cohesion), ("tensile_strength", tensile_strength)):
+            checked = v.scalar(value, "%s: %s" % (where, key), 0.0)
+            if checked != 0.0:
+                j[key] = checked
+        # Units and ranges, as the reader checks them, in a scene of one probe particle.
+        material = {"name": "probe material", "density": 1.0, "kn": 1.0}
+        shape = {"name": "probe shape", "type": "cube", "edge": 1.0}
+        body = {"shape": shape["name"], "material": material["name"]}
+        self._probe([("joint", j, True), ("material", material, True), ("shape", shape, True),
+                     ("particle", body, True)], where)
+        self._entries["joint"].append(j)
         self._changed()
         return self
 
@@ -347,7 +374,7 @@ class Scene(Bodies):
         sections = [("scene", self._scene, False), ("simulation", self._simulation, False)]
         for key, table in self._sections.items():
             sections.append((key, table, False))
-        for key in ("material", "interaction", "shape", "driver"):
+        for key in ("material", "interaction", "joint", "shape", "driver"):
             sections += [(key, e, True) for e in self._entries[key]]
         sections += [(kind, b, True) for kind, b in self._bodies]
         sections += [("check", e, True) for e in self._entries["check"]]
@@ -399,10 +426,12 @@ class Scene(Bodies):
         return {b["label"] for kind, b in self._bodies if kind == "particle" and "label" in b}
 
     def _probe_text(self, extra):
-        """A scene of the materials and `extra` alone, to have the reader check one entry."""
+        """A scene of the materials, joints and `extra` alone, to have the reader check one
+        entry."""
         sections = [("scene", {"id": "probe"}, False),
                     ("simulation", {"dt": 1.0, "steps": 1}, False)]
         sections += [("material", e, True) for e in self._entries["material"]]
+        sections += [("joint", e, True) for e in self._entries["joint"]]
         return _toml.document(sections + extra)
 
     def _probe(self, extra, where):

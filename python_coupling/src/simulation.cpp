@@ -130,6 +130,7 @@ py::dict contactArrays(const Simulation& sim) {
   auto force = emptyArray<double>({n, 3});
   auto normal_force = emptyArray<double>({n});
   auto shear_force = emptyArray<double>({n});
+  auto joint = emptyArray<std::int32_t>({n});
   for (py::ssize_t i = 0; i < n; ++i) {
     const auto& r = *touching[i];
     uids.mutable_data()[2 * i] = r.key.lo;
@@ -141,6 +142,7 @@ py::dict contactArrays(const Simulation& sim) {
     }
     normal_force.mutable_data()[i] = r.normal_force;
     shear_force.mutable_data()[i] = r.shear_force;
+    joint.mutable_data()[i] = r.joint;
   }
   py::dict d;
   d["uids"] = uids;
@@ -149,6 +151,7 @@ py::dict contactArrays(const Simulation& sim) {
   d["force"] = force;
   d["normal_force"] = normal_force;
   d["shear_force"] = shear_force;
+  d["joint"] = joint;
   return d;
 }
 
@@ -346,7 +349,9 @@ rank.)")
            R"(The touching contacts of the last step whose lower-uid particle is local to this rank.
 
 uids (n, 2) (lower, higher), point (n, 3), normal (n, 3) (from the higher into the lower uid),
-force (n, 3) on the lower-uid particle [N], normal_force, shear_force (n,) [N].)")
+force (n, 3) on the lower-uid particle [N], normal_force, shear_force (n,) [N], joint (n,) int32:
+the index into the scene's [[joint]] list of the joint whose properties the contact took, -1 for
+the material pair's.)")
       .def("monitors", &monitors,
            "Global values (collective): time, step, kinetic_energy [J], force_ratio (Keissar\n"
            "eq. 3.2), contacts, particles (free ones), max_speed, mean_speed [m/s].")

@@ -71,6 +71,32 @@ TEST(FaceContact, CubeOnPlateGivesItsFourCorners) {
   }
 }
 
+// A face contact names the two facing faces (the joint of a rock mass is looked up by them): the
+// cube's bottom face and the plate's top face, on the box path and on the general one; a line
+// or point contact names none.
+TEST(FaceContact, FaceContactNamesTheFacingFaces) {
+  Placed a(boxShape(Vec3(0.5, 0.5, 0.5)), Vec3(0.3, -0.2, 0.5 - kDepth), Mat3::Identity());
+  Placed b(boxShape(Vec3(5, 5, 0.5)), Vec3(0, 0, -0.5), Mat3::Identity());
+  for (const bool box_path : {true, false}) {
+    FaceContactBuilder builder(box_path);
+    const auto fc =
+        builder.build(a.body(), b.body(), along(Vec3::UnitZ(), Vec3(0.3, -0.2, 0), kDepth));
+    ASSERT_EQ(fc.kind, ContactArea::kFace);
+    ASSERT_GE(fc.face_a, 0);
+    ASSERT_GE(fc.face_b, 0);
+    EXPECT_NEAR(a.body().faceNormal(fc.face_a).z(), -1.0, 1e-15) << box_path;
+    EXPECT_NEAR(b.body().faceNormal(fc.face_b).z(), 1.0, 1e-15) << box_path;
+  }
+  const Mat3 r = about(Vec3::UnitX(), std::numbers::pi / 4);
+  Placed edge(boxShape(Vec3(0.5, 0.5, 0.5)), Vec3(0.2, 0, 0.5 * std::sqrt(2.0) - kDepth), r);
+  FaceContactBuilder builder;
+  const auto line =
+      builder.build(edge.body(), b.body(), along(Vec3::UnitZ(), Vec3(0.2, 0, 0), kDepth));
+  ASSERT_EQ(line.kind, ContactArea::kLine);
+  EXPECT_EQ(line.face_a, -1);
+  EXPECT_EQ(line.face_b, -1);
+}
+
 // The same with the plate as A (the lower uid below): the normal from B (the cube) into A is -z,
 // and the cube's corners are vertices of B inside A's face, pushed along minus A's face normal.
 TEST(FaceContact, PlateAsAGivesBsCornersInAsFace) {

@@ -257,5 +257,43 @@ TEST(SubContactLaw, JointStiffnessScalesWithTheArea) {
   EXPECT_NEAR(p.force.z(), kKn * 1e-4, 1e-6);
 }
 
+// A joint's strengths are stresses over the contact's area A (jointCoefficients): sliding fast,
+// the total shear is mu N + c A, whatever the area's split into corners; and the same stress on
+// a twice larger area carries twice the cohesion.
+TEST(SubContactLaw, JointCohesionIsAStressOverTheArea) {
+  const JointProperties joint{1e9, 5e8, 30.0, 2e4, 0.0};
+  const LawCoefficients k = jointCoefficients(joint, law());
+  PairKinematics kin = still();
+  kin.va = Vec3(100, 0, 0);
+  for (const double area : {1.0, 2.0}) {
+    std::vector<SubState> kept;
+    const auto f = subContactForces(face(square(1e-4), area), {}, {}, kin, kMass, kDt, k, kept);
+    EXPECT_TRUE(f.sliding);
+    EXPECT_NEAR(f.normal, 1e9 * area * 1e-4, 1e-6) << "Kn = jkn A";
+    EXPECT_NEAR(f.shear, std::tan(M_PI / 6) * f.normal + 2e4 * area, 1e-9 * f.shear) << area;
+  }
+}
+
+// Tension: a corner apart by less than sigma_t / jkn pulls with its spring, kn_i g_i < 0; one
+// apart by more carries nothing (and keeps its strength for the next step: the plain Coulomb
+// joint). Without a tensile strength the open corners carry nothing, as for a material pair.
+TEST(SubContactLaw, JointTensileStrengthLetsOpenCornersPull) {
+  const double jkn = 1e9, sigma_t = 1e5;  // open gaps down to -1e-4 m pull
+  LawCoefficients k = jointCoefficients({jkn, 5e8, 30.0, 0.0, sigma_t}, law());
+  const auto subs = square(0.4e-4, 3e-4);  // gaps -1.1e-4 (-y, beyond the limit), 1.9e-4 (+y)
+  std::vector<SubState> kept;
+  auto f = subContactForces(face(subs), {}, {}, still(), kMass, kDt, k, kept);
+  EXPECT_EQ(f.loaded, 2) << "corners beyond -sigma_t / jkn are open";
+  const auto pulled = square(0.5e-4, 2.8e-4);  // gaps -0.9e-4 and 1.9e-4
+  f = subContactForces(face(pulled), {}, {}, still(), kMass, kDt, k, kept);
+  EXPECT_EQ(f.loaded, 4);
+  EXPECT_NEAR(f.force.z(), 0.25 * jkn * 2 * (-0.9e-4 + 1.9e-4), 1e-6);
+  EXPECT_NEAR(f.torque_a.x(), 0.25 * jkn * 2 * 0.5 * (1.9e-4 + 0.9e-4), 1e-6);
+  k.tensile_strength = 0.0;
+  f = subContactForces(face(pulled), {}, {}, still(), kMass, kDt, k, kept);
+  EXPECT_EQ(f.loaded, 2);
+  EXPECT_NEAR(f.force.z(), 0.25 * jkn * 2 * 1.9e-4, 1e-6);
+}
+
 }  // namespace
 }  // namespace polydem::dynamics

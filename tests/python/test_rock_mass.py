@@ -110,6 +110,55 @@ class SceneWithRockMass(unittest.TestCase):
         self.assertEqual(e.exception.line, SCENE.splitlines().index("spacing = 1.5") + 1)
 
 
+class Joints(unittest.TestCase):
+    def test_contacts_on_a_joint_take_it(self):
+        """A rock mass built in Python with a joint on its bedding: after a run, the contacts
+        that took the joint (Simulation.contacts()["joint"]) lie on the bedding, and others on
+        the steep set, which names no joint, take none."""
+        s = polydem.Scene("joints", dt=2e-5, steps=300)
+        s.add_material("rock", density=2600, kn=1e9, ks=5e8, friction_angle=20,
+                       local_damping=0.7)
+        s.add_joint("bedding", jkn="10 GPa/m", jks="5 GPa/m", friction_angle=30,
+                    cohesion="20 kPa")
+        s.add_rock_mass("m", "rock", region={"type": "box", "min": (0, 0, 0), "max": (4, 3, 3)},
+                        joint_sets=[{"name": "B", "dip": 10, "dip_direction": 90,
+                                     "spacing": 1.2, "joint": "bedding"},
+                                    {"name": "J", "dip": 60, "dip_direction": 0,
+                                     "spacing": 1.7}],
+                        planes=[{"name": "base", "dip": 0, "dip_direction": 0,
+                                 "point": (0, 0, 0.5), "fixed": "below"}])
+        self.assertIn('joint = "bedding"', s.to_toml())
+        sim = polydem.Simulation(s)
+        sim.run()
+        c = sim.contacts()
+        self.assertEqual(c["joint"].dtype, np.int32)
+        bedding = np.array(
+            [np.sin(np.radians(10)), 0.0, np.cos(np.radians(10))])
+        steep = np.array([0.0, np.sin(np.radians(60)), np.cos(np.radians(60))])
+        on_joint = c["joint"] == 0
+        self.assertGreater(on_joint.sum(), 3)
+        self.assertTrue(np.all(np.abs(c["normal"][on_joint] @ bedding) > 1 - 1e-6))
+        on_steep = np.abs(c["normal"] @ steep) > 1 - 1e-6
+        self.assertTrue(np.all(c["joint"][on_steep] == -1))
+        self.assertTrue(set(np.unique(c["joint"])) <= {-1, 0})
+
+    def test_joint_units_are_checked_when_added(self):
+        s = polydem.Scene("joints", dt=1e-4, steps=1)
+        with self.assertRaisesRegex(ValueError, r"jkn: expected a stiffness per area \(Pa/m\)"):
+            s.add_joint("j", jkn="1 GN/m", jks=1e9, friction_angle=30)
+        s.add_joint("j", jkn=1e9, jks=1e9, friction_angle=30, cohesion="50 kPa")
+        self.assertIn('cohesion = "50 kPa"', s.to_toml())
+
+    def test_unknown_joint_is_an_input_error(self):
+        s = polydem.Scene("joints", dt=1e-4, steps=1)
+        s.add_material("rock", density=2600, kn=1e9)
+        with self.assertRaisesRegex(ValueError, r"no \[\[joint\]\] is named 'nowhere'"):
+            s.add_rock_mass("m", "rock", region={"type": "box", "min": (0, 0, 0),
+                                                 "max": (2, 2, 2)},
+                            planes=[{"name": "p", "dip": 10, "dip_direction": 0,
+                                     "point": (1, 1, 1), "joint": "nowhere"}])
+
+
 class PlotRockMass(unittest.TestCase):
     def test_writes_a_png(self):
         source = os.environ.get("POLYDEM_SOURCE_DIR",

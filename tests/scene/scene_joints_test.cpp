@@ -1,0 +1,140 @@
+// [[joint]] in scene files: units as a rock engineer writes them, references from a rock mass's
+// planes and joint sets, the joint planes every block's faces lie on, and every mistake an
+// InputError at the line marked "# <-".
+#include <gtest/gtest.h>
+
+#include "scene_test_support.h"
+
+namespace polydem::io {
+namespace {
+
+using namespace scene_test;
+
+const std::string kJoints = R"(
+[[joint]]
+name = "bedding"
+law = "coulomb"
+jkn = "10 GPa/m"
+jks = "5e9 Pa/m"
+friction_angle = 25
+cohesion = "50 kPa"
+tensile_strength = "0.1 MPa"
+
+[[joint]]
+name = "fault"
+jkn = 1e9
+jks = 1e9
+friction_angle = "0.5 rad"
+)";
+
+const std::string kMass = R"(
+[[rock_mass]]
+name = "slope"
+material = "rock"
+region = { type = "box", min = [0, 0, 0], max = [4, 4, 3] }
+
+[[rock_mass.plane]]
+name = "base"
+dip = 0
+dip_direction = 0
+point = [0, 0, 1]
+fixed = "below"
+joint = "fault"
+
+[[rock_mass.joint_set]]
+name = "B"
+dip = 20
+dip_direction = 90
+spacing = "1.5 m"
+joint = "bedding"
+
+[[rock_mass.joint_set]]
+name = "J"
+dip = 80
+dip_direction = 0
+spacing = "2 m"
+)";
+
+std::string scene(const std::string& joints = kJoints, const std::string& mass = kMass) {
+  return kBase + joints + mass;
+}
+
+TEST(SceneJoints, PropertiesInEngineersUnits) {
+  const Scene s = parseScene(scene(), "test.toml");
+  ASSERT_EQ(s.joints.size(), 2u);
+  const JointSpec& b = s.joints[0];
+  EXPECT_EQ(b.name, "bedding");
+  EXPECT_EQ(b.law, "coulomb");
+  EXPECT_EQ(b.jkn, 1e10);
+  EXPECT_EQ(b.jks, 5e9);
+  EXPECT_EQ(b.friction_angle, 25.0);
+  EXPECT_EQ(b.cohesion, 5e4);
+  EXPECT_EQ(b.tensile_strength, 1e5);
+  EXPECT_NEAR(s.joints[1].friction_angle, 0.5 * 180.0 / 3.141592653589793, 1e-12);
+  EXPECT_EQ(s.joints[1].cohesion, 0.0);
+  EXPECT_EQ(s.joints[1].tensile_strength, 0.0);
+}
+
+TEST(SceneJoints, PlanesTakeTheirJointAndFacesTheirPlane) {
+  const Scene s = parseScene(scene(), "test.toml");
+  ASSERT_EQ(s.rock_masses.size(), 1u);
+  const auto& names = s.rock_masses[0].plane_names;
+  ASSERT_EQ(s.joint_planes.size(), names.size());
+  int bedding = 0, unnamed = 0;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const JointPlaneSpec& p = s.joint_planes[k];
+    EXPECT_EQ(p.name, "slope/" + names[k]);
+    if (names[k] == "base") EXPECT_EQ(p.joint, 1);
+    if (names[k].rfind("B#", 0) == 0) {
+      EXPECT_EQ(p.joint, 0) << names[k];
+      ++bedding;
+    }
+    if (names[k].rfind("J#", 0) == 0) {
+      EXPECT_EQ(p.joint, -1) << names[k];
+      ++unnamed;
+    }
+  }
+  EXPECT_GE(bedding, 2);
+  EXPECT_GE(unnamed, 1);
+  // Every block has faces on planes (the region's own faces are on none), the blocks on the base
+  // and the fixed one below it a face on the base, and each face plane listed holds three of the
+  // block's corners.
+  const std::size_t first = s.shapes.size() - static_cast<std::size_t>(s.rock_masses[0].blocks);
+  int on_base = 0;
+  for (std::size_t i = first; i < s.shapes.size(); ++i) {
+    const ShapeSpec& shape = s.shapes[i];
+    EXPECT_FALSE(shape.face_planes.empty()) << shape.name;
+    for (const FacePlane& f : shape.face_planes) {
+      on_base += names[static_cast<std::size_t>(f.plane)] == "base";
+      int on = 0;
+      for (const Vec3& v : shape.vertices) on += std::abs(f.normal.dot(v) - f.offset) < 1e-9;
+      EXPECT_GE(on, 3) << shape.name << " plane " << f.plane;
+    }
+  }
+  EXPECT_GE(on_base, 3);
+}
+
+TEST(SceneJoints, Mistakes) {
+  expectError(scene(replaced(kJoints, "cohesion = \"50 kPa\"", "cohesion = \"50 kN\"  # <-")),
+              {"[[joint]] 'bedding'", "cohesion", "pressure (Pa)"});
+  expectError(scene(replaced(kJoints, "jkn = \"10 GPa/m\"", "jkn = \"10 GN/m\"  # <-")),
+              {"jkn", "Pa/m"});
+  expectError(scene(replaced(kJoints, "jks = 1e9\n", "jks = 0  # <-\n")), {"jks"});
+  expectError(scene(replaced(kJoints, "law = \"coulomb\"", "law = \"barton\"  # <-")),
+              {"law", "coulomb"});
+  expectError(scene(replaced(kJoints, "friction_angle = 25", "friction_angle = 95  # <-")),
+              {"friction_angle"});
+  expectError(scene(kJoints + "\n[[joint]]\nname = \"bedding\"  # <-\njkn = 1\njks = 1\n"
+                              "friction_angle = 1\n"),
+              {"joint 'bedding' is already defined"});
+  expectError(scene(replaced(kJoints, "tensile_strength = \"0.1 MPa\"",
+                             "tensile_strength = \"0.1 MPa\"\nspacing = 1  # <-")),
+              {"spacing"});
+  expectError(scene(kJoints, replaced(kMass, "joint = \"bedding\"", "joint = \"beding\"  # <-")),
+              {"no [[joint]] is named 'beding'"});
+  expectError(scene(kJoints, replaced(kMass, "joint = \"fault\"", "joint = \"none\"  # <-")),
+              {"[[plane]] 'base'", "no [[joint]] is named 'none'"});
+}
+
+}  // namespace
+}  // namespace polydem::io
