@@ -5,7 +5,8 @@
 # docs/dynamics.md); an unknown contact model is a usage error that writes nothing. Settings a
 # trial cannot answer are refused with the file and line, exit status 1 and nothing written: an
 # interaction no contact uses (every trial would be stable: "above f_max"), a max_time of a few
-# steps (every trial undecided), a check_every beyond the trial (no time limit at all).
+# steps (every trial undecided), a check_every beyond the trial (no time limit at all). A second
+# search into the folder of a running one is refused (DIR/polydem.lock) and changes nothing.
 # usage: fos_cli_test.sh POLYDEM SCENE WORKDIR
 set -u
 polydem=$1; scene=$2; work=$3
@@ -65,6 +66,20 @@ refuse short_trial "a trial needs at least 500 steps" "$scene" --max-time 0.001
 { echo "$without_fos"; printf '[fos]\nmax_time = "2 s"\ncheck_every = 1e9\n'; } > check.toml
 line=$(grep -n '^check_every' check.toml | cut -d: -f1)
 refuse check_every "check.toml:$line: \[fos\] check_every = 1000000000 steps" check.toml
+
+# A search held at its first trial (test hook) owns busy/; a second one into busy/ is refused.
+POLYDEM_TEST_PAUSE=fos-trial:60 "$polydem" fos "$scene" --out busy --quiet > holder.log 2>&1 &
+holder=$!
+for _ in $(seq 600); do grep -q "test pause: fos-trial" holder.log && break; sleep 0.1; done
+grep -q "test pause: fos-trial" holder.log || fail "the holding search did not reach its pause"
+before=$(ls -l busy)
+"$polydem" fos "$scene" --out busy --quiet > second.log 2>&1
+status=$?
+[ $status = 1 ] || fail "second search into a busy folder: exit status $status: $(cat second.log)"
+grep -q "output folder busy is in use: busy/polydem.lock names process $holder" second.log ||
+  fail "second search: no message naming the lock: $(cat second.log)"
+[ "$(ls -l busy)" = "$before" ] || fail "the refused search changed busy/"
+kill -9 $holder 2> /dev/null; wait $holder 2> /dev/null
 
 [ $failures = 0 ] && echo "all fos CLI checks passed (F = $f_sub sub-contacts, $f_point point)"
 exit $((failures > 0))
