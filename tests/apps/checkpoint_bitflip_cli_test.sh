@@ -17,7 +17,7 @@ fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
 timeout 120 $mpiexec -n 2 "$polydem" run "$scene" --out good --checkpoint-every 300 \
   --no-snapshots --quiet || fail "the run that writes the checkpoint"
-good=good/checkpoints/checkpoint_000000000300.h5
+good=$(ls good/checkpoints/checkpoint_000000000300_*.h5 2> /dev/null | head -1)  # the run id follows the step
 [ -f "$good" ] || { echo "FAIL: no checkpoint $good"; exit 1; }
 
 # flip OFFSET: a copy of the good file with bit 4 of byte OFFSET flipped, as flipped.h5.

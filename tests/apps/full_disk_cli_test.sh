@@ -25,7 +25,8 @@ fi
 trap 'cd "$work" && umount "$disk"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-ckpt() { printf '%s/checkpoints/checkpoint_%012d.h5' "$1" "$2"; }
+# The name of run DIR's checkpoint of step S, as a pattern (each run has its own run id).
+ckpt() { printf '%s/checkpoints/checkpoint_%012d_[0-9a-f]*.h5' "$1" "$2"; }
 free_bytes() { df --output=avail -B1 "$disk" | tail -1; }
 # fill KEEP: a filler file leaves KEEP bytes of the tmpfs free.
 fill() {
@@ -67,7 +68,8 @@ sed -e 's/^edge = "1 m"/edge = "0.3 m"/' -e 's/^spacing = 1.002/spacing = 0.3006
 # An earlier checkpoint, from a run on a disk with room.
 timeout 120 $mpiexec -n 1 "$polydem" run "$scene" --out pre --checkpoint-every 100 --checkpoint-keep 3 \
   --no-snapshots --quiet || fail "the run that writes the earlier checkpoint"
-earlier=$(ckpt pre 100)
+earlier=$(ls pre/checkpoints/checkpoint_000000000100_*.h5)
+earlier_name=$(basename "$earlier")
 
 for np in 1 2; do
   # A snapshot that does not fit (parallel HDF5 + XDMF): the first one, at the start.
@@ -79,18 +81,18 @@ for np in 1 2; do
   # A checkpoint on a disk without room for it: refused before its file is created.
   rm -rf "$disk"/*
   mkdir -p "$disk/pre$np/checkpoints"
-  cp "$earlier" "$(ckpt "$disk/pre$np" 100)"
+  cp "$earlier" "$disk/pre$np/checkpoints/$earlier_name"
   fill $((64 * 1024))
-  ranks $np pre$np run --restart "$(ckpt "$disk/pre$np" 100)" --out "$disk/pre$np" \
+  ranks $np pre$np run --restart "$disk/pre$np/checkpoints/$earlier_name" --out "$disk/pre$np" \
     --checkpoint-every 50 --no-snapshots --quiet
   ended $np pre$np "checkpoint $(ckpt "$disk/pre$np" 150)" "$disk/pre$np"
-  cmp -s "$earlier" "$(ckpt "$disk/pre$np" 100)" || fail "pre$np: the earlier checkpoint changed"
+  cmp -s "$earlier" "$disk/pre$np/checkpoints/$earlier_name" || fail "pre$np: the earlier checkpoint changed"
 
   # A checkpoint on a disk that fills while it is written.
   rm -rf "$disk"/*
   out=$disk/during$np
   mkdir -p "$out/checkpoints"
-  cp "$earlier" "$(ckpt $out 100)"
+  cp "$earlier" "$out/checkpoints/$earlier_name"
   rm -f during$np.rc.*
   (
     export POLYDEM_TEST_PAUSE=checkpoint-write:4
@@ -102,12 +104,12 @@ for np in 1 2; do
   fill 0
   wait $pid
   ended $np during$np "checkpoint $(ckpt $out 50)" "$out"
-  cmp -s "$earlier" "$(ckpt $out 100)" || fail "during$np: the earlier checkpoint changed"
+  cmp -s "$earlier" "$out/checkpoints/$earlier_name" || fail "during$np: the earlier checkpoint changed"
   # Once there is room again, the earlier checkpoint verifies and the run continues from it.
   rm -f "$disk/filler"
-  timeout 120 $mpiexec -n $np "$polydem" checkpoint info "$(ckpt $out 100)" > during$np.info 2>&1 ||
+  timeout 120 $mpiexec -n $np "$polydem" checkpoint info "$out/checkpoints/$earlier_name" > during$np.info 2>&1 ||
     fail "during$np: the earlier checkpoint does not verify: $(cat during$np.info)"
-  timeout 120 $mpiexec -n $np "$polydem" run --restart "$(ckpt $out 100)" --out "$out" \
+  timeout 120 $mpiexec -n $np "$polydem" run --restart "$out/checkpoints/$earlier_name" --out "$out" \
     --checkpoint-every 50 --no-snapshots --quiet > during$np.cont.log 2>&1 ||
     fail "during$np: no run continues from the earlier checkpoint: $(tail -5 during$np.cont.log)"
 
