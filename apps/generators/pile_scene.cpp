@@ -12,7 +12,7 @@ namespace polydem::sim {
 namespace {
 
 io::ShapeSpec shape(std::string name, std::vector<Vec3> vertices) {
-  return {std::move(name), std::move(vertices), {}, 0};
+  return {std::move(name), std::move(vertices), 0};
 }
 
 std::vector<Vec3> centred(std::vector<Vec3> v) {

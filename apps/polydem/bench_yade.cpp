@@ -76,8 +76,7 @@ io::Scene boxScene(const Options& o) {
   rock.local_damping = kDamping;
   rock.penalty = kKn * kInradius / (2.0 * kFaceArea);
   s.materials.push_back(rock);
-  s.shapes.push_back(
-      {"cube", geometry::shapes::box(Vec3::Constant(-0.5), Vec3::Constant(0.5)), {}, 0});
+  s.shapes.push_back({"cube", geometry::shapes::box(Vec3::Constant(-0.5), Vec3::Constant(0.5)), 0});
 
   const double pitch = 2.0 * 0.5 * std::sqrt(3.0) * 1.05;
   const auto side = static_cast<std::int64_t>(

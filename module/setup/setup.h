@@ -51,9 +51,10 @@ struct FacePlane {
 struct ShapeSpec {
   std::string name;
   std::vector<Vec3> vertices;
-  // The joint planes its faces lie on (a block cut from a [[rock_mass]]); empty for [[shape]]s.
-  std::vector<FacePlane> face_planes;
   int line = 0;  // where it was defined, for error messages
+  // The joint planes its faces lie on (a block cut from a [[rock_mass]]); empty for [[shape]]s.
+  // Last, so that {name, vertices, line} written before joints existed still means the same.
+  std::vector<FacePlane> face_planes;
 };
 
 /// A [[joint]]: the strength and stiffness of a rock joint (docs/scene-format.md). Stresses act

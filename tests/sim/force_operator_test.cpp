@@ -34,7 +34,7 @@ setup::Setup fallingCubes(int count) {
   rock.penalty = 1e9;
   s.materials.push_back(rock);
   s.shapes.push_back(
-      {"cube", geometry::shapes::box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5)), {}, 0});
+      {"cube", geometry::shapes::box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5)), 0});
   for (int i = 0; i < count; ++i) {
     setup::ParticleSpec p;
     p.uid = static_cast<Uid>(i + 1);
