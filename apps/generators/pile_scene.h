@@ -5,7 +5,7 @@
 // The wide-floor variant (floor_width > 0) drops the walls and puts the pile in the middle of a
 // floor floor_width times as wide as the pile, and leaves the [domain] box to its default (the
 // bounding box of all bodies, inflated): the scene on which blocks sized from the domain box
-// leave the whole pile in a few blocks (issue 12).
+// leave the whole pile in a few blocks.
 #pragma once
 
 #include <cstdint>

@@ -96,8 +96,8 @@ class Kernel {
 struct KernelParams {
   double lp_rounding = 0.05;  // LP potential blocks: rounding radius r, fraction of inradius
   // gjk-epa, gjk-epa-ipm: the exact separating-axis test for small shapes (contact/sat.h);
-  // false keeps GJK + EPA for every pair, the algorithm before issue 15 (e.g. to continue a run
-  // written by it to the same bits).
+  // false keeps GJK + EPA for every pair (e.g. to continue, to the same bits, a run written by a
+  // polydem without the separating-axis test).
   bool separating_axes = true;
 };
 

@@ -50,9 +50,8 @@ namespace {
 // (the middle of their closest points). Face-face and edge-face contacts take their point from
 // the IPM or their sub-contacts. Inline, two boxes straight to their test (the first branch of
 // both satApplies() and separatingAxisTest()), and the contact written into `c`, the caller's
-// default-constructed result: the chain from the kernel's entry to the box test went from 157 to
-// 77 instructions a pair of the dense pack (callgrind, docs/performance.md). `extremes` may be
-// null.
+// default-constructed result, so that the call chain from the kernel's entry to the box test
+// stays short on the dense pack's hot path (docs/performance.md). `extremes` may be null.
 [[gnu::always_inline]] inline bool satContact(const Body& a, const Body& b, PairState* state,
                                               Contact& c, Extremes* extremes) {
   const bool boxes = a.shape->box() != nullptr && b.shape->box() != nullptr;

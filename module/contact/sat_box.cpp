@@ -79,8 +79,8 @@ bool cloudEdgeOf(const Body& body, int (&k)[3]) {
 namespace {
 
 // estimateBoxEdges(), handing each existing axis's estimate and bound to `visit(axis, overlap,
-// bound)`: inlined into boxEdgeAxes(), which keeps what it needs in registers (through a call and
-// arrays in memory the screen took 100 instructions a pair more).
+// bound)`: inlined into boxEdgeAxes(), which keeps what it needs in registers (a call and arrays
+// in memory cost the screen about 100 instructions a pair, callgrind).
 template <class Visit>
 [[gnu::always_inline]] inline bool estimate(const Body& a, const Body& b, const Cloud& ca,
                                             const Cloud& cb, int (&ka)[3], int (&kb)[3],

@@ -4,7 +4,7 @@
 // only part of the box (a pile on a floor much wider than it, a runout's source area in a large
 // domain, a box inflated around fixed boundary bodies) most of those blocks are empty and the
 // pile sits in a handful of blocks that no partition can share out: 4,000 cubes on a floor twice
-// as wide all landed in one block of 2 ranks (issue 12). fitBlockCounts instead sizes the blocks
+// as wide all landed in one block of 2 ranks. fitBlockCounts instead sizes the blocks
 // so that at least ranks * hint of them hold a free particle, which is what the balancer needs to
 // share the load in whole blocks; fixed and driven bodies play no part.
 #pragma once
