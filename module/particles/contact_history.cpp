@@ -90,10 +90,9 @@ void ContactHistory::refuse(const char* what) {
 }
 
 void ContactHistory::growSubs(std::size_t size) {
-  // Grown to the size asked for, a table that starts without slots (the first steps' tables, the
-  // history that Simulation::startLeapfrog restores from a copy) was grown by one pair's
-  // sub-contacts per pair: 69,333 calls in the 8 contact phases of a 7-step profile (callgrind,
-  // 2,000 dense cubes), 50 instructions a pair evaluation. At least doubled, it grows a few times.
+  // Grown geometrically (at least doubled): a table that starts without slots (the first steps'
+  // tables, the history that Simulation::startLeapfrog restores from a copy) would otherwise grow
+  // by one pair's sub-contacts per pair, a reallocation for every pair of the step.
   const std::size_t slots = std::max(size, 2 * sub_keys_.size());
   sub_keys_.resize(slots);
   sub_entries_.resize(slots);

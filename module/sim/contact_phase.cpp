@@ -56,8 +56,8 @@ dynamics::PairKinematics drivenKinematics(const ContactSetup& setup,
   const ModelledContact modelled = model_.evaluate(
       *setup.kernel, setup.model, setup.overlap_centroid, body_a, body_b, &h.kernel);
 
-  // Built in place from the particles' velocities (from copies made on the stack it cost ~20
-  // instructions a pair more); a driven body's take its prescribed field.
+  // Built in place from the particles' velocities, without copies on the stack (this runs for
+  // every pair); a driven body's take its prescribed field.
   const dynamics::PairKinematics kin =
       pa.isDriven() || pb.isDriven()
           ? drivenKinematics(setup, storage, c, frame)
