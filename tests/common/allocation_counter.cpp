@@ -6,6 +6,7 @@
 
 namespace {
 std::atomic<long> g_allocations{0};
+std::atomic<long long> g_bytes{0};
 }  // namespace
 
 // Counting replacements of the global allocation functions, forwarding to malloc/free. GCC
@@ -14,6 +15,7 @@ std::atomic<long> g_allocations{0};
 #pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 void* operator new(std::size_t size) {
   ++g_allocations;
+  g_bytes += static_cast<long long>(size);
   if (void* p = std::malloc(size > 0 ? size : 1)) return p;
   throw std::bad_alloc();
 }
@@ -29,6 +31,10 @@ namespace polydem::testing {
 
 long allocationCount() {
   return g_allocations.load();
+}
+
+long long allocatedBytes() {
+  return g_bytes.load();
 }
 
 }  // namespace polydem::testing

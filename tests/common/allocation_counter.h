@@ -7,5 +7,7 @@ namespace polydem::testing {
 
 /// operator new calls in this process so far.
 long allocationCount();
+/// Bytes asked of operator new in this process so far (never decreases on delete).
+long long allocatedBytes();
 
 }  // namespace polydem::testing

@@ -3,53 +3,16 @@
 // leave a void, a long cut reports progress and stops on a signal.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <csignal>
-#include <cstdlib>
-#include <new>
 
+#include "common/allocation_counter.h"
+#include "common/rock_mass_util.h"
 #include "polydem/core/error.h"
 #include "polydem/core/interrupt.h"
 #include "polydem/geometry/rock_mass.h"
 
-// Bytes allocated by this process: a refusal must come before the blocks are made. (GCC takes
-// the replaced operators for the built-in ones and warns that free() meets operator new.)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-namespace {
-std::atomic<std::size_t> g_allocated{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  g_allocated += n;
-  if (void* p = std::malloc(n > 0 ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-
 namespace polydem::geometry {
 namespace {
-
-JointSet set(const std::string& name, double dip, double dip_direction, double spacing,
-             double offset = 0.0) {
-  JointSet s;
-  s.name = name;
-  s.dip = dip;
-  s.dip_direction = dip_direction;
-  s.spacing = spacing;
-  s.offset = offset;
-  return s;
-}
-
-double totalVolume(const RockMass& m) {
-  double v = 0.0;
-  for (const RockBlock& b : m.blocks) v += b.volume;
-  return v;
-}
 
 std::string errorOf(const RockMassSpec& spec) {
   try {
@@ -72,16 +35,16 @@ TEST(RockMassLimits, TooManyBlocksRefusedBeforeCutting) {
   spec.joint_sets = {set("J1", 60, 90, 0.008), set("J2", 60, 270, 0.008)};
   const RockMassEstimate e = estimateRockMass(spec);
   EXPECT_GT(e.blocks, kMaxRockBlocks);
-  const std::size_t before = g_allocated.load();
+  const long long before = polydem::testing::allocatedBytes();
   const std::string error = errorOf(spec);
-  const std::size_t allocated = g_allocated.load() - before;
+  const long long allocated = polydem::testing::allocatedBytes() - before;
   EXPECT_TRUE(has(error, "blocks")) << error;
   EXPECT_TRUE(has(error, "'J1'") && has(error, "'J2'")) << error;
   EXPECT_TRUE(has(error, "0.008 m")) << error;
   EXPECT_TRUE(has(error, "increase the joint sets' spacings")) << error;
   // One block of the cut is a few kB: the refusal made none (the message and the region's
   // corners are all it allocated).
-  EXPECT_LT(allocated, std::size_t{64} << 10) << allocated << " bytes";
+  EXPECT_LT(allocated, 64LL << 10) << allocated << " bytes";
 }
 
 // The estimate of the block count against the blocks a cut gives: (1 + m)^3 for three

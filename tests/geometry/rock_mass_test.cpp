@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "common/rock_mass_util.h"
 #include "polydem/core/error.h"
 #include "polydem/core/random.h"
 #include "polydem/geometry/polygon_partition.h"
@@ -13,23 +14,6 @@
 
 namespace polydem::geometry {
 namespace {
-
-JointSet set(const std::string& name, double dip, double dip_direction, double spacing,
-             double offset = 0.0) {
-  JointSet s;
-  s.name = name;
-  s.dip = dip;
-  s.dip_direction = dip_direction;
-  s.spacing = spacing;
-  s.offset = offset;
-  return s;
-}
-
-double totalVolume(const RockMass& m) {
-  double v = 0.0;
-  for (const RockBlock& b : m.blocks) v += b.volume;
-  return v;
-}
 
 // Every random point of the region lies in exactly one block (up to a thin shell around the
 // block faces, where round-off decides).
