@@ -136,6 +136,14 @@ def classify(rows, labels, planes, t, g):
     return ("topples" if figures["turn_share"] > TOPPLE_SHARE else "slides"), figures
 
 
+def same_scene(a, b):
+    """The two scene texts describe the same run: equal but for comments and [scene]."""
+    x, y = tomllib.loads(a), tomllib.loads(b)
+    x.pop("scene", None)
+    y.pop("scene", None)
+    return x == y
+
+
 def run_case(polydem, scene_text, labels, out, base, slices, snapshots, resume):
     """Runs one pair of friction angles; returns series.csv's rows and polydem's wall time (s)."""
     text = set_friction(scene_text, "joint", "base", base)
@@ -146,10 +154,9 @@ def run_case(polydem, scene_text, labels, out, base, slices, snapshots, resume):
     path = case / "scene.toml"
     log = case / "log.txt"
     finished = re.compile(r"^finished: .*, ([0-9.e+-]+) s wall$", re.M)
-    # --resume: a finished run of the same scene (comments aside) is taken as it is; the runs are
-    # deterministic, so a sweep stopped half way continues with the same table.
-    done = (resume and path.exists() and tomllib.loads(path.read_text()) == tomllib.loads(text)
-            and log.exists()
+    # --resume: a finished run of the same scene (its comments and [scene] titles aside) is taken
+    # as it is; the runs are deterministic, so a sweep stopped half way gives the same table.
+    done = (resume and path.exists() and same_scene(path.read_text(), text) and log.exists()
             and finished.search(log.read_text()) and (case / "run" / "series.csv").exists())
     if not done:
         path.write_text(text)
