@@ -153,7 +153,8 @@ def run_case(polydem, scene_text, labels, out, base, slices, snapshots, resume):
     case.mkdir(parents=True, exist_ok=True)
     path = case / "scene.toml"
     log = case / "log.txt"
-    finished = re.compile(r"^finished: .*, ([0-9.e+-]+) s wall$", re.M)
+    # A run counts when it reached the scene's end time (a stop by a signal also exits 0).
+    finished = re.compile(r"^finished: end time after .*, ([0-9.e+-]+) s wall$", re.M)
     # --resume: a finished run of the same scene (its comments and [scene] titles aside) is taken
     # as it is; the runs are deterministic, so a sweep stopped half way gives the same table.
     done = (resume and path.exists() and same_scene(path.read_text(), text) and log.exists()
@@ -166,6 +167,8 @@ def run_case(polydem, scene_text, labels, out, base, slices, snapshots, resume):
                                 stderr=subprocess.STDOUT).returncode
         if rc != 0:
             raise RuntimeError(f"polydem failed on {path} (exit {rc}); see {log}")
+        if not finished.search(log.read_text()):
+            raise RuntimeError(f"polydem stopped before the end time on {path}; see {log}")
     # Every block must be watched: the rock mass's report gives how many there are.
     m = re.search(r"(\d+) free and (\d+) fixed blocks", log.read_text())
     if not m or int(m.group(1)) + int(m.group(2)) != len(labels):
