@@ -199,7 +199,8 @@ def sweep(a, cases, scene_text, labels, planes, t, g):
             modes[(base, slices)] = mode
             print(f"| {base:g} | {slices:g} | {mode} | {thesis_mode(base, slices)} | "
                   f"{f['max_disp']:.3g} | {f['turn_deg']:.3g} | {f['turn_share']:.2f} | "
-                  f"{f.get('decided_at', float('nan')):.3g} | {f['end_speed']:.2g} | "
+                  f"{format(f['decided_at'], '.3g') if 'decided_at' in f else '-'} | "
+                  f"{f['end_speed']:.2g} | "
                   f"{f['y_drift']:.2g} | {wall:.0f} |", flush=True)
     return modes
 
@@ -257,8 +258,8 @@ def main():
     elif a.cases == "fig44":
         cases = [(45, s) for s in FIG44_SLICES]
     else:
-        cases = [(b, s) for b in GRID_BASE for s in GRID_SLICES]
-        cases += [(45, s) for s in FIG44_SLICES if s not in GRID_SLICES]
+        cases = sorted({(b, s) for b in GRID_BASE for s in GRID_SLICES}
+                       | {(45, s) for s in FIG44_SLICES})
 
     print(f"slice thickness t = {t:g} m; moved: > {MOVE_FRACTION * t:g} m; at rest: < "
           f"{REST_FRACTION * math.sqrt(g * t):.3g} m/s; topples: turning share > {TOPPLE_SHARE:g}")
