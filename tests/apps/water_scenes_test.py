@@ -6,8 +6,15 @@ planar-crack SCENE: W-PLANAR-CRACK, `polydem fos` with the crack full (as writte
   Bray's F = (c A + (W cos psi - U - V sin psi) tan phi) / (W sin psi + V cos psi), with
   U = gamma_w z_w A / 2 and V = gamma_w z_w^2 / 2 per metre of width.
 
+wedge SCENE: W-WEDGE, `polydem fos`: F within 2 % of Hoek and Bray's vector method with the
+  uplift forces U_A, U_B on the two planes. The wedge is cut here from the scene's box and planes
+  (its vertices: the corners of the half-spaces); U_A, U_B are the pressure gamma_w (level - z)
+  integrated over its faces on A and B, clipped at the level, triangle by triangle at the
+  centroid (exact for a linear pressure), independently of polydem's integration.
+
 Usage: water_scenes_test.py POLYDEM MODE SCENE WORKDIR
 """
+import itertools
 import json
 import math
 import os
@@ -16,6 +23,8 @@ import shutil
 import subprocess
 import sys
 import tomllib
+
+import numpy as np
 
 FAILURES = []
 
@@ -118,6 +127,107 @@ def check_planar_crack(polydem, scene_file, workdir):
         expect(error <= 0.02, f"crack {name}: F = {f_measured}, expected {expected:.4f} within 2%")
 
 
+# --- W-WEDGE --------------------------------------------------------------------------------
+def normal_from_dip(dip, dip_direction):
+    d, a = math.radians(dip), math.radians(dip_direction)
+    return np.array([math.sin(d) * math.sin(a), math.sin(d) * math.cos(a), math.cos(d)])
+
+
+def convex_cell(halfspaces):
+    """Vertices of {x : n . x <= d for every (n, d)}: the feasible corners of three planes."""
+    vertices = []
+    for planes in itertools.combinations(halfspaces, 3):
+        m = np.array([n for n, _ in planes])
+        if abs(np.linalg.det(m)) < 1e-12:
+            continue
+        x = np.linalg.solve(m, [d for _, d in planes])
+        if all(n @ x <= d + 1e-9 for n, d in halfspaces) and \
+                not any(np.linalg.norm(x - v) < 1e-9 for v in vertices):
+            vertices.append(x)
+    return np.array(vertices)
+
+
+def face_polygon(vertices, n, d):
+    """The vertices on the plane n . x = d (n unit), counter-clockwise about n."""
+    on = [v for v in vertices if abs(n @ v - d) < 1e-9]
+    c = np.mean(on, axis=0)
+    u = (on[0] - c) / np.linalg.norm(on[0] - c)
+    w = np.cross(n, u)
+    return sorted(on, key=lambda v: math.atan2((v - c) @ w, (v - c) @ u))
+
+
+def triangle_area(a, b, c):
+    return 0.5 * np.linalg.norm(np.cross(b - a, c - a))
+
+
+def polyhedron_volume(vertices, halfspaces):
+    """Sum over the faces of the pyramids from the vertices' mean."""
+    c = vertices.mean(axis=0)
+    volume = 0.0
+    for n, d in halfspaces:
+        if sum(abs(n @ v - d) < 1e-9 for v in vertices) < 3:
+            continue
+        f = face_polygon(vertices, n, d)
+        area = sum(triangle_area(f[0], f[k], f[k + 1]) for k in range(1, len(f) - 1))
+        volume += area * (d - n @ c) / 3
+    return volume
+
+
+def water_force(polygon, level, gamma_w):
+    """The integral of gamma_w (level - z) over the part of `polygon` below the level."""
+    wet = []
+    for a, b in zip(polygon, polygon[1:] + polygon[:1]):
+        pa, pb = level - a[2], level - b[2]
+        if pa >= 0:
+            wet.append(a)
+        if (pa >= 0) != (pb >= 0):
+            wet.append(a + pa / (pa - pb) * (b - a))
+    total = 0.0
+    for k in range(1, len(wet) - 1):
+        centroid = (wet[0] + wet[k] + wet[k + 1]) / 3
+        total += triangle_area(wet[0], wet[k], wet[k + 1]) * gamma_w * (level - centroid[2])
+    return total
+
+
+def vector_method_with_water(scene):
+    mass = scene["rock_mass"][0]
+    friction = {j["name"]: math.radians(j["friction_angle"]) for j in scene["joint"]}
+    lo, hi = np.array(mass["region"]["min"], float), np.array(mass["region"]["max"], float)
+    box = [(e, hi @ e) for e in np.eye(3)] + [(-e, -(lo @ e)) for e in np.eye(3)]
+    a, b = mass["plane"]
+    assert a["fixed"] == b["fixed"] == "below", "the wedge is above both planes"
+    normals = [normal_from_dip(p["dip"], p["dip_direction"]) for p in (a, b)]
+    joints = [(-n, -(n @ np.array(p["point"], float))) for n, p in zip(normals, (a, b))]
+    wedge = convex_cell(box + joints)
+    volume = polyhedron_volume(wedge, box + joints)
+    weight = np.array([0.0, 0.0, -quantity(scene["material"][0]["density"], {"kg/m^3": 1.0})
+                       * 9.81 * volume])
+    water = scene["water"]
+    level = quantity(water["level"], {"m": 1.0})
+    gamma_w = quantity(water.get("unit_weight", 9810), {"N/m^3": 1.0, "kN/m^3": 1e3})
+    uplift = [water_force(face_polygon(wedge, n, d), level, gamma_w) for n, d in joints]
+    i = np.cross(*normals)
+    i /= np.linalg.norm(i)
+    if i[2] > 0:
+        i = -i  # down the line of intersection
+    # The water pushes the wedge off each plane, along its upward normal.
+    active = weight + uplift[0] * normals[0] + uplift[1] * normals[1]
+    n_a, n_b, _ = np.linalg.solve(np.column_stack([normals[0], normals[1], i]), -active)
+    assert n_a > 0 and n_b > 0, "the wedge must rest on both planes"
+    f = (n_a * math.tan(friction[a["joint"]]) + n_b * math.tan(friction[b["joint"]])) / (weight @ i)
+    print(f"wedge: volume {volume:.4f} m^3, W = {-weight[2]:.0f} N, U_A = {uplift[0]:.0f} N, "
+          f"U_B = {uplift[1]:.0f} N, N_A = {n_a:.0f} N, N_B = {n_b:.0f} N")
+    return f
+
+
+def check_wedge(polydem, scene_file, workdir):
+    expected = vector_method_with_water(tomllib.load(open(scene_file, "rb")))
+    f_measured = fos(polydem, scene_file, workdir, "fos")
+    error = abs(f_measured - expected) / expected
+    print(f"wedge: F = {f_measured}, expected {expected:.4f} ({error:.2%}, tolerance 2%)")
+    expect(error <= 0.02, f"wedge: F = {f_measured}, expected {expected:.4f} within 2%")
+
+
 def main():
     polydem, mode, scene, workdir = sys.argv[1:5]
     polydem = os.path.abspath(polydem)
@@ -125,7 +235,7 @@ def main():
     workdir = os.path.abspath(workdir)
     shutil.rmtree(workdir, ignore_errors=True)
     os.makedirs(workdir)
-    {"planar-crack": check_planar_crack}[mode](polydem, scene, workdir)
+    {"planar-crack": check_planar_crack, "wedge": check_wedge}[mode](polydem, scene, workdir)
     if FAILURES:
         sys.exit(f"{len(FAILURES)} failure(s)")
     print("all checks passed")
