@@ -12,9 +12,14 @@ wedge SCENE: W-WEDGE, `polydem fos`: F within 2 % of Hoek and Bray's vector meth
   integrated over its faces on A and B, clipped at the level, triangle by triangle at the
   centroid (exact for a linear pressure), independently of polydem's integration.
 
+rising SCENE: W-RISING-WATER, `polydem run`: the water in the crack rises by the scene's table;
+  the block must start to slide (move 1/1000 of its base's length) when the table's level is
+  within 5 % of the z_w where Hoek and Bray's F(z_w) = 1 (solved by bisection).
+
 Usage: water_scenes_test.py POLYDEM MODE SCENE WORKDIR
 """
 import itertools
+import csv
 import json
 import math
 import os
@@ -127,6 +132,55 @@ def check_planar_crack(polydem, scene_file, workdir):
         expect(error <= 0.02, f"crack {name}: F = {f_measured}, expected {expected:.4f} within 2%")
 
 
+# --- W-RISING-WATER ---------------------------------------------------------------------------
+def level_of_failure(g):
+    """The z_w in [0, crack depth] where F(z_w) = 1, by bisection; F falls as z_w rises."""
+    lo, hi = 0.0, g["crack_depth"]
+    assert hoek_bray(g, lo) > 1 > hoek_bray(g, hi), "stable dry, failed with the crack full"
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if hoek_bray(g, mid) > 1 else (lo, mid)
+    return (lo + hi) / 2
+
+
+def table_level(scene, g, time):
+    """The crack's water level of the scene's table at `time` (rows [t, z1, z2, z3]; the points
+    on the crack first, the toe last), linear between rows."""
+    water = scene["water"]
+    assert [p[0] for p in water["points"]] == [0, 0, g["toe"][0]], "crack, crack, toe"
+    rows = water["table"]
+    assert all(math.isclose(r[3], g["toe"][1]) and r[1] == r[2] for r in rows)
+    if time <= rows[0][0]:
+        return rows[0][1]
+    for a, b in zip(rows, rows[1:]):
+        if time <= b[0]:
+            return a[1] + (time - a[0]) / (b[0] - a[0]) * (b[1] - a[1])
+    return rows[-1][1]
+
+
+def check_rising(polydem, scene_file, workdir):
+    scene = tomllib.load(open(scene_file, "rb"))
+    g = planar_geometry(scene)
+    expected = level_of_failure(g)
+    run([polydem, "run", scene_file, "--out", "run", "--quiet", "--no-snapshots"], workdir)
+    label = scene["output"]["monitor"][0]
+    with open(os.path.join(workdir, "run", "series.csv")) as f:
+        rows = list(csv.DictReader(f))
+    position = lambda r: np.array([float(r[f"{label}_{c}"]) for c in "xyz"])
+    start = position(rows[0])
+    threshold = 1e-3 * g["length"] / math.cos(g["psi"])  # of the base's length
+    moved = [r for r in rows if np.linalg.norm(position(r) - start) > threshold]
+    expect(moved, f"the block never moved {threshold} m")
+    if not moved:
+        return
+    t = float(moved[0]["time"])
+    level = table_level(scene, g, t)
+    error = abs(level - expected) / expected
+    print(f"rising: the block moved {threshold:.4f} m at t = {t} s, water level {level:.4f} m; "
+          f"F = 1 at {expected:.4f} m ({error:.2%}, tolerance 5%)")
+    expect(error <= 0.05, f"rising: slid at level {level:.4f} m, F = 1 at {expected:.4f} m")
+
+
 # --- W-WEDGE --------------------------------------------------------------------------------
 def normal_from_dip(dip, dip_direction):
     d, a = math.radians(dip), math.radians(dip_direction)
@@ -235,7 +289,7 @@ def main():
     workdir = os.path.abspath(workdir)
     shutil.rmtree(workdir, ignore_errors=True)
     os.makedirs(workdir)
-    {"planar-crack": check_planar_crack, "wedge": check_wedge}[mode](polydem, scene, workdir)
+    {"planar-crack": check_planar_crack, "wedge": check_wedge, "rising": check_rising}[mode](polydem, scene, workdir)
     if FAILURES:
         sys.exit(f"{len(FAILURES)} failure(s)")
     print("all checks passed")
