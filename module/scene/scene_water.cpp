@@ -25,7 +25,8 @@ void readPoints(const Section& s, bool with_table, WaterSpec& w, std::vector<dou
     const std::string what = element(s.where("points"), i);
     const toml::array* p = a[i].as_array();
     if (!p || p->size() != width) {
-      s.context().fail(lineOf(a[i]), cat(what, ": expected ", form, ", got ", typeName(a[i])));
+      s.context().fail(lineOf(a[i]), cat(what, ": expected ", form, ", got ",
+                                         p ? cat("an array of ", p->size()) : typeName(a[i])));
     }
     double c[3] = {0, 0, 0};
     for (std::size_t k = 0; k < width; ++k) {

@@ -2,6 +2,7 @@
 #include "polydem/sim/water.h"
 
 #include <algorithm>
+#include <array>
 
 #include "polydem/geometry/face_pressure.h"
 
@@ -9,17 +10,22 @@ namespace polydem::sim {
 
 namespace {
 
-// The heights of the table at `time`, linear between rows.
-std::vector<double> heightsAt(const setup::WaterSpec& water, double time) {
+// The heights of the table at `time` (the level, or the three points' heights), linear between
+// rows; no allocation, as it runs every step.
+std::array<double, 3> heightsAt(const setup::WaterSpec& water, double time) {
   const auto& t = water.times;
-  if (time <= t.front()) return water.heights.front();
-  if (time >= t.back()) return water.heights.back();
-  const std::size_t k = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), time) -
-                                                 t.begin());  // t[k-1] <= time < t[k]
-  const double s = (time - t[k - 1]) / (t[k] - t[k - 1]);
-  std::vector<double> z(water.heights[k].size());
-  for (std::size_t i = 0; i < z.size(); ++i) {
-    z[i] = water.heights[k - 1][i] + s * (water.heights[k][i] - water.heights[k - 1][i]);
+  std::size_t lo = 0, hi = 0;  // rows to blend, and the weight of `hi`
+  double s = 0.0;
+  if (time >= t.back()) {
+    lo = hi = t.size() - 1;
+  } else if (time > t.front()) {
+    hi = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), time) - t.begin());
+    lo = hi - 1;  // t[lo] <= time < t[hi]
+    s = (time - t[lo]) / (t[hi] - t[lo]);
+  }
+  std::array<double, 3> z{};
+  for (std::size_t i = 0; i < water.heights[lo].size() && i < z.size(); ++i) {
+    z[i] = water.heights[lo][i] + s * (water.heights[hi][i] - water.heights[lo][i]);
   }
   return z;
 }
@@ -27,7 +33,7 @@ std::vector<double> heightsAt(const setup::WaterSpec& water, double time) {
 }  // namespace
 
 PhreaticSurface phreaticSurface(const setup::WaterSpec& water, double time) {
-  const std::vector<double> z = heightsAt(water, time);
+  const std::array<double, 3> z = heightsAt(water, time);
   PhreaticSurface s;
   if (water.points.empty()) {
     s.height = z[0];
