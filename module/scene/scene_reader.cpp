@@ -340,7 +340,7 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
   Section(ctx, root, "top level")
       .allowOnly({"scene", "simulation", "kernel_params", "material", "interaction", "joint",
                   "shape", "driver", "particle", "particle_grid", "rock_mass", "domain",
-                  "equilibrium", "output", "checkpoint", "check", "fos"});
+                  "equilibrium", "output", "checkpoint", "check", "fos", "water"});
   Scene scene;
   scene.file = name_for_messages;
   scene.text = std::string(text);
@@ -360,6 +360,7 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
   readCheckpoint(ctx, root, scene);
   detail::readChecks(ctx, root, scene);
   detail::readFos(ctx, root, scene);
+  detail::readWater(ctx, root, scene);
   return scene;
 }
 

@@ -46,6 +46,9 @@ RockMassCut readRockMass(const Section& s, const Scene& scene);
 /// [fos] (scene_fos.cpp); needs the materials.
 void readFos(const Context& ctx, const toml::table& root, Scene& scene);
 
+/// [water] (scene_water.cpp).
+void readWater(const Context& ctx, const toml::table& root, Scene& scene);
+
 /// Index of the entry called `name` in `items` (by their .name), or -1.
 template <typename T>
 int indexByName(const std::vector<T>& items, const std::string& name) {

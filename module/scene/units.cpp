@@ -119,6 +119,8 @@ Dimension dimensionOf(Quantity q) {
       return {0, 0, -1, 1};
     case Quantity::kFrequency:
       return {0, 0, -1, 0};
+    case Quantity::kUnitWeight:
+      return {1, -2, -2, 0};
   }
   return {};
 }
@@ -155,6 +157,8 @@ std::string storedUnit(Quantity q) {
       return "rad/s";
     case Quantity::kFrequency:
       return "Hz";
+    case Quantity::kUnitWeight:
+      return "N/m^3";
   }
   return "1";
 }
@@ -191,6 +195,8 @@ std::string describe(Quantity q) {
       return "an angular velocity (rad/s or deg/s; plain numbers are rad/s)";
     case Quantity::kFrequency:
       return "a frequency (Hz)";
+    case Quantity::kUnitWeight:
+      return "a unit weight (N/m^3)";
   }
   return {};
 }

@@ -39,6 +39,7 @@ enum class Quantity {
   kPhase,            // stored in radians; a plain number is radians
   kAngularVelocity,  // stored in rad/s; a plain number is rad/s
   kFrequency,        // Hz
+  kUnitWeight,       // N/m^3: weight per volume (water's gamma_w)
 };
 
 Dimension dimensionOf(Quantity q);

@@ -197,6 +197,22 @@ struct CheckSpec {
   int line = 0;
 };
 
+/// [water]: hydrostatic water pressure on the joint faces of the free blocks
+/// (docs/scene-format.md "Water"). The phreatic surface is z = level, or the plane through three
+/// points; either may change with time through a table whose rows are interpolated linearly
+/// (held at the first and last row outside them).
+struct WaterSpec {
+  bool enabled = false;
+  double unit_weight = 9810.0;  // N/m^3
+  /// x, y of the plane's three points (m); empty: a level surface.
+  std::vector<std::array<double, 2>> points;
+  /// Rows of the table, increasing in time (s); one row: a surface that does not move.
+  std::vector<double> times;
+  /// Per row: the level (one height), or the heights of the three points (m).
+  std::vector<std::vector<double>> heights;
+  int line = 0;
+};
+
 struct Setup {
   std::string file;  // path of the scene file, for messages (diagnostics only)
   // The TOML text the scene was parsed from, verbatim: what a checkpoint of its run stores (and a
@@ -240,7 +256,8 @@ struct Setup {
   OutputSpec output;
   CheckpointSpec checkpoint;
   std::vector<CheckSpec> checks;
-  FosSpec fos;  // [fos]; defaults when the scene has no such table
+  FosSpec fos;      // [fos]; defaults when the scene has no such table
+  WaterSpec water;  // [water]; off when the scene has no such table
 };
 
 }  // namespace polydem::setup
@@ -264,4 +281,5 @@ using setup::ParticleSpec;
 using setup::RockMassInfo;
 using setup::ShapeSpec;
 using setup::unknownContactModel;
+using setup::WaterSpec;
 }  // namespace polydem::io

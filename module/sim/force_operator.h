@@ -3,10 +3,10 @@
 // Simulation.add_force_operator from Python.
 //
 // Within a step (simulation.h) the operators run in the order they were registered, after the
-// contact forces and gravity have been summed and before the force ratio is taken and the
-// particles are integrated:
+// contact forces, gravity and the scene's water pressure (sim/water.h) have been summed and before
+// the force ratio is taken and the particles are integrated:
 //
-//   derived -> broadphase -> contacts -> gravity -> force operators -> ratio -> integrate -> ...
+//   derived -> broadphase -> contacts -> gravity -> water -> force operators -> ratio -> ...
 //
 // An operator sees this rank's own particles only (no ghosts) and adds to their accumulators; a
 // force that depends only on the particle's own state then gives the same bits on any number of

@@ -15,6 +15,7 @@
 #include "polydem/dynamics/driver.h"
 #include "polydem/dynamics/integrator.h"
 #include "polydem/sim/pair_memory.h"
+#include "polydem/sim/water.h"
 
 namespace polydem::sim {
 
@@ -158,6 +159,10 @@ void Simulation::computeContacts() {
   }
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
     if (storage_[i].isFree()) forces_[i].addBodyForce(storage_.mass(i) * scene_.gravity);
+  }
+  if (scene_.water.enabled) {
+    addWaterForces(scene_.water, stage_ == Stage::kEquilibrium ? 0.0 : time(), shapes_, storage_,
+                   std::span<dynamics::ForceAccumulator>(forces_.data(), storage_.localCount()));
   }
   applyForceOperators();
   ratio_local_.clear();

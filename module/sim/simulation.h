@@ -3,8 +3,8 @@
 // particles whose centroids lie in its blocks, sees ghost copies of its neighbours' particles and
 // replicated fixed/driven bodies, and runs the same timeloop:
 //
-//   sort (now and then) -> derived -> broadphase -> contacts -> gravity -> force operators
-//   -> integrate -> communicate -> monitors
+//   sort (now and then) -> derived -> broadphase -> contacts -> gravity -> water
+//   -> force operators -> integrate -> communicate -> monitors
 //
 // (see contact_phase.h for why the result is the same bits on any number of ranks, and
 // force_operator.h for the forces a user adds).

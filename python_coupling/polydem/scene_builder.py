@@ -26,6 +26,7 @@ _SECTION_KEYS = {
     "fos": ("interactions", "f_min", "f_max", "resolution", "max_time", "time_cap",
             "settle_time", "force_ratio", "speed_decay", "local_damping", "speed_limit",
             "displacement_limit", "check_every", "label_prefix"),
+    "water": ("unit_weight", "level", "points", "table"),
 }
 _CONTACT_KEYS = ("kn", "ks", "friction_angle", "cohesion", "normal_damping", "penalty", "jkn",
                  "jks")
@@ -166,6 +167,36 @@ class Scene(Bodies):
     def set_fos(self, **settings):
         """[fos] of polydem fos: interactions, f_min, f_max, resolution, max_time, ..."""
         return self._set("fos", settings)
+
+    def set_water(self, **settings):
+        """[water] (water pressure on the joint faces, docs/scene-format.md "Water in the
+        joints"): unit_weight [N/m^3], and the phreatic surface: level [m], or points (three
+        [x, y, z]), or table (rows [time, level]), or points as [x, y] with a table of rows
+        [time, z1, z2, z3]. None removes a key; water=None (the property) removes the table."""
+        return self._set("water", settings)
+
+    @property
+    def water(self):
+        """The [water] settings as given (a dict), or None when the scene has no water."""
+        table = self._sections.get("water")
+        return dict(table) if table else None
+
+    @water.setter
+    def water(self, settings):
+        if settings is None:
+            self._sections.pop("water", None)
+            self._changed()
+            return
+        if not isinstance(settings, dict):
+            raise TypeError("Scene water must be a dict of [water] keys or None, got %s"
+                            % type(settings).__name__)
+        previous = self._sections.pop("water", None)
+        try:
+            self._set("water", settings)
+        except (TypeError, ValueError):
+            if previous is not None:
+                self._sections["water"] = previous
+            raise
 
     # --- tables ------------------------------------------------------------------------------
     def add_material(self, name, density, kn=0.0, ks=0.0, friction_angle=0.0, cohesion=0.0,

@@ -125,6 +125,19 @@ py::list checks(const Scene& s) {
   return out;
 }
 
+py::object water(const Scene& s) {
+  if (!s.water.enabled) return py::none();
+  py::dict d;
+  d["unit_weight"] = s.water.unit_weight;
+  py::list points;
+  for (const auto& p : s.water.points) points.append(py::make_tuple(p[0], p[1]));
+  d["points"] = points;
+  d["times"] = s.water.times;
+  d["heights"] = s.water.heights;
+  d["line"] = s.water.line;
+  return d;
+}
+
 py::list rockMasses(const Scene& s) {
   py::list out;
   for (const auto& r : s.rock_masses) {
@@ -303,6 +316,10 @@ replaces the scene's whole stop condition: the other one is cleared.)")
       .def_property_readonly(
           "equilibrium", [](const Scene& s) { return s.equilibrium.enabled; },
           "Whether the run starts with the initial-equilibrium stage.")
+      .def_property_readonly("water", &water,
+                             "[water] as read, in SI units: a dict (unit_weight [N/m^3], points "
+                             "(x, y of the plane's three points; empty: a level surface), times "
+                             "[s], heights [m] per time), or None without water.")
       .def(
           "copy", [](const Scene& s) { return Scene(s); },
           "An independent copy (to override kernel or stop time without changing this one).")
