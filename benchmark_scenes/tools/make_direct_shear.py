@@ -51,6 +51,43 @@ LAWS = {
         "speed": lambda length: 3e-5,  # m/s: slow enough for an inertial force below 0.1 %
         "end_time": 3.6,
     },
+    "COULOMB-RESIDUAL": {
+        "title": "Direct shear of a Coulomb joint with residual strength at two normal stresses and "
+                 "two scales",
+        "joint": ['law = "coulomb-residual"', 'jkn = "100 GPa/m"', 'jks = "50 GPa/m"',
+                  "friction_angle = 35", 'cohesion = "0.2 MPa"', "residual_friction_angle = 25"],
+        "curve": [
+            "The law's curve (3DEC's Coulomb slip with residual strength; monotonic shear): the shear",
+            "stress rises elastically, tau = jks delta, up to the peak tau_p = c + sigma_n tan(phi);",
+            "there the joint slips, loses its cohesion for good and slides at the residual",
+            "tau_r = sigma_n tan(phi_r). With c = 0.2 MPa, phi = 35 deg, phi_r = 25 deg: tau_p = 0.5501",
+            "and 1.6004 MPa, tau_r = 0.2332 and 0.9326 MPa at sigma_n = 0.5 and 2 MPa, at both scales.",
+            "The drop releases the sample, which runs ahead of the plate until the plate's spring has",
+            "relaxed to tau_r: the residual is checked once the sample has slid two elastic rises",
+            "(2 tau_p / jks) past the peak."],
+        "speed": lambda length: 3e-5,
+        "end_time": 6.0,
+    },
+    "BARTON-BANDIS": {
+        "title": "Direct shear of a Barton-Bandis joint at two normal stresses and two scales",
+        "joint": ['law = "barton-bandis"', 'jkn = "100 GPa/m"', 'jks = "50 GPa/m"', "jrc = 10",
+                  'jcs = "50 MPa"', "residual_friction_angle = 30"],
+        "curve": [
+            "The law's curve (Barton 1973, Barton and Choubey 1977, Barton and Bandis 1982; monotonic",
+            "shear): with L_n = sqrt(A) = L (field_length 0) and L_0 = 0.1 m (lab_length's default),",
+            "JRC_n = JRC_0 (L_n / L_0)^(-0.02 JRC_0), JCS_n = JCS_0 (L_n / L_0)^(-0.03 JRC_0),",
+            "i = JRC_n log10(JCS_n / sigma_n), delta_p = (L_n / 500) (JRC_n / L_n)^0.33 and",
+            "tau = sigma_n tan(min(phi_r + (JRC_mob / JRC_n) i, 70 deg)), JRC_mob / JRC_n linear in",
+            "delta / delta_p between Barton's points (0, -phi_r / i), (0.3, 0), (0.6, 0.75), (1, 1),",
+            "(2, 0.85), (4, 0.7), (10, 0.5), (100, 0). JRC_0 = 10, JCS_0 = 50 MPa, phi_r = 30 deg:",
+            "L = 0.1 m: JRC_n = 10, JCS_n = 50 MPa, delta_p = 0.914 mm, peak 0.5959 MPa (i = 20.0 deg)",
+            "  at 0.5 MPa and 1.9300 MPa (i = 13.98 deg) at 2 MPa;",
+            "L = 1 m: JRC_n = 6.310, JCS_n = 25.06 MPa, delta_p = 3.673 mm, peak 0.4305 MPa",
+            "  (i = 10.73 deg) at 0.5 MPa and 1.5031 MPa (i = 6.93 deg) at 2 MPa;",
+            "residual sigma_n tan(phi_r) = 0.2887 and 1.1547 MPa from delta = 100 delta_p on."],
+        "speed": lambda length: 120 * barton_peak_displacement(length, 10) / (60.0 - SETTLE),
+        "end_time": 60.0,
+    },
 }
 
 
