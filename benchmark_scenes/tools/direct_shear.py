@@ -19,7 +19,7 @@ stress is within 1 % of the law's curve at every checked point, but more than 1 
 law with a friction angle 1 deg larger somewhere (so that the check could fail). Exit status 1
 on a failed check.
 
-Usage: direct_shear.py SCENE [--samples N] [--csv FILE]
+Usage: direct_shear.py SCENE [--samples N] [--csv PREFIX] [--plot PNG]
 """
 import argparse
 import bisect
@@ -359,13 +359,48 @@ def summary(law_name, boxes):
               f"{box.worst[0]:.2%} at {box.worst[1] * 1e3:.3g} mm |")
 
 
+def plot(law_name, boxes, path):
+    """The boxes' curves (points every few samples) over the law's (lines), one panel per scale."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    scales = sorted({box.length for box in boxes})
+    fig, axes = plt.subplots(1, len(scales), figsize=(5.5 * len(scales), 4), squeeze=False)
+    for ax, length in zip(axes[0], scales):
+        for box in (b for b in boxes if b.length == length):
+            rows = np.array(box.rows)
+            delta, tau = rows[:, 1], rows[:, 3]
+            line = np.linspace(0, delta.max(), 2000)
+            shown = ax.plot(line * 1e3, [box.law.tau(d) / 1e6 for d in line], lw=1,
+                            label=f"law, sigma_n = {box.sigma / 1e6:g} MPa")
+            step = max(1, len(delta) // 60)
+            ax.plot(delta[::step] * 1e3, tau[::step] / 1e6, "o", ms=3, mfc="none",
+                    color=shown[0].get_color(), label=f"polydem, {box.name}")
+        if law_name == "barton-bandis":  # the table spans 0.3 to 100 delta_p
+            ax.set_xscale("symlog", linthresh=0.1)
+        ax.set_xlabel("shear displacement delta (mm)")
+        ax.set_ylabel("shear stress tau (MPa)")
+        ax.set_title(f"{law_name}, L = {length:g} m")
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"curves drawn in {path}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("scene")
     parser.add_argument("--samples", type=int, default=2000, help="points of each curve")
     parser.add_argument("--csv", help="write PREFIX.<box>.csv with every point")
+    parser.add_argument("--plot", help="draw the curves into this PNG file")
     args = parser.parse_args()
-    failures = check(*run(args.scene, args.samples), args.csv)
+    result = run(args.scene, args.samples)
+    failures = check(*result, args.csv)
+    if args.plot:
+        plot(result[0], result[1], args.plot)
     if failures:
         sys.exit(f"{len(failures)} failed check(s)")
     print("\nall checks passed")
