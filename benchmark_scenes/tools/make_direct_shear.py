@@ -104,7 +104,7 @@ LAWS = {
         # about 0.3 delta_p per second), fast towards the residual.
         "drive": lambda length: drive_speeding_up(barton_peak_displacement(length, 10), 0.3, 125,
                                                   24.0),
-        "dt": 2e-4,
+        "dt": 1.4e-4,  # below the rotational stability limit polydem estimates (1.48e-4 s)
         "end_time": SETTLE + 24.0,
     },
 }
