@@ -384,7 +384,7 @@ def plot(law_name, boxes, path):
         for box in (b for b in boxes if b.length == length):
             rows = np.array(box.rows)
             delta, tau = rows[:, 1], rows[:, 3]
-            line = np.linspace(0, delta.max(), 2000)
+            line = np.concatenate([[0], np.geomspace(delta.max() * 1e-4, delta.max(), 2000)])
             shown = ax.plot(line * 1e3, [box.law.tau(d) / 1e6 for d in line], lw=1,
                             label=f"law, sigma_n = {box.sigma / 1e6:g} MPa")
             step = max(1, len(delta) // 60)
