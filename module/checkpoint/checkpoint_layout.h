@@ -137,11 +137,15 @@ inline constexpr Dataset kSubShearForce{"/subcontacts/shear_force", "N",
                                         "tangential force on the lower-uid particle, world frame"};
 inline constexpr Dataset kSubNormal{"/subcontacts/normal", "",
                                     "unit normal of the sub-contact at the last step"};
+inline constexpr Dataset kSubLawState{
+    "/subcontacts/law_state", "",
+    "the joint law's history values of the sub-contact, in its history columns' order (0 for "
+    "material pairs and coulomb joints; docs/checkpoint.md, version 5)"};
 
 // Bytes of one row of the particle and pair tables (all columns).
 inline constexpr std::size_t kParticleRowBytes = 8 + 4 * 4 + 13 * 8;  // uid, 4 ints, 13 doubles
 inline constexpr std::size_t kPairRowBytes = 2 * 8 + 12 * 8 + 3 * 4;  // pair, 4 vectors, 3 words
-inline constexpr std::size_t kSubRowBytes = 3 * 8 + 6 * 8;            // pair, feature, 2 vectors
+inline constexpr std::size_t kSubRowBytes = 3 * 8 + 8 * 8;  // pair, feature, 2 vectors, law state
 
 /// Rows of a table packed (or unpacked) and hashed together, so that the block stays in cache.
 inline constexpr std::uint64_t kBlockRows = 4096;

@@ -459,6 +459,7 @@ class Reader {
     ReadColumn<std::uint64_t> feature(f_, layout::kSubFeature, m, 1);
     ReadColumn<double> shear(f_, layout::kSubShearForce, m, 3);
     ReadColumn<double> normal(f_, layout::kSubNormal, m, 3);
+    std::optional<ReadColumn<double>> law_state;
     std::optional<std::string> problem;
     d_.sub_keys.reserve(slice.rows);
     d_.sub_histories.reserve(slice.rows);
@@ -475,9 +476,18 @@ class Reader {
         particles::SubHistory& h = d_.sub_histories.emplace_back();
         h.shear_force = vec3At(shear.row(i));
         h.normal = vec3At(normal.row(i));
+        if (law_state) std::copy_n(law_state->row(i), h.law.size(), h.law.begin());
       }
     };
-    stream(0, slice, layout::kSubRowBytes, unpack, pair, feature, shear, normal);
+    // Version 5 added the joint laws' history; older files continue with it 0 (intact joints,
+    // not yet sheared: docs/checkpoint.md, 'Older files').
+    if (d_.format_version >= 5) {
+      law_state.emplace(f_, layout::kSubLawState, m, particles::kMaxLawHistory);
+      stream(0, slice, layout::kSubRowBytes, unpack, pair, feature, shear, normal, *law_state);
+    } else {
+      stream(0, slice, layout::kSubRowBytes - particles::kMaxLawHistory * 8, unpack, pair, feature,
+             shear, normal);
+    }
     h5::agree(problem, comm_);
   }
 

@@ -364,6 +364,7 @@ class Writer {
     Column<std::uint64_t> feature(f_, layout::kSubFeature, m, 1);
     Column<double> shear(f_, layout::kSubShearForce, m, 3);
     Column<double> normal(f_, layout::kSubNormal, m, 3);
+    Column<double> law_state(f_, layout::kSubLawState, m, particles::kMaxLawHistory);
     auto pack = [&](std::uint64_t begin, std::uint64_t end, std::uint64_t base) {
       for (std::uint64_t r = begin; r < end; ++r) {
         const std::size_t i = r - base;
@@ -372,9 +373,10 @@ class Writer {
         *feature.row(i) = keys[r].feature;
         put(h[r].shear_force, shear.row(i));
         put(h[r].normal, normal.row(i));
+        std::copy(h[r].law.begin(), h[r].law.end(), law_state.row(i));
       }
     };
-    stream(slice, layout::kSubRowBytes, pack, pair, feature, shear, normal);
+    stream(slice, layout::kSubRowBytes, pack, pair, feature, shear, normal, law_state);
   }
 
   h5::File& f_;

@@ -18,13 +18,19 @@ struct Keyed {
 };
 
 // Over the pair's history and, with the sub-contact model, its sub-contacts' (a pair without any
-// hashes as it did before sub-contacts existed).
+// hashes as it did before sub-contacts existed). A sub-contact's joint-law history values are
+// hashed when one is not 0, so that a run without such laws hashes as it did before they existed.
 std::uint64_t historyHash(const particles::PairKey& key, const particles::PairHistory& h,
                           std::span<const particles::SubKey> sub_keys,
                           std::span<const particles::SubHistory> subs) {
   SendBuffer bytes;
   pack(bytes, key, h);
-  for (std::size_t i = 0; i < sub_keys.size(); ++i) pack(bytes, sub_keys[i], subs[i]);
+  for (std::size_t i = 0; i < sub_keys.size(); ++i) {
+    const particles::SubKey& k = sub_keys[i];
+    const particles::SubHistory& s = subs[i];
+    bytes << k.pair.lo << k.pair.hi << k.feature << s.shear_force << s.normal;
+    if (s.hasLawState()) bytes << s.law[0] << s.law[1];
+  }
   BitHasher hasher;
   const auto& raw = bytes.bytes();
   for (std::size_t i = 0; i < raw.size(); i += 8) {

@@ -38,29 +38,6 @@ LawCoefficients lawCoefficients(const particles::ContactProperties& p,
   return k;
 }
 
-LawCoefficients jointCoefficients(const JointProperties& j, const LawCoefficients& pair,
-                                  std::optional<double> friction_angle_deg) {
-  const double phi = friction_angle_deg.value_or(j.friction_angle);
-  if (!(phi >= 0.0 && phi < 90.0)) {
-    throw Error(cat("joint law: friction angle ", phi, " deg is outside [0, 90)"));
-  }
-  if (!(j.jkn > 0.0 && j.jks > 0.0)) {
-    throw Error(cat("joint law: jkn (", j.jkn, ") and jks (", j.jks, ") must be > 0"));
-  }
-  if (!(j.cohesion >= 0.0 && j.tensile_strength >= 0.0)) {
-    throw Error(cat("joint law: cohesion (", j.cohesion, ") and tensile strength (",
-                    j.tensile_strength, ") must be >= 0"));
-  }
-  LawCoefficients k = pair;
-  k.jkn = j.jkn;
-  k.jks = j.jks;
-  k.tan_friction = std::tan(degToRad(phi));
-  k.cohesion = 0.0;
-  k.cohesion_stress = j.cohesion;
-  k.tensile_strength = j.tensile_strength;
-  return k;
-}
-
 void resetShear(particles::PairHistory& history) {
   history.shear_force.setZero();
   history.normal.setZero();

@@ -17,6 +17,7 @@
 // own and give the same bits for the same inputs.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 
 #include "polydem/contact/contact.h"
@@ -25,6 +26,13 @@
 #include "polydem/particles/material.h"
 
 namespace polydem::dynamics {
+
+/// The law of a joint (dynamics/joint_law.h): one enumerator per line of joint_law_list.inc.
+enum class JointLaw : std::uint8_t {
+#define POLYDEM_JOINT_LAW(id, type) id,
+#include "polydem/dynamics/joint_law_list.inc"
+#undef POLYDEM_JOINT_LAW
+};
 
 /// The coefficients of the law for one pair of materials in one stage, ready for the hot loop
 /// (the friction angle is turned into its tangent once). Build one per material pair and stage.
@@ -42,25 +50,18 @@ struct LawCoefficients {
   // up to w A tensile_strength (dynamics/sub_contact_law.h). 0 for material pairs.
   double cohesion_stress = 0.0;   // Pa
   double tensile_strength = 0.0;  // Pa
+  // The joint's law (material pairs: kCoulomb) and the parameters of the laws beyond Coulomb's
+  // (dynamics/joint_law_*.h), ready for the hot loop.
+  JointLaw law = JointLaw::kCoulomb;
+  double tan_residual = 0.0;      // tan(phi_r): coulomb-residual, barton-bandis
+  double residual_angle = 0.0;    // phi_r, degrees: barton-bandis
+  double jrc = 0.0;               // JRC_0: barton-bandis
+  double jcs = 0.0;               // JCS_0, Pa: barton-bandis
+  double lab_length = 0.0;        // L_0, m: barton-bandis
+  double field_length = 0.0;      // L_n, m (0: sqrt of the face contact's area): barton-bandis
+  bool dilation = false;          // barton-bandis: accumulate the mobilized dilation
+  double strength_divisor = 1.0;  // barton-bandis under strength reduction: tau / F
 };
-
-/// A rock joint's own properties (a [[joint]] of the scene): stiffness per area and strengths as
-/// stresses, the law 3DEC calls Coulomb slip.
-struct JointProperties {
-  double jkn = 0.0, jks = 0.0;    // Pa/m
-  double friction_angle = 0.0;    // degrees
-  double cohesion = 0.0;          // Pa
-  double tensile_strength = 0.0;  // Pa
-};
-
-/// Coefficients of a face contact on a joint: the joint's stiffness and strength; kn, ks (not
-/// used by a face contact with jkn, jks > 0), penalty and damping are the material pair's `pair`,
-/// so the joint changes what a rock engineer gives for it and nothing numerical.
-/// `friction_angle_deg`, when given, replaces the joint's (the initial-equilibrium stage).
-/// Throws polydem::Error for a friction angle outside [0, 90), a stiffness <= 0 or a negative
-/// strength.
-LawCoefficients jointCoefficients(const JointProperties& joint, const LawCoefficients& pair,
-                                  std::optional<double> friction_angle_deg = std::nullopt);
 
 /// Coefficients from a pair's properties. `friction_angle_deg`, when given, replaces the pair's
 /// friction angle (the initial-equilibrium stage of Keissar section 3.3 uses 89 degrees).

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "polydem/dynamics/joint_laws.h"
+
 namespace polydem::dynamics {
 
 namespace {
@@ -46,15 +48,22 @@ PairForce subContactForces(const contact::FaceContact& fc,
   const PairForce out =
       subContactForces(fc, old_keys, old, kin, m_eff, dt, k, {keys, entries}, scratch);
   kept.clear();
-  for (int i = 0; i < out.loaded; ++i) kept.push_back({keys[i].feature, entries[i]});
+  for (int i = 0; i < out.kept; ++i) kept.push_back({keys[i].feature, entries[i]});
   return out;
 }
 
-PairForce subContactForces(const contact::FaceContact& fc,
-                           std::span<const particles::SubKey> old_keys,
-                           std::span<const particles::SubHistory> old, const PairKinematics& kin,
-                           double m_eff, double dt, const LawCoefficients& k,
-                           const particles::SubSlots& kept, SubContactScratch& scratch) {
+namespace {
+
+// The law of one pair, for the joint law `Law` (dynamics/joint_law_coulomb.h lists its hooks).
+// Laws without history (coulomb, material pairs) skip every history step at compile time, so their
+// arithmetic is the plain Coulomb law's.
+template <typename Law>
+PairForce pairForces(const contact::FaceContact& fc, std::span<const particles::SubKey> old_keys,
+                     std::span<const particles::SubHistory> old, const PairKinematics& kin,
+                     double m_eff, double dt, const LawCoefficients& k,
+                     const particles::SubSlots& kept, SubContactScratch& scratch) {
+  constexpr bool kHistory = Law::kHistoryColumns.size() > 0;
+  using State = std::array<double, particles::kMaxLawHistory>;
   PairForce out;
   const double kn = pairStiffness(k.kn, k.jkn, fc);
   const double ks = pairStiffness(k.ks, k.jks, fc);
@@ -71,6 +80,7 @@ PairForce subContactForces(const contact::FaceContact& fc,
   const double cohesion = k.cohesion + area * k.cohesion_stress;
   const double tension = area * k.tensile_strength;  // N, the pair's whole tensile strength
   const double open_gap = tension > 0.0 && kn > 0.0 ? -tension / kn : 0.0;
+  const typename Law::Pair law_pair = Law::prepare(k, area);
   const Vec3 spin = 0.5 * (kin.wa + kin.wb);
   // Hoisted (0.5 * dt * x is (0.5 * dt) * x): recomputed per sub-contact in the loop otherwise.
   const double half_dt = 0.5 * dt;
@@ -79,6 +89,15 @@ PairForce subContactForces(const contact::FaceContact& fc,
   grow(scratch.origin, m);
   Vec3* carried = scratch.carried.data();
   std::uint8_t* origin = scratch.origin.data();
+  [[maybe_unused]] State* state = nullptr;
+  // What a sub-contact that appears in the pair inherits (the law's rule).
+  [[maybe_unused]] State inherited{};
+  if constexpr (kHistory) {
+    grow(scratch.state, m);
+    grow(scratch.had_history, m);
+    state = scratch.state.data();
+    Law::inherit(old_keys, old, fc, inherited.data());
+  }
 
   // Pass 1, one merge walk over the new and the old sub-contacts: each one's history, the shear
   // it carries over (two divisions each, independent from one sub-contact to the next, so that
@@ -91,7 +110,14 @@ PairForce subContactForces(const contact::FaceContact& fc,
       given.shear += old[j++].shear_force;
     const particles::SubHistory* previous = nullptr;
     if (j < old_keys.size() && old_keys[j].feature == s.feature) previous = &old[j++];
-    if (!(s.gap > open_gap)) {
+    double gap = s.gap, opens_at = open_gap;
+    if constexpr (kHistory) {
+      state[i] = previous ? previous->law : inherited;
+      scratch.had_history[i] = previous != nullptr;
+      gap = Law::effectiveGap(s.gap, state[i].data());
+      opens_at = Law::openGap(state[i].data(), open_gap);
+    }
+    if (!(gap > opens_at)) {
       origin[i] = kOpen;
     } else if (previous && previous->normal.squaredNorm() > 0.0) {
       const Vec3 rotated = rotateShear(previous->shear_force, previous->normal, s.normal);
@@ -114,21 +140,37 @@ PairForce subContactForces(const contact::FaceContact& fc,
   Vec3 force = Vec3::Zero(), torque_a = Vec3::Zero(), torque_b = Vec3::Zero();
   Vec3 centre_sum = Vec3::Zero(), shear_sum = Vec3::Zero();
   double normal_sum = 0.0, energy = 0.0;
-  std::size_t loaded = 0;
+  std::size_t loaded = 0, stored = 0;
   bool sliding = false;
   const Vec3 xa = kin.xa, va = kin.va, wa = kin.wa, xb = kin.xb, vb = kin.vb, wb = kin.wb;
-  const double tan_friction = k.tan_friction;
   for (std::size_t i = 0; i < m; ++i) {
     const auto& s = fc.subs[i];
-    if (origin[i] == kOpen) continue;
+    if (origin[i] == kOpen) {
+      // A law may keep an opened sub-contact's history (coulomb-residual: it stays broken).
+      if constexpr (kHistory) {
+        if (Law::keepOpen(scratch.had_history[i] != 0, state[i].data())) {
+          kept.keys[stored].feature = s.feature;
+          kept.entries[stored].shear_force.setZero();
+          kept.entries[stored].normal.setZero();
+          kept.entries[stored].law = state[i];
+          ++stored;
+        }
+      }
+      continue;
+    }
 
     const Vec3& n = s.normal;
     const double w = s.weight;
+    double gap = s.gap, pull = tension;
+    if constexpr (kHistory) {
+      gap = Law::effectiveGap(s.gap, state[i].data());
+      pull = Law::tension(state[i].data(), tension);
+    }
     const Vec3 v = relativeVelocity(s.point, xa, va, wa, xb, vb, wb);
     const double v_normal = v.dot(n);
-    const double f_elastic = w * kn * s.gap;
+    const double f_elastic = w * kn * gap;
     const double f_normal =
-        std::max(f_elastic - w * dashpot * v_normal, tension > 0.0 ? -w * tension : 0.0);
+        std::max(f_elastic - w * dashpot * v_normal, pull > 0.0 ? -w * pull : 0.0);
 
     Vec3 shear = Vec3::Zero();
     if (origin[i] == kCarried) {
@@ -137,13 +179,20 @@ PairForce subContactForces(const contact::FaceContact& fc,
       shear = (w / given.newcomer_weight) * given.shear;
       shear -= shear.dot(n) * n;
     }
-    shear -= (w * ks * dt) * (v - v_normal * n);
-    // In tension (f_elastic < 0) friction lowers the cap, never below 0.
-    const double cap = std::max(f_elastic * tan_friction + w * cohesion, 0.0);
+    const Vec3 v_tangent = v - v_normal * n;
+    shear -= (w * ks * dt) * v_tangent;
+    double* h = nullptr;
+    double slide = 0.0;
+    if constexpr (kHistory) {
+      h = state[i].data();
+      slide = v_tangent.norm() * dt;
+    }
+    const double cap = Law::cap(law_pair, k, f_elastic, w, cohesion, gap, slide, h);
     const double magnitude = shear.norm();
     if (magnitude > cap) {
       shear *= cap / magnitude;
       sliding = true;
+      if constexpr (kHistory) Law::slipped(law_pair, k, gap, slide, h);
     }
 
     const Vec3 f = f_normal * n + shear;
@@ -151,14 +200,20 @@ PairForce subContactForces(const contact::FaceContact& fc,
     torque_a += (s.point - xa).cross(f);
     torque_b -= (s.point - xb).cross(f);
     normal_sum += f_normal;
-    energy += 0.5 * f_elastic * s.gap;
+    energy += 0.5 * f_elastic * gap;
     if (ks > 0.0) energy += 0.5 * shear.squaredNorm() / (w * ks);
     centre_sum += f_normal * s.point;
     shear_sum += shear;
     // Field by field: an aggregate assigned whole was built on the stack first.
-    kept.keys[loaded].feature = s.feature;
-    kept.entries[loaded].shear_force = shear;
-    kept.entries[loaded].normal = n;
+    kept.keys[stored].feature = s.feature;
+    kept.entries[stored].shear_force = shear;
+    kept.entries[stored].normal = n;
+    if constexpr (kHistory) {
+      kept.entries[stored].law = state[i];
+    } else {
+      kept.entries[stored].law = {};
+    }
+    ++stored;
     ++loaded;
   }
   out.force = force;
@@ -167,6 +222,7 @@ PairForce subContactForces(const contact::FaceContact& fc,
   out.normal = normal_sum;
   out.energy = energy;
   out.loaded = static_cast<int>(loaded);
+  out.kept = static_cast<int>(stored);
   out.sliding = sliding;
   out.shear = shear_sum.norm();
   if (out.normal > 0.0) {
@@ -177,6 +233,24 @@ PairForce subContactForces(const contact::FaceContact& fc,
     out.centre = point_sum / static_cast<double>(fc.subs.size());
   }
   return out;
+}
+
+}  // namespace
+
+PairForce subContactForces(const contact::FaceContact& fc,
+                           std::span<const particles::SubKey> old_keys,
+                           std::span<const particles::SubHistory> old, const PairKinematics& kin,
+                           double m_eff, double dt, const LawCoefficients& k,
+                           const particles::SubSlots& kept, SubContactScratch& scratch) {
+  // Static dispatch, once per pair: each law's loop is its own instantiation.
+  switch (k.law) {
+#define POLYDEM_JOINT_LAW(id, type) \
+  case JointLaw::id:                \
+    return pairForces<type>(fc, old_keys, old, kin, m_eff, dt, k, kept, scratch);
+#include "polydem/dynamics/joint_law_list.inc"
+#undef POLYDEM_JOINT_LAW
+  }
+  return {};
 }
 
 }  // namespace polydem::dynamics

@@ -36,6 +36,7 @@
 // labels.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -62,7 +63,9 @@ struct PairForce {
   double shear = 0.0;            // |sum of the shear forces|, N
   double energy = 0.0;           // spring energy: kn_i g_i^2 / 2 + |f_s,i|^2 / (2 ks_i), J
   int loaded = 0;                // sub-contacts in compression
-  bool sliding = false;          // some sub-contact reached its Coulomb limit
+  int kept = 0;  // sub-contacts whose history is kept: those in compression and those the joint
+                 // law keeps open (coulomb-residual's broken ones)
+  bool sliding = false;  // some sub-contact reached its Coulomb limit
 };
 
 /// One sub-contact's history as it leaves the step.
@@ -73,11 +76,15 @@ using SubState = particles::SubEntry;
 struct SubContactScratch {
   std::vector<Vec3> carried;         // the shear a sub-contact brings into the step
   std::vector<std::uint8_t> origin;  // where that shear comes from (sub_contact_law.cpp)
+  // Joint laws with history: each sub-contact's values, and whether it had a history entry.
+  std::vector<std::array<double, particles::kMaxLawHistory>> state;
+  std::vector<std::uint8_t> had_history;
 };
 
-/// Advances the sub-contacts `fc` of one touching pair by one step. `old_keys`/`old` are the
-/// pair's sub-contact histories of the last step (sorted by feature); the sub-contacts in
-/// compression, PairForce::loaded of them, are written in key order to the first slots of `kept`
+/// Advances the sub-contacts `fc` of one touching pair by one step, by the joint law k.law
+/// (dynamics/joint_law.h). `old_keys`/`old` are the pair's sub-contact histories of the last step
+/// (sorted by feature); the sub-contacts in compression and those the law keeps open,
+/// PairForce::kept of them, are written in key order to the first slots of `kept`
 /// (features and histories; the pair's keys are the caller's), to be stored for the next step.
 /// Pre: as contactForce(); fc.subs sorted by feature, weights summing to 1; `kept` has
 /// fc.subs.size() slots.

@@ -44,11 +44,13 @@ void unpack(RecvBuffer& in, PairKey& key, PairHistory& h) {
 }
 
 void pack(SendBuffer& out, const SubKey& key, const SubHistory& h) {
-  out << key.pair.lo << key.pair.hi << key.feature << h.shear_force << h.normal;
+  out << key.pair.lo << key.pair.hi << key.feature << h.shear_force << h.normal << h.law[0]
+      << h.law[1];
 }
 
 void unpack(RecvBuffer& in, SubKey& key, SubHistory& h) {
-  in >> key.pair.lo >> key.pair.hi >> key.feature >> h.shear_force >> h.normal;
+  in >> key.pair.lo >> key.pair.hi >> key.feature >> h.shear_force >> h.normal >> h.law[0] >>
+      h.law[1];
 }
 
 void ContactHistory::clear() {

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <span>
 #include <utility>
 #include <vector>
@@ -52,9 +53,16 @@ struct SubKey {
   friend auto operator<=>(const SubKey&, const SubKey&) = default;
 };
 
+/// The most history values a joint law keeps per sub-contact (dynamics/joint_law.h).
+inline constexpr std::size_t kMaxLawHistory = 2;
+
 struct SubHistory {
   Vec3 shear_force = Vec3::Zero();  // on the lower-uid particle, world frame, tangent to `normal`
   Vec3 normal = Vec3::Zero();       // the sub-contact's normal at the last step
+  // The joint law's history values (its kHistoryColumns, the rest 0); all 0 for material pairs
+  // and coulomb joints.
+  std::array<double, kMaxLawHistory> law{};
+  bool hasLawState() const { return law[0] != 0.0 || law[1] != 0.0; }
 };
 
 /// A sub-contact's feature and history as its pair's contact law leaves them (the pair implied).

@@ -10,6 +10,7 @@
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
+#include "polydem/dynamics/joint_law.h"
 #include "polydem/particles/material.h"
 #include "polydem/run/run_checkpoint.h"
 
@@ -229,12 +230,8 @@ io::Scene reduceStrength(const io::Scene& scene, double factor) {
       it->properties = p;
     }
   }
-  // Every [[joint]] likewise: its friction, cohesion and tensile strength.
-  for (auto& j : out.joints) {
-    j.friction_angle = radToDeg(std::atan(std::tan(degToRad(j.friction_angle)) / factor));
-    j.cohesion /= factor;
-    j.tensile_strength /= factor;
-  }
+  // Every [[joint]] likewise, by its law's own rule (dynamics/joint_law.h).
+  for (auto& j : out.joints) j.law = dynamics::reduceJointStrength(j.law, factor);
   return out;
 }
 

@@ -11,12 +11,15 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "polydem/contact/contact.h"
+#include "polydem/core/error.h"
 #include "polydem/core/types.h"
 #include "polydem/dynamics/contact_models.h"
 #include "polydem/dynamics/driver_spec.h"
+#include "polydem/dynamics/joint_law.h"
 #include "polydem/geometry/rock_mass.h"
 #include "polydem/particles/material.h"
 
@@ -57,16 +60,23 @@ struct ShapeSpec {
   std::vector<FacePlane> face_planes;
 };
 
-/// A [[joint]]: the strength and stiffness of a rock joint (docs/scene-format.md). Stresses act
-/// on each sub-contact's share of the face contact's area.
+/// A [[joint]]: its law and the law's parameters (dynamics/joint_law.h, docs/scene-format.md).
+/// Stresses act on each sub-contact's share of the face contact's area.
 struct JointSpec {
   std::string name;
-  std::string law = "coulomb";
-  double jkn = 0.0, jks = 0.0;    // Pa/m, normal and shear stiffness per area
-  double friction_angle = 0.0;    // degrees
-  double cohesion = 0.0;          // Pa
-  double tensile_strength = 0.0;  // Pa
+  dynamics::JointParameters law;  // the law, its parameters in its declared order (SI, degrees)
   int line = 0;
+
+  const char* lawName() const { return dynamics::jointLaw(law.law).name; }
+  /// The value of the law's parameter `key`; throws polydem::Error if the law has none.
+  double value(std::string_view key) const {
+    const int i = dynamics::parameterIndex(dynamics::jointLaw(law.law), key);
+    if (i < 0) {
+      throw Error(std::string("joint '") + name + "' (law " + lawName() + ") has no parameter '" +
+                  std::string(key) + "'");
+    }
+    return law.values[static_cast<std::size_t>(i)];
+  }
 };
 
 /// A plane that cut a [[rock_mass]] ("mass/J1#3", "mass/fault"): the faces it made carry its

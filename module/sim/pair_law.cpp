@@ -24,7 +24,7 @@ PairLawResult PairLaw::apply(const ModelledContact& modelled, const contact::Bod
     // The law writes the sub-contacts it keeps straight into the next step's table.
     const auto f = dynamics::subContactForces(fc, old_keys, old, kin, m_eff, dt, k,
                                               next.openSubs(fc.subs.size()), scratch_);
-    next.closeSubs(static_cast<std::size_t>(f.loaded));
+    next.closeSubs(static_cast<std::size_t>(f.kept));
     r.touching = true;
     r.split = true;
     r.point = f.centre;

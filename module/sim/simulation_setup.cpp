@@ -123,14 +123,12 @@ void Simulation::buildJointLaws() {
   for (const auto& p : scene_.joint_planes) plane_joint_.push_back(p.joint);
   const int n = static_cast<int>(materials_.size());
   for (const auto& j : scene_.joints) {
-    const dynamics::JointProperties props{j.jkn, j.jks, j.friction_angle, j.cohesion,
-                                          j.tensile_strength};
     try {
       for (int a = 0; a < n; ++a) {
         for (int b = 0; b < n; ++b) {
-          joint_law_main_.push_back(dynamics::jointCoefficients(props, law_main_[a * n + b]));
+          joint_law_main_.push_back(dynamics::jointCoefficients(j.law, law_main_[a * n + b]));
           joint_law_equilibrium_.push_back(dynamics::jointCoefficients(
-              props, law_equilibrium_[a * n + b], scene_.equilibrium.friction_angle));
+              j.law, law_equilibrium_[a * n + b], scene_.equilibrium.friction_angle));
         }
       }
     } catch (const Error& e) {

@@ -37,15 +37,16 @@ except ImportError as e:  # pragma: no cover - reported to the user
     sys.exit(2)
 
 FORMAT = "polydem-checkpoint"
-FORMAT_VERSION = 4
-READABLE_VERSIONS = (1, 2, 3, 4)  # 1: no sub-contacts; 1 and 2: no whole-file digest;
-#                                   before 4: no joint planes
+FORMAT_VERSION = 5
+READABLE_VERSIONS = (1, 2, 3, 4, 5)  # 1: no sub-contacts; 1 and 2: no whole-file digest;
+#                                   before 4: no joint planes; before 5: no joint-law history
 DIGEST_VERSION = 3
 MASK = (1 << 64) - 1
 GAMMA = 0x9E3779B97F4A7C15
 CHUNK = 1 << 20  # elements hashed per numpy pass
 
-# Every dataset a version-1 checkpoint holds; versions 2 on add REQUIRED_V2, 4 on REQUIRED_V4.
+# Every dataset a version-1 checkpoint holds; versions 2 on add REQUIRED_V2, 4 on REQUIRED_V4,
+# 5 on REQUIRED_V5.
 REQUIRED = [
     "/run/state", "/scene/toml",
     "/shapes/name", "/shapes/vertex_offset", "/shapes/vertices", "/shapes/face_offset",
@@ -72,6 +73,7 @@ REQUIRED_V2 = [
     "/subcontacts/normal",
 ]
 REQUIRED_V4 = ["/shapes/face_plane"]
+REQUIRED_V5 = ["/subcontacts/law_state"]
 
 FIXED, DRIVEN = 1 << 1, 1 << 2
 
@@ -246,7 +248,7 @@ def summarize(path):
                             % ("missing" if stored_digest is None else "%016x" % stored_digest,
                                computed_digest))
         required = REQUIRED + (REQUIRED_V2 if version >= 2 else []) + \
-            (REQUIRED_V4 if version >= 4 else [])
+            (REQUIRED_V4 if version >= 4 else []) + (REQUIRED_V5 if version >= 5 else [])
         for name in required:
             if name not in f:
                 problems.append("dataset %s is missing" % name)

@@ -4,6 +4,8 @@
 // face contact.
 #include "polydem/dynamics/sub_contact_law.h"
 
+#include "polydem/dynamics/joint_law.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -261,7 +263,7 @@ TEST(SubContactLaw, JointStiffnessScalesWithTheArea) {
 // the total shear is mu N + c A, whatever the area's split into corners; and the same stress on
 // a twice larger area carries twice the cohesion.
 TEST(SubContactLaw, JointCohesionIsAStressOverTheArea) {
-  const JointProperties joint{1e9, 5e8, 30.0, 2e4, 0.0};
+  const JointParameters joint{JointLaw::kCoulomb, {1e9, 5e8, 30.0, 2e4, 0.0}};
   const LawCoefficients k = jointCoefficients(joint, law());
   PairKinematics kin = still();
   kin.va = Vec3(100, 0, 0);
@@ -279,7 +281,8 @@ TEST(SubContactLaw, JointCohesionIsAStressOverTheArea) {
 // joint). Without a tensile strength the open corners carry nothing, as for a material pair.
 TEST(SubContactLaw, JointTensileStrengthLetsOpenCornersPull) {
   const double jkn = 1e9, sigma_t = 1e5;  // open gaps down to -1e-4 m pull
-  LawCoefficients k = jointCoefficients({jkn, 5e8, 30.0, 0.0, sigma_t}, law());
+  LawCoefficients k =
+      jointCoefficients({JointLaw::kCoulomb, {jkn, 5e8, 30.0, 0.0, sigma_t}}, law());
   const auto subs = square(0.4e-4, 3e-4);  // gaps -1.1e-4 (-y, beyond the limit), 1.9e-4 (+y)
   std::vector<SubState> kept;
   auto f = subContactForces(face(subs), {}, {}, still(), kMass, kDt, k, kept);

@@ -64,15 +64,15 @@ TEST(SceneJoints, PropertiesInEngineersUnits) {
   ASSERT_EQ(s.joints.size(), 2u);
   const JointSpec& b = s.joints[0];
   EXPECT_EQ(b.name, "bedding");
-  EXPECT_EQ(b.law, "coulomb");
-  EXPECT_EQ(b.jkn, 1e10);
-  EXPECT_EQ(b.jks, 5e9);
-  EXPECT_EQ(b.friction_angle, 25.0);
-  EXPECT_EQ(b.cohesion, 5e4);
-  EXPECT_EQ(b.tensile_strength, 1e5);
-  EXPECT_NEAR(s.joints[1].friction_angle, 0.5 * 180.0 / 3.141592653589793, 1e-12);
-  EXPECT_EQ(s.joints[1].cohesion, 0.0);
-  EXPECT_EQ(s.joints[1].tensile_strength, 0.0);
+  EXPECT_STREQ(b.lawName(), "coulomb");
+  EXPECT_EQ(b.value("jkn"), 1e10);
+  EXPECT_EQ(b.value("jks"), 5e9);
+  EXPECT_EQ(b.value("friction_angle"), 25.0);
+  EXPECT_EQ(b.value("cohesion"), 5e4);
+  EXPECT_EQ(b.value("tensile_strength"), 1e5);
+  EXPECT_NEAR(s.joints[1].value("friction_angle"), 0.5 * 180.0 / 3.141592653589793, 1e-12);
+  EXPECT_EQ(s.joints[1].value("cohesion"), 0.0);
+  EXPECT_EQ(s.joints[1].value("tensile_strength"), 0.0);
 }
 
 TEST(SceneJoints, PlanesTakeTheirJointAndFacesTheirPlane) {
@@ -134,6 +134,71 @@ TEST(SceneJoints, Mistakes) {
               {"no [[joint]] is named 'beding'"});
   expectError(scene(kJoints, replaced(kMass, "joint = \"fault\"", "joint = \"none\"  # <-")),
               {"[[plane]] 'base'", "no [[joint]] is named 'none'"});
+}
+
+// Each law's own parameters, read from its declaration (dynamics/joint_law.h): units, defaults,
+// ranges, and the keys of one law refused on another.
+const std::string kLaws = R"(
+[[joint]]
+name = "bedding"
+law = "coulomb-residual"
+jkn = "10 GPa/m"
+jks = "5 GPa/m"
+friction_angle = 35
+cohesion = "50 kPa"
+
+[[joint]]
+name = "fault"
+law = "barton-bandis"
+jkn = "1 GPa/m"
+jks = "0.5 GPa/m"
+jrc = 12
+jcs = "80 MPa"
+residual_friction_angle = 28
+field_length = "2 m"
+)";
+
+TEST(SceneJoints, EachLawItsParameters) {
+  const Scene s = parseScene(scene(kLaws), "test.toml");
+  ASSERT_EQ(s.joints.size(), 2u);
+  const JointSpec& r = s.joints[0];
+  EXPECT_STREQ(r.lawName(), "coulomb-residual");
+  EXPECT_EQ(r.value("cohesion"), 5e4);
+  EXPECT_EQ(r.value("tensile_strength"), 0.0);
+  EXPECT_EQ(r.value("residual_friction_angle"), 35.0);  // default: friction_angle
+  const JointSpec& b = s.joints[1];
+  EXPECT_STREQ(b.lawName(), "barton-bandis");
+  EXPECT_EQ(b.value("jrc"), 12.0);
+  EXPECT_EQ(b.value("jcs"), 8e7);
+  EXPECT_EQ(b.value("residual_friction_angle"), 28.0);
+  EXPECT_EQ(b.value("lab_length"), 0.1);  // default
+  EXPECT_EQ(b.value("field_length"), 2.0);
+  EXPECT_EQ(b.value("dilation"), 0.0);
+  EXPECT_THROW(b.value("cohesion"), Error);
+  const Scene d =
+      parseScene(scene(replaced(kLaws, "field_length = \"2 m\"", "dilation = true")), "test.toml");
+  EXPECT_EQ(d.joints[1].value("dilation"), 1.0);
+  EXPECT_EQ(d.joints[1].value("field_length"), 0.0);
+}
+
+TEST(SceneJoints, LawMistakes) {
+  expectError(scene(replaced(kLaws, "jrc = 12", "jrc = 25  # <-")),
+              {"[[joint]] 'fault'", "jrc", "[0, 20]", "barton-bandis"});
+  expectError(scene(replaced(replaced(kLaws, "jcs = \"80 MPa\"\n", ""),
+                             "[[joint]]\nname = \"fault\"", "[[joint]]  # <-\nname = \"fault\"")),
+              {"[[joint]] 'fault'", "jcs"});
+  expectError(scene(replaced(kLaws, "jcs = \"80 MPa\"", "jcs = \"80 MN\"  # <-")),
+              {"jcs", "pressure (Pa)"});
+  expectError(scene(replaced(kLaws, "jrc = 12", "jrc = 12\ncohesion = 1  # <-")),
+              {"[[joint]] 'fault'", "cohesion"});
+  expectError(
+      scene(replaced(kLaws, "cohesion = \"50 kPa\"", "cohesion = \"50 kPa\"\njrc = 3  # <-")),
+      {"[[joint]] 'bedding'", "jrc"});
+  expectError(scene(replaced(kLaws, "friction_angle = 35",
+                             "friction_angle = 35\nresidual_friction_angle = 90  # <-")),
+              {"residual_friction_angle", "[0, 90)"});
+  expectError(scene(replaced(kLaws, "field_length = \"2 m\"", "dilation = 1  # <-")),
+              {"dilation", "true or false"});
 }
 
 }  // namespace
