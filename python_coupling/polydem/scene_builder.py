@@ -223,23 +223,21 @@ class Scene(Bodies):
         self._changed()
         return self
 
-    def add_joint(self, name, jkn, jks, friction_angle, cohesion=0.0, tensile_strength=0.0,
-                  law="coulomb"):
-        """Adds a [[joint]] (docs/scene-format.md, "Joints"): jkn, jks [Pa/m] > 0;
-        friction_angle [deg] in [0, 90); cohesion and tensile_strength [Pa]; law "coulomb". A
-        rock mass's plane or joint set takes it with joint=name."""
+    def add_joint(self, name, law="coulomb", **parameters):
+        """Adds a [[joint]] (docs/scene-format.md, "Joints"): its `law` ("coulomb",
+        "coulomb-residual", "barton-bandis") and that law's parameters as keywords, numbers in
+        SI units (angles in degrees) or strings with a unit ("10 GPa/m", "50 kPa"), flags as
+        True/False. The scene reader checks them as in a file: each law's keys, units, ranges
+        and defaults. A rock mass's plane or joint set takes it with joint=name."""
         where = "add_joint(%r)" % (name,)
         v.name(name, where + " name")
         self._unique("joint", name, where)
         j = {"name": name, "law": v.name(law, where + ": law")}
-        j["jkn"] = v.scalar(jkn, where + ": jkn", 0.0, True)
-        j["jks"] = v.scalar(jks, where + ": jks", 0.0, True)
-        j["friction_angle"] = v.scalar(friction_angle, where + ": friction_angle", 0.0,
-                                       maximum=90.0)
-        for key, value in (("cohesion", cohesion), ("tensile_strength", tensile_strength)):
-            checked = v.scalar(value, "%s: %s" % (where, key), 0.0)
-            if checked != 0.0:
-                j[key] = checked
+        for key, value in parameters.items():
+            if isinstance(value, bool):
+                j[key] = value
+            else:
+                j[key] = v.scalar(value, "%s: %s" % (where, key))
         # Units and ranges, as the reader checks them, in a scene of one probe particle.
         material = {"name": "probe material", "density": 1.0, "kn": 1.0}
         shape = {"name": "probe shape", "type": "cube", "edge": 1.0}

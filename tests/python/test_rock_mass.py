@@ -149,6 +149,28 @@ class Joints(unittest.TestCase):
         s.add_joint("j", jkn=1e9, jks=1e9, friction_angle=30, cohesion="50 kPa")
         self.assertIn('cohesion = "50 kPa"', s.to_toml())
 
+    def test_each_law_takes_its_own_parameters(self):
+        """add_joint reads a law's parameters from the law's declaration (the scene reader's):
+        a Barton-Bandis joint with JRC, JCS in engineers' units and dilation; a key of another
+        law and a value outside its range are refused."""
+        s = polydem.Scene("joints", dt=1e-4, steps=1)
+        s.add_joint("fault", law="barton-bandis", jkn="1 GPa/m", jks="0.5 GPa/m", jrc=12,
+                    jcs="80 MPa", residual_friction_angle=28, dilation=True)
+        s.add_joint("bedding", law="coulomb-residual", jkn=1e9, jks=1e9, friction_angle=35,
+                    cohesion="50 kPa", residual_friction_angle=25)
+        toml = s.to_toml()
+        self.assertIn('law = "barton-bandis"', toml)
+        self.assertIn('jcs = "80 MPa"', toml)
+        self.assertIn("dilation = true", toml)
+        self.assertIn("residual_friction_angle = 25", toml)
+        with self.assertRaisesRegex(ValueError, r"jrc.*\[0, 20\]"):
+            s.add_joint("rough", law="barton-bandis", jkn=1e9, jks=1e9, jrc=25, jcs=1e8,
+                        residual_friction_angle=28)
+        with self.assertRaisesRegex(ValueError, r"jrc"):
+            s.add_joint("plain", jkn=1e9, jks=1e9, friction_angle=30, jrc=5)
+        with self.assertRaisesRegex(ValueError, r"law"):
+            s.add_joint("other", law="mohr", jkn=1e9, jks=1e9, friction_angle=30)
+
     def test_unknown_joint_is_an_input_error(self):
         s = polydem.Scene("joints", dt=1e-4, steps=1)
         s.add_material("rock", density=2600, kn=1e9)
