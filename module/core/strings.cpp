@@ -1,9 +1,29 @@
 #include "polydem/core/strings.h"
 
+#include <charconv>
 #include <cstdio>
 #include <sstream>
 
 namespace polydem {
+
+namespace {
+
+template <typename T>
+std::string shortestOf(T x) {
+  char buf[64];
+  const auto result = std::to_chars(buf, buf + sizeof buf, x);  // never too small for T
+  return std::string(buf, result.ptr);
+}
+
+}  // namespace
+
+std::string shortest(double x) {
+  return shortestOf(x);
+}
+
+std::string shortest(float x) {
+  return shortestOf(x);
+}
 
 std::string num(double x) {
   char buf[32];
