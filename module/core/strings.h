@@ -9,8 +9,9 @@
 
 namespace polydem {
 
-/// The shortest text that reads back as exactly `x` ("0.8", "1e-05", "0.30000000000000004"):
-/// the digits that matter, and no loss on a round trip (std::to_chars without a precision).
+/// The shortest digits that read back as exactly `x` ("0.8", "1e-05", "0.30000000000000004",
+/// "1000000000000000"): the digits that matter, and no loss on a round trip (std::to_chars
+/// without a precision), in fixed notation for decimal exponents -4 .. 16 as %g would.
 std::string shortest(double x);
 std::string shortest(float x);
 

@@ -28,6 +28,8 @@ TEST(Strings, CatPrintsTheDigitsThatMatter) {
   EXPECT_EQ(cat("phi = ", 0.8), "phi = 0.8");
   EXPECT_EQ(cat(0.1 + 0.2), "0.30000000000000004");  // not 0.3: that would be another double
   EXPECT_EQ(cat(1e-5, " ", 2.0, " ", -0.0, " ", 1.5e300), "1e-05 2 -0 1.5e+300");
+  EXPECT_EQ(cat(1e15, " ", 1e17, " ", 1e-4, " ", 123456.7),
+            "1000000000000000 1e+17 0.0001 123456.7");
   EXPECT_EQ(cat(0.1f), "0.1");  // a float by its own shortest digits, not its double's
   EXPECT_EQ(cat(42, " ", std::string("m")), "42 m");
 }
