@@ -1,5 +1,6 @@
 // polydem run SCENE --out DIR: runs a scene file (on as many ranks as mpirun gives), or continues
 // a run from a checkpoint (--restart FILE).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -8,6 +9,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
+#include "polydem/core/strings.h"
 #include "polydem/core/test_pause.h"
 #include "polydem/run/run.h"
 #include "polydem/scene/scene_reader.h"
@@ -23,13 +25,13 @@ std::string programPath() {
 }
 
 /// The picture of a finished run (rank 0; the others wait, so that mpirun ends after it).
-void pictureOf(const sim::RunOptions& options) {
+void pictureOf(const sim::RunOptions& options, const PictureOptions& picture) {
   if (mpi::rank(MPI_COMM_WORLD) == 0) {
     plotSeries(options.out_dir);
     if (!options.snapshots) {
       log::warning("no frames.png: --no-snapshots");
     } else {
-      renderPicture(options.out_dir);
+      renderPicture(options.out_dir, picture);
     }
   }
   MPI_Barrier(MPI_COMM_WORLD);
@@ -55,6 +57,10 @@ int runCommand(int argc, char** argv) {
         "  --picture         after the run, plot series.csv to DIR/series.png and render frames\n"
         "                    of the snapshots to DIR/frames.png\n"
         "                    (also [output] picture = true; needs /usr/bin/python3, matplotlib)\n"
+        "  --picture-field F the frames' colours: speed (default), displacement or joint\n"
+        "                    (each face by its [[joint]], with a legend); implies --picture\n"
+        "  --picture-azimuth A  view the frames from azimuth A [deg, matplotlib's: 0 from +x,\n"
+        "                    90 from +y] (default: from the slope's face); implies --picture\n"
         "  --check           exit with status 3 if a check of the scene fails\n"
         "  --quiet           only warnings and errors\n"
         "  --verbose         also the detail: every load-balance check, sub-step timings\n"
@@ -99,6 +105,20 @@ int runCommand(int argc, char** argv) {
   }
   const bool check = args.flag("check");
   bool picture = args.flag("picture");
+  PictureOptions picture_options;
+  if (const auto field = args.value("picture-field")) {
+    const auto& known = pictureFields();
+    if (std::find(known.begin(), known.end(), *field) == known.end()) {
+      throw UsageError(
+          cat("--picture-field: unknown field '", *field, "' (known: ", join(known, ", "), ")"));
+    }
+    picture_options.field = *field;
+    picture = true;
+  }
+  if (args.value("picture-azimuth")) {
+    picture_options.azimuth = args.number("picture-azimuth", 0.0);
+    picture = true;
+  }
   if (args.flag("quiet")) log::setLevel(log::Level::kWarning);
   if (args.flag("verbose")) log::setLevel(log::Level::kDetail);
   args.rejectUnknown();
@@ -116,14 +136,14 @@ int runCommand(int argc, char** argv) {
     std::optional<std::string> scene_file;
     if (!args.positional().empty()) scene_file = args.positional()[0];
     const auto result = sim::continueRun(*restart, scene_file, options, MPI_COMM_WORLD);
-    if (picture) pictureOf(options);
+    if (picture) pictureOf(options, picture_options);
     return check && !result.stopped_early() && !result.all_checks_pass() ? 3 : 0;
   }
   const std::string path = args.positional()[0];
   options.scene_text = io::readSceneText(path);
   const io::Scene scene = io::parseScene(options.scene_text, path);
   const auto result = sim::runScene(scene, options, MPI_COMM_WORLD);
-  if (picture || scene.output.picture) pictureOf(options);
+  if (picture || scene.output.picture) pictureOf(options, picture_options);
   return check && !result.stopped_early() && !result.all_checks_pass() ? 3 : 0;
 }
 

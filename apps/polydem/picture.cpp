@@ -45,7 +45,8 @@ std::string script(const char* name) {
 
 /// Runs plots script `name` on `out_dir` with Python and waits for it; returns `png` when the
 /// script succeeded, else "" after a warning that says why.
-std::string runPlotScript(const char* name, const std::string& out_dir, const std::string& png) {
+std::string runPlotScript(const char* name, const std::string& out_dir, const std::string& png,
+                          const std::vector<std::string>& options = {}) {
   const std::string py = python(), path = script(name);
   const std::string what = fs::path(png).filename().string();
   if (path.empty()) {
@@ -58,6 +59,7 @@ std::string runPlotScript(const char* name, const std::string& out_dir, const st
     return "";
   }
   std::vector<std::string> args = {py, path, out_dir, "--out", png};
+  args.insert(args.end(), options.begin(), options.end());
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -82,8 +84,15 @@ std::string runPlotScript(const char* name, const std::string& out_dir, const st
 
 }  // namespace
 
-std::string renderPicture(const std::string& out_dir) {
-  return runPlotScript("render_frames.py", out_dir, out_dir + "/frames.png");
+const std::vector<std::string>& pictureFields() {
+  static const std::vector<std::string> fields = {"speed", "displacement", "joint"};
+  return fields;
+}
+
+std::string renderPicture(const std::string& out_dir, const PictureOptions& options) {
+  std::vector<std::string> args = {"--field", options.field};
+  if (options.azimuth) args.insert(args.end(), {"--azimuth", shortest(*options.azimuth)});
+  return runPlotScript("render_frames.py", out_dir, out_dir + "/frames.png", args);
 }
 
 std::string plotSeries(const std::string& out_dir) {

@@ -93,8 +93,8 @@ std::string formatCheckpointSummary(const CheckpointSummary& s) {
       << "written by: polydem " << s.code_version << " on " << s.writer_ranks << " ranks\n"
       << "scene: " << s.scene_file << " (hash " << BitHasher::hex(s.scene_hash) << ")\n"
       << "step: " << s.step << "\n"
-      << "time: " << s.time << " s\n"
-      << "dt: " << s.dt << " s\n"
+      << "time: " << shortest(s.time) << " s\n"
+      << "dt: " << shortest(s.dt) << " s\n"
       << "stage: " << toString(s.stage) << " (equilibrium steps " << s.equilibrium_steps
       << (s.equilibrium_reached ? ", reached" : ", not reached") << ")\n"
       << "particles: " << s.particles << " (" << s.replicated_particles << " fixed or driven)\n"
@@ -102,7 +102,8 @@ std::string formatCheckpointSummary(const CheckpointSummary& s) {
       << "shapes: " << s.shapes << ", materials: " << s.materials << "\n"
       << "domain: " << vec(s.domain_lo) << " - " << vec(s.domain_hi) << " m\n"
       << "particle centroids: " << vec(s.particles_lo) << " - " << vec(s.particles_hi) << " m\n"
-      << "kinetic energy (free particles, velocities at t - dt/2): " << s.kinetic_energy << " J\n"
+      << "kinetic energy (free particles, velocities at t - dt/2): " << shortest(s.kinetic_energy)
+      << " J\n"
       << "datasets (" << s.datasets.size() << ", checksums verified):\n";
   for (const auto& d : s.datasets) {
     std::vector<std::string> dims;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "polydem/core/error.h"
+#include "polydem/core/strings.h"
 #include "polydem/core/tolerance.h"
 
 namespace polydem::geometry {
@@ -129,10 +130,7 @@ std::string formatIndices(std::span<const int> indices, std::size_t max_shown) {
 }
 
 std::string formatPoint(const Vec3& p) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return out.str();
+  return cat("(", p.x(), ", ", p.y(), ", ", p.z(), ")");
 }
 
 }  // namespace polydem::geometry

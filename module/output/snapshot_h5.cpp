@@ -84,6 +84,8 @@ void putParticleField(File& file, std::vector<Dataset>& open, const SnapshotFiel
                                                                  : p.contact_count);
                               }),
         info);
+  } else if (name == "joint") {  // the face's own value, not its particle's
+    put(file, open, dataset, faces, cols, b.face_joint, info);
   } else if (name == "fixed") {
     put(file, open, dataset, faces, cols,
         perFace<std::uint8_t>(
@@ -175,7 +177,7 @@ PolyhedraBatch byUid(const PolyhedraBatch& b) {
       for (std::int64_t i = f > 0 ? b.face_end[f - 1] : 0; i < b.face_end[f]; ++i) {
         face.push_back(static_cast<int>(b.connectivity[i] - first_point));
       }
-      out.addFace(face);
+      out.addFace(face, b.face_joint[static_cast<std::size_t>(f)]);
     }
   }
   return out;
@@ -377,6 +379,7 @@ void XdmfSnapshotWriter::writeFile(const std::string& path, const std::string& t
   file.writeAttribute<std::int32_t>("/", "writer_ranks", size_);
   file.writeAttribute("/", "fields", joined(options_.fields));
   file.writeAttribute("/", "contact_fields", joined(options_.contact_fields));
+  file.writeAttribute("/", "joint_names", join(options_.joint_names, "\n"));
   file.close();
 }
 

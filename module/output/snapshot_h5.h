@@ -10,7 +10,7 @@
 // A snapshot file (docs/output-files.md has the table):
 //
 //   /            attributes format = "polydem-snapshot", format_version, step, time,
-//                writer_ranks, fields, contact_fields
+//                writer_ranks, fields, contact_fields, joint_names
 //   /mesh        points (V x 3, world vertices), topology (XDMF Mixed: per face 3, n, n indices)
 //   /particles   uid, face_count, position (centroid), velocity: one row per particle, always
 //   /faces       the chosen particle fields, one row per face (cell data)
@@ -42,6 +42,9 @@ class XdmfSnapshotWriter {
   struct Options {
     std::vector<std::string> fields;          // names of kParticleFields; empty: the defaults
     std::vector<std::string> contact_fields;  // names of kContactFields; empty: the defaults
+    /// The scene's [[joint]] names, in file order: the root attribute joint_names (one per
+    /// line), which names the ids of the face and contact field `joint`.
+    std::vector<std::string> joint_names;
   };
 
   /// Collective: creates `dir`/snapshots and writes both collections empty (so none left by an

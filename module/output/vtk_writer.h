@@ -58,12 +58,17 @@ struct PolyhedraBatch {
   std::vector<std::int64_t> connectivity;  // point indices of all faces, face after face
   std::vector<std::int64_t> face_end;      // face f is connectivity[face_end[f-1] .. face_end[f])
   std::vector<std::int64_t> particle_face_end;  // particle p owns faces [..[p-1], ..[p])
+  /// Per face: the scene's [[joint]] whose plane made the face (index into Setup::joints), -1
+  /// for a face on no joint (a rock mass's free surface, a plane that names no joint, a
+  /// [[particle]]'s faces).
+  std::vector<std::int32_t> face_joint;
 
   /// Adds a particle with its vertices in world coordinates; its faces follow with addFace().
   void addParticle(const ParticleFields& fields, std::span<const Vec3> world_vertices);
   /// Adds a face of the last added particle: indices into that particle's vertices, counter-
-  /// clockwise seen from outside. Throws polydem::Error on an index out of range or < 3 vertices.
-  void addFace(std::span<const int> vertices);
+  /// clockwise seen from outside, made by joint `joint` (-1: none). Throws polydem::Error on an
+  /// index out of range or < 3 vertices.
+  void addFace(std::span<const int> vertices, std::int32_t joint = -1);
   /// A particle with all its faces (each a vector of vertex indices).
   void addParticle(const ParticleFields& fields, std::span<const Vec3> world_vertices,
                    const std::vector<std::vector<int>>& faces);

@@ -12,6 +12,18 @@ namespace polydem::sim {
 
 namespace {
 
+std::vector<std::string> jointNames(const Simulation& sim) {
+  std::vector<std::string> names;
+  for (const auto& j : sim.scene().joints) names.push_back(j.name);
+  return names;
+}
+
+/// The [[joint]] whose plane made face `f` of `shape` (Setup::joints), -1: none.
+std::int32_t faceJoint(const Simulation& sim, const geometry::BodyShape& shape, int f) {
+  const std::int32_t plane = shape.facePlane(f);
+  return plane < 0 ? -1 : sim.scene().joint_planes[static_cast<std::size_t>(plane)].joint;
+}
+
 std::string sanitize(const std::string& name) {
   std::string out;
   for (char c : name) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
@@ -44,7 +56,7 @@ RunOutput::RunOutput(const std::string& dir, Simulation& sim, const Tracker& tra
     xdmf_ = std::make_unique<io::XdmfSnapshotWriter>(
         dir, sim.comm(),
         io::XdmfSnapshotWriter::Options{sim.scene().output.fields,
-                                        sim.scene().output.contact_fields});
+                                        sim.scene().output.contact_fields, jointNames(sim)});
   }
 
   // Initial centroids of all free particles (indexed by uid) for the displacement field.
@@ -115,7 +127,8 @@ void RunOutput::writeSnapshot(const Simulation& sim) {
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
     const auto& p = storage[i];
     if (p.isGlobal() && !root) continue;  // replicated bodies appear once
-    const auto& shape = sim.shapes()[p.shape].polyhedron;
+    const auto& body = sim.shapes()[p.shape];
+    const auto& shape = body.polyhedron;
     const Mat3 r = p.orientation.toRotationMatrix();
     vertices_.clear();
     for (const Vec3& v : shape.vertices()) vertices_.push_back(p.position + r * v);
@@ -136,7 +149,9 @@ void RunOutput::writeSnapshot(const Simulation& sim) {
       fields.displacement = p.position - initial_positions_[p.uid];
     }
     batch_.addParticle(fields, vertices_);
-    for (const auto& f : shape.faces()) batch_.addFace(f.vertices);
+    for (int f = 0; f < static_cast<int>(shape.faces().size()); ++f) {
+      batch_.addFace(shape.faces()[static_cast<std::size_t>(f)].vertices, faceJoint(sim, body, f));
+    }
   }
   contacts_.contacts.clear();
   for (const auto& r : sim.contacts().records()) {

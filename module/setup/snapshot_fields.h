@@ -20,7 +20,8 @@ struct SnapshotField {
   const char* description;
 };
 
-/// Per-particle fields, written once per face (cell data: the cells are the faces).
+/// Per-particle fields, written once per face (cell data: the cells are the faces), and the
+/// faces' own field `joint`.
 inline const std::vector<SnapshotField> kParticleFields = {
     {"uid", 1, FieldType::kUInt64, "", "particle uid"},
     {"rank", 1, FieldType::kInt32, "", "MPI rank owning the particle"},
@@ -33,6 +34,9 @@ inline const std::vector<SnapshotField> kParticleFields = {
     {"position", 3, FieldType::kFloat64, "m", "centroid"},
     {"contact_count", 1, FieldType::kInt32, "", "touching contacts of a free particle"},
     {"force", 3, FieldType::kFloat64, "N", "resultant contact force on a free particle"},
+    {"joint", 1, FieldType::kInt32, "",
+     "per face: index into the scene's [[joint]] list of the joint whose plane made the face; -1: "
+     "on no joint"},
 };
 
 /// Per-contact fields, written once per contact point (point data).
@@ -52,7 +56,7 @@ inline const std::vector<SnapshotField> kContactFields = {
 /// Fields written when the scene does not choose: all of them but position (the faces show it).
 inline const std::vector<std::string> kDefaultParticleFields = {
     "uid",          "rank",          "material", "fixed", "speed", "velocity", "angular_velocity",
-    "displacement", "contact_count", "force"};
+    "displacement", "contact_count", "force",    "joint"};
 inline const std::vector<std::string> kDefaultContactFields = {
     "uid_a", "uid_b", "rank", "normal", "normal_force", "shear_force", "force", "joint"};
 

@@ -2,6 +2,7 @@
 # Numeric options of every polydem sub-command are parsed strictly: a value beyond 64 bits, a
 # negative count, trailing characters, nan or inf end the command with exit status 2 and a
 # message naming the option, before anything is written; good values (also "+3") still work.
+# An unknown --picture-field is refused the same way.
 # usage: cli_numbers_test.sh POLYDEM SCENE FOS_SCENE WORKDIR
 set -u
 polydem=$1; scene=$2; fos_scene=$3; work=$4
@@ -50,6 +51,8 @@ for o in end-time checkpoint-seconds; do number_option $o "${run[@]}"; done
 refused steps 99999999999999999999 "${run[@]}"  # was clamped to 2^63 - 1
 refused progress -1 "${run[@]}"                  # was taken
 refused checkpoint-keep 4294967297 "${run[@]}"   # would be 1 as an int
+number_option picture-azimuth "${run[@]}"
+refused picture-field velocity "${run[@]}"       # not a field the frames can show
 
 fos=("$polydem" fos "$fos_scene" --out out --quiet)
 integer_option ranks-per-trial "${fos[@]}"

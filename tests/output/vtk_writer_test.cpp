@@ -109,6 +109,27 @@ TEST_P(VtkWriterEncodings, CubeIsEightPointsSixQuadsWithItsDataOnEachFace) {
   expectRepeated(piece.at("speed"), {{f.velocity.norm()}}, faces);
 }
 
+TEST_P(VtkWriterEncodings, EachFaceCarriesItsOwnJoint) {
+  const test::ScratchDir scratch("joints", MPI_COMM_SELF);
+  SnapshotWriter writer(scratch.path(), MPI_COMM_SELF, {GetParam(), std::nullopt});
+  const auto cube = test::box(Vec3::Zero(), Vec3::Ones());
+  PolyhedraBatch batch;
+  batch.addParticle(fields(3), cube.vertices);
+  const std::vector<std::int32_t> joints = {-1, 0, 2, -1, 7, 1};
+  for (std::size_t f = 0; f < cube.faces.size(); ++f) batch.addFace(cube.faces[f], joints[f]);
+  add(batch, fields(4), cube);  // faces added without a joint: on none
+  writer.write(0.0, 1, batch, nullptr);
+
+  const auto piece = readPolyData(writer.particlePath(1, 0));
+  const auto& joint = piece.at("joint");
+  EXPECT_EQ(joint.type, "Int32");
+  EXPECT_EQ(joint.section, "CellData");
+  std::vector<std::uint64_t> expected;
+  for (const std::int32_t j : joints) expected.push_back(static_cast<std::uint64_t>(j));
+  expected.resize(12, static_cast<std::uint64_t>(-1));
+  EXPECT_EQ(joint.ints, expected);
+}
+
 INSTANTIATE_TEST_SUITE_P(Both, VtkWriterEncodings,
                          ::testing::Values(VtkEncoding::kBase64, VtkEncoding::kAscii));
 
