@@ -1,4 +1,4 @@
-// polydem bench kernels | scaling | checkpoint: the benchmarks of the README.
+// polydem bench kernels | scaling | memory | checkpoint: the benchmarks of the README.
 #include <cstdio>
 #include <string>
 
@@ -10,6 +10,7 @@ int benchCheckpoint(int argc, char** argv);
 #ifdef POLYDEM_WITH_BENCHMARKS
 int benchContactModel(int argc, char** argv);
 int benchKernels(int argc, char** argv);
+int benchMemory(int argc, char** argv);
 int benchScaling(int argc, char** argv);
 int benchYade(int argc, char** argv);
 #endif
@@ -20,11 +21,13 @@ int benchCommand(int argc, char** argv) {
 #ifdef POLYDEM_WITH_BENCHMARKS
   if (which == "kernels") return benchKernels(argc - 1, argv + 1);
   if (which == "scaling") return benchScaling(argc - 1, argv + 1);
+  if (which == "memory") return benchMemory(argc - 1, argv + 1);
   if (which == "contact-model") return benchContactModel(argc - 1, argv + 1);
   if (which == "yade") return benchYade(argc - 1, argv + 1);
   std::printf(
       "usage: polydem bench kernels [--help]   contact kernels vs libccd (P-KERNELS)\n"
       "       mpirun -n P polydem bench scaling [--help]   strong scaling of P-PILE\n"
+      "       mpirun -n P polydem bench memory [--help]   heap per particle by structure\n"
       "       polydem bench contact-model [--help]   sub-contacts vs the point model\n"
       "       mpirun -n P polydem bench checkpoint [--help]   checkpoint bandwidth vs raw HDF5\n"
       "       polydem bench yade [--help]   polydem beside Yade on settled turned cubes\n");

@@ -56,6 +56,8 @@ class BroadPhase {
   /// non-finite radius, a non-finite centre or margin, or more than 2^31 - 1 particles.
   virtual void findPairs(const SphereSet& spheres, double margin,
                          std::vector<CandidatePair>& out) = 0;
+  /// Heap bytes its grids and scratch hold (capacities, core/memory.h).
+  virtual std::uint64_t heapBytes() const { return 0; }
 };
 
 /// The method called `name` ("multilevel", "nbs", "all-pairs"). Throws polydem::Error listing

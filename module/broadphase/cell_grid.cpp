@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "polydem/core/memory.h"
+
 namespace polydem::broadphase::detail {
 
 namespace {
@@ -238,6 +240,13 @@ void CellGrid::sortByComparison(const SphereSet& spheres, std::span<const std::i
       cells_.back().end = static_cast<std::int32_t>(p + 1);
     }
   }
+}
+
+std::uint64_t CellGrid::heapBytes() const {
+  return capacityBytes(x_) + capacityBytes(y_) + capacityBytes(z_) + capacityBytes(r_) +
+         capacityBytes(meta_) + capacityBytes(cells_) + capacityBytes(table_) +
+         capacityBytes(keys_) + capacityBytes(keys_tmp_) + capacityBytes(order_) +
+         capacityBytes(order_tmp_) + capacityBytes(cell_keys_) + capacityBytes(last_members_);
 }
 
 }  // namespace polydem::broadphase::detail

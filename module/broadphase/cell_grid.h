@@ -257,6 +257,10 @@ class CellGrid {
   // the same members, their last order (meta_'s indices) is the starting point of the sort.
   std::vector<std::int32_t> last_members_;
   bool last_sorted_ = false;
+
+ public:
+  /// Heap bytes of its arrays and sort scratch (capacities, core/memory.h).
+  std::uint64_t heapBytes() const;
 };
 
 }  // namespace polydem::broadphase::detail

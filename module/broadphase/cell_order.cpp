@@ -4,6 +4,7 @@
 
 #include "polydem/broadphase/scene_bounds.h"
 #include "polydem/core/error.h"
+#include "polydem/core/memory.h"
 #include "polydem/core/strings.h"
 
 namespace polydem::broadphase {
@@ -27,6 +28,10 @@ std::span<const std::int32_t> CellOrder::order(const SphereSet& spheres, std::si
   const auto meta = grid_.meta();
   for (std::size_t p = 0; p < count; ++p) order_[p] = meta[p].index;
   return order_;
+}
+
+std::uint64_t CellOrder::heapBytes() const {
+  return grid_.heapBytes() + capacityBytes(members_) + capacityBytes(order_);
 }
 
 }  // namespace polydem::broadphase

@@ -27,6 +27,8 @@ class CellOrder {
   /// The span stays valid until the next call. No allocation once warm. Throws polydem::Error for
   /// the inputs BroadPhase::findPairs rejects, and for count > spheres.centers.size().
   std::span<const std::int32_t> order(const SphereSet& spheres, std::size_t count, double reach);
+  /// Heap bytes of its grid and index arrays (capacities, core/memory.h).
+  std::uint64_t heapBytes() const;
 
  private:
   detail::CellGrid grid_;

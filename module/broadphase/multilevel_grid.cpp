@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "polydem/core/memory.h"
+
 namespace polydem::broadphase {
 
 MultiLevelGrid::MultiLevelGrid(const BroadPhaseParams& params) : params_(params) {
@@ -56,6 +58,14 @@ void MultiLevelGrid::findPairs(const SphereSet& spheres, double margin,
     }
   }
   out.finish();
+}
+
+std::uint64_t MultiLevelGrid::heapBytes() const {
+  std::uint64_t bytes = capacityBytes(level_of_) + capacityBytes(level_start_) +
+                        capacityBytes(members_) + capacityBytes(grids_) + capacityBytes(info_) +
+                        capacityBytes(across_.found) + capacityBytes(across_.survivors);
+  for (const auto& grid : grids_) bytes += grid.heapBytes();
+  return bytes;
 }
 
 }  // namespace polydem::broadphase

@@ -39,6 +39,7 @@ class MultiLevelGrid final : public BroadPhase {
   void findPairs(const SphereSet& spheres, double margin, std::vector<CandidatePair>& out) override;
   /// The levels of the last findPairs(), largest spheres first.
   const std::vector<LevelInfo>& levels() const { return info_; }
+  std::uint64_t heapBytes() const override;
 
  private:
   BroadPhaseParams params_;

@@ -3,6 +3,7 @@
 #include <numeric>
 
 #include "polydem/broadphase/grid_search.h"
+#include "polydem/core/memory.h"
 
 namespace polydem::broadphase {
 
@@ -20,6 +21,10 @@ void NbsGrid::findPairs(const SphereSet& spheres, double margin,
               false);
   detail::searchWithinSparse(grid_, margin, out);
   out.finish();
+}
+
+std::uint64_t NbsGrid::heapBytes() const {
+  return capacityBytes(all_) + grid_.heapBytes();
 }
 
 }  // namespace polydem::broadphase

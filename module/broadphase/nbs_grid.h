@@ -15,6 +15,7 @@ class NbsGrid final : public BroadPhase {
   explicit NbsGrid(const BroadPhaseParams& params = {});
   std::string_view name() const override { return "nbs"; }
   void findPairs(const SphereSet& spheres, double margin, std::vector<CandidatePair>& out) override;
+  std::uint64_t heapBytes() const override;
 
  private:
   BroadPhaseParams params_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "polydem/core/error.h"
+#include "polydem/core/memory.h"
 #include "polydem/core/strings.h"
 
 namespace polydem::comm {
@@ -160,6 +161,16 @@ GhostCounts GhostChannels::unpack(int rank, RecvBuffer& in) {
   }
   counts.whole = fresh;
   return counts;
+}
+
+std::uint64_t GhostChannels::heapBytes() const {
+  std::uint64_t bytes =
+      capacityBytes(order_) + capacityBytes(used_) + capacityBytes(kept_) + capacityBytes(next_);
+  for (const auto& [rank, c] : channels_) {
+    bytes += capacityBytes(c.sent) + capacityBytes(c.queued) + capacityBytes(c.held) +
+             capacityBytes(c.held_image);
+  }
+  return bytes;
 }
 
 }  // namespace polydem::comm

@@ -40,6 +40,8 @@ class GhostChannels {
   void reset();
   /// When false, every exchange behaves as after a reset (full records only): for comparisons.
   void setCompact(bool on) { compact_ = on; }
+  /// Heap bytes of the channels and scratch (capacities, core/memory.h; map nodes not counted).
+  std::uint64_t heapBytes() const;
 
   /// Sender: ghost copy `p` with periodic image `image` goes to `rank` in this exchange.
   void queue(int rank, const particles::Particle& p, const domain::Index3& image);

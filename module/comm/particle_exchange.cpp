@@ -7,6 +7,7 @@
 
 #include "polydem/comm/sparse_exchange.h"
 #include "polydem/core/error.h"
+#include "polydem/core/memory.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 
@@ -361,6 +362,16 @@ ExchangeStats ParticleExchange::finish(const domain::BlockForest& forest,
   // The exchange's own time: what ran between post() and finish() is not its.
   stats.seconds = in_flight_.seconds + std::chrono::duration<double>(Clock::now() - t0).count();
   return stats;
+}
+
+std::uint64_t ParticleExchange::heapBytes() const {
+  std::uint64_t bytes = capacityBytes(in_flight_.kept_here) + capacityBytes(in_flight_.received) +
+                        capacityBytes(in_flight_.sends.requests) + capacityBytes(hits_) +
+                        capacityBytes(placement_.rank_map) + capacityBytes(neighbours_) +
+                        channels_.heapBytes();
+  for (const auto& [rank, buffer] : in_flight_.outgoing) bytes += capacityBytes(buffer.bytes());
+  for (const auto& m : in_flight_.received) bytes += capacityBytes(m.bytes);
+  return bytes;
 }
 
 }  // namespace polydem::comm

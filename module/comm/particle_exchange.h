@@ -69,6 +69,10 @@ class ParticleExchange {
  public:
   explicit ParticleExchange(MPI_Comm comm);
 
+  /// Heap bytes of its messages in flight, ghost channels and scratch (capacities,
+  /// core/memory.h; map nodes not counted).
+  std::uint64_t heapBytes() const;
+
   /// Moves particles to their owners (see above). Drops ghosts first. Throws SimulationError if a
   /// particle left the domain along a non-periodic axis. Collective.
   ExchangeStats migrate(const domain::BlockForest& forest, particles::ParticleStorage& storage,

@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "polydem/core/error.h"
+#include "polydem/core/memory.h"
 #include "polydem/core/strings.h"
 
 namespace polydem::particles {
@@ -61,6 +62,14 @@ void ContactHistory::clear() {
   open_ = 0;
 }
 
+std::uint64_t ContactHistory::pairBytes() const {
+  return capacityBytes(keys_) + capacityBytes(entries_) + capacityBytes(sub_end_);
+}
+
+std::uint64_t ContactHistory::subBytes() const {
+  return capacityBytes(sub_keys_) + capacityBytes(sub_entries_);
+}
+
 const PairHistory* ContactHistory::find(const PairKey& key) const {
   const auto it = std::lower_bound(keys_.begin(), keys_.end(), key);
   if (it == keys_.end() || *it != key) return nullptr;
@@ -92,12 +101,22 @@ void ContactHistory::refuse(const char* what) {
 }
 
 void ContactHistory::growSubs(std::size_t size) {
-  // Grown geometrically (at least doubled): a table that starts without slots (the first steps'
-  // tables, the history that Simulation::startLeapfrog restores from a copy) would otherwise grow
-  // by one pair's sub-contacts per pair, a reallocation for every pair of the step.
-  const std::size_t slots = std::max(size, 2 * sub_keys_.size());
+  // Grown geometrically: a table that starts without slots (the first steps' tables, the history
+  // that Simulation::startLeapfrog restores from a copy) would otherwise grow by one pair's
+  // sub-contacts per pair, a reallocation for every pair of the step. By a quarter, not doubled
+  // (core/memory.h growthFor): both tables keep their slots for the whole run.
+  const std::size_t slots = std::max(size, growthFor(sub_keys_.size()));
+  sub_keys_.reserve(slots);
+  sub_entries_.reserve(slots);
   sub_keys_.resize(slots);
   sub_entries_.resize(slots);
+}
+
+void ContactHistory::growPairs() {
+  const std::size_t pairs = growthFor(keys_.size());
+  keys_.reserve(pairs);
+  entries_.reserve(pairs);
+  sub_end_.reserve(pairs);
 }
 
 void ContactHistory::indexSubs() {

@@ -102,6 +102,11 @@ class ContactHistory {
   std::span<const SubHistory> subEntries() const { return {sub_entries_.data(), subs_}; }
   void clear();
 
+  /// Heap bytes (capacities, core/memory.h) of the pair table (keys, entries, block ends) and of
+  /// the sub-contact table (its kept slots included).
+  std::uint64_t pairBytes() const;
+  std::uint64_t subBytes() const;
+
   /// Entry for `key`, or null. O(log n).
   const PairHistory* find(const PairKey& key) const;
 
@@ -173,6 +178,8 @@ class ContactHistory {
   /// Room for at least `size` sub-contacts (slots constructed once, then kept), grown
   /// geometrically.
   void growSubs(std::size_t size);
+  /// Room for one more pair, grown by a quarter (core/memory.h growthFor).
+  void growPairs();
   /// Whether the features of the last pair's block are strictly increasing up to `last`,
   /// checking from `first` on (and the one before it, if the pair has it).
   bool increasingFrom(std::size_t first, std::size_t last) const;
@@ -199,6 +206,7 @@ class ContactHistory {
                                                                         const PairHistory& h) {
   if (!keys_.empty() && !(keys_.back() < key))
     refuse("appendSorted: keys must be strictly increasing");
+  if (keys_.size() == keys_.capacity()) growPairs();
   keys_.push_back(key);
   entries_.push_back(h);
   sub_end_.push_back(subs_);

@@ -1,5 +1,7 @@
 #include "polydem/particles/particle_storage.h"
 
+#include "polydem/core/memory.h"
+
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
 
@@ -108,6 +110,17 @@ void ParticleStorage::updateDerived(const ShapeTable& shapes, std::span<const do
     Vec3* normal = world_face_normals_.data() + face_begin_[i];
     for (std::size_t f = 0; f < faces.size(); ++f) normal[f] = r * faces[f].normal;
   }
+}
+
+std::uint64_t ParticleStorage::stateBytes() const {
+  return capacityBytes(state_) + capacityBytes(index_of_) + capacityBytes(shift_) +
+         capacityBytes(permuted_) + capacityBytes(placed_);
+}
+
+std::uint64_t ParticleStorage::derivedBytes() const {
+  return capacityBytes(rotation_) + capacityBytes(angular_velocity_) + capacityBytes(mass_) +
+         capacityBytes(world_vertices_) + capacityBytes(vertex_begin_) +
+         capacityBytes(world_face_normals_) + capacityBytes(face_begin_);
 }
 
 }  // namespace polydem::particles

@@ -55,6 +55,11 @@ class ParticleStorage {
   /// and world face normals of every particle.
   void updateDerived(const ShapeTable& shapes, std::span<const double> densities);
 
+  /// Heap bytes (capacities, core/memory.h) of the particles' state and uid index, and of the
+  /// per-step derived arrays (rotations, world vertices and face normals: the kernels' caches).
+  std::uint64_t stateBytes() const;
+  std::uint64_t derivedBytes() const;
+
   // Per-step derived data, parallel to all(); valid after updateDerived().
   /// Periodic image offset of entry i (zero for local particles).
   const Vec3& shift(std::size_t i) const { return shift_[i]; }

@@ -1,5 +1,6 @@
 #include "polydem/sim/contact_phase.h"
 
+#include "polydem/core/memory.h"
 #include "polydem/dynamics/driver.h"
 #include "polydem/sim/force_sum.h"
 
@@ -164,6 +165,8 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
     sumPairForce(forces, local_a, local_b, r, e.xa, e.xb);
 
     // Written in place: a record built on the stack and pushed cost one more copy of it per pair.
+    // Grown by a quarter, not doubled (core/memory.h reserveFor): kept for the whole run.
+    reserveFor(records_, records_.size() + 1);
     ContactRecord& rec = records_.emplace_back();
     rec.key = c.key;
     rec.a = local_a;
@@ -191,6 +194,17 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
   discardEarly();
   std::swap(history, next_);
   return stats;
+}
+
+ContactPhase::Memory ContactPhase::memory() const {
+  Memory m;
+  m.pair_list = order_.heapBytes();
+  m.filter = filter_.heapBytes();
+  m.records = capacityBytes(records_);
+  m.history_pairs = next_.pairBytes() + early_history_.pairBytes();
+  m.history_subs = next_.subBytes() + early_history_.subBytes();
+  m.early = capacityBytes(early_) + capacityBytes(sub_scratch_);
+  return m;
 }
 
 }  // namespace polydem::sim

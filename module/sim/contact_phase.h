@@ -94,6 +94,17 @@ class ContactPhase {
 
   const std::vector<ContactRecord>& records() const { return records_; }
 
+  /// Heap bytes it holds between steps (capacities, core/memory.h), by structure.
+  struct Memory {
+    std::uint64_t pair_list = 0;      // the ordered pairs and their sort
+    std::uint64_t filter = 0;         // per-particle boxes and Bodies
+    std::uint64_t records = 0;        // one ContactRecord per evaluated pair
+    std::uint64_t history_pairs = 0;  // the table being built (and the early one): pairs
+    std::uint64_t history_subs = 0;   // ... and sub-contacts
+    std::uint64_t early = 0;          // results of pairs evaluated early
+  };
+  Memory memory() const;
+
  private:
   /// One pair's law result, as run() needs it to sum and record it.
   struct Evaluated {

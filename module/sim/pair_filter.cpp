@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "polydem/core/memory.h"
+
 namespace polydem::sim {
 
 namespace {
@@ -91,6 +93,11 @@ void PairFilter::placeOwn(const ParticleStorage& storage, const particles::Shape
   shifted_b_ = {&shapes[storage[c.b].shape].polyhedron, xb, storage.rotation(c.b), vb,
                 storage.worldFaceNormals(c.b)};
   frame = {xa, xb, &shifted_a_, &shifted_b_};
+}
+
+std::uint64_t PairFilter::heapBytes() const {
+  return capacityBytes(box_lo_) + capacityBytes(box_hi_) + capacityBytes(unshifted_) +
+         capacityBytes(bodies_) + capacityBytes(scratch_a_) + capacityBytes(scratch_b_);
 }
 
 }  // namespace polydem::sim

@@ -32,6 +32,8 @@ class PairFilter {
   /// Whether `pair` is evaluated with `margin` (absolute); if so, `frame` holds its placement.
   bool accept(const particles::ParticleStorage& storage, const particles::ShapeTable& shapes,
               const OrderedPair& pair, double margin, PairFrame& frame);
+  /// Heap bytes of the per-particle boxes and Bodies (capacities, core/memory.h).
+  std::uint64_t heapBytes() const;
 
  private:
   /// The pair's own Bodies (A at its stored place, B at xb, with these world vertices) in frame.

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "polydem/core/memory.h"
+
 namespace polydem::sim {
 
 namespace {
@@ -60,6 +62,9 @@ std::span<const OrderedPair> PairOrder::sort(
   // Each candidate in canonical form, counted by both ranks.
   lo_start_.assign(static_cast<std::size_t>(rank) + 1, 0);
   hi_start_.assign(static_cast<std::size_t>(rank) + 1, 0);
+  // Grown by a quarter, not doubled (core/memory.h reserveFor): kept for the whole run.
+  reserveFor(canonical_, candidates.size());
+  reserveFor(by_hi_, candidates.size());
   canonical_.resize(candidates.size());
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const auto& c = candidates[k];
@@ -71,11 +76,16 @@ std::span<const OrderedPair> PairOrder::sort(
     ++hi_start_[uid_rank_[x.b]];
   }
   by_hi_.resize(candidates.size());
-  pairs_.resize(candidates.size());
+  // The second sort writes back into canonical_, whose broad-phase order is no longer needed.
   scatter(canonical_, hi_start_, by_hi_, [&](const OrderedPair& x) { return uid_rank_[x.b]; });
-  scatter(by_hi_, lo_start_, pairs_, [&](const OrderedPair& x) { return uid_rank_[x.a]; });
-  sortImages(pairs_);
-  return pairs_;
+  scatter(by_hi_, lo_start_, canonical_, [&](const OrderedPair& x) { return uid_rank_[x.a]; });
+  sortImages(canonical_);
+  return canonical_;
+}
+
+std::uint64_t PairOrder::heapBytes() const {
+  return capacityBytes(canonical_) + capacityBytes(by_hi_) + capacityBytes(by_uid_) +
+         capacityBytes(uid_rank_) + capacityBytes(lo_start_) + capacityBytes(hi_start_);
 }
 
 }  // namespace polydem::sim

@@ -27,10 +27,12 @@ class PairOrder {
   /// images can give the same key more than once; such pairs are adjacent.
   std::span<const OrderedPair> sort(const particles::ParticleStorage& storage,
                                     std::span<const broadphase::CandidatePair> candidates);
+  /// Heap bytes of the ordered pairs and the sort's arrays (capacities, core/memory.h).
+  std::uint64_t heapBytes() const;
 
  private:
-  std::vector<OrderedPair> pairs_;
-  std::vector<OrderedPair> canonical_, by_hi_;        // in broad-phase order; by higher uid
+  // In broad-phase order, then (the second counting sort's output) in key order; by higher uid.
+  std::vector<OrderedPair> canonical_, by_hi_;
   std::vector<std::pair<Uid, std::int32_t>> by_uid_;  // (uid, storage index), sorted
   std::vector<std::int32_t> uid_rank_;                // per storage index: rank of its uid
   std::vector<std::size_t> lo_start_, hi_start_;      // pairs per lower-, higher-uid rank

@@ -35,6 +35,7 @@
 #include "polydem/sim/contact_phase.h"
 #include "polydem/sim/force_operator.h"
 #include "polydem/sim/load_balance.h"
+#include "polydem/sim/memory_use.h"
 #include "polydem/sim/saved_state.h"
 #include "polydem/timeloop/time_loop.h"
 
@@ -212,6 +213,11 @@ class Simulation {
 
   /// The dt suggested from masses and stiffnesses (see dynamics/time_step.h).
   double suggestedTimeStep() const { return suggested_dt_; }
+
+  /// This rank's heap bytes by structure (sim/memory_use.h), from capacities: particles, shapes,
+  /// scene copy, broad phase, pair list, contact history (pairs, sub-contacts), per-particle
+  /// kernel caches, contact records, forces, exchange buffers. Not collective.
+  MemoryUse memoryUse() const;
 
  private:
   /// Members that depend only on the scene and the communicator; both public constructors
