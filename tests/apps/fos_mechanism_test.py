@@ -9,6 +9,8 @@ planar SCENE (J-PLANAR-COHESION): the failed trial just above F is kept in DIR/m
   c / F from the scene's [[joint]]. With [fos] joints = ["<base joint>"] only that joint is
   reduced and listed (no release joint, no material pair) and F stays within 2 % of Hoek and
   Bray's formula; an unknown joint name is refused with the file, line and name, nothing written.
+wedge SCENE (J-WEDGE-JOINTS): wedge sliding of 1 block on both joints, down their line of
+  intersection (within 2 deg of the cross product of the planes' normals from the scene).
 topple SCENE (examples/fos-topple.toml): a column that topples at any friction: every trial
   fails, the mechanism is toppling of 1 block: its centroid moves downhill (+x, not along y),
   rotation carries it (theta R > |d| / 2) and its base slips less than half its displacement.
@@ -27,7 +29,7 @@ import tomllib
 
 import numpy as np
 
-from joint_scenes_test import limit_equilibrium
+from joint_scenes_test import limit_equilibrium, normal_from_dip
 
 FAILURES = []
 
@@ -138,6 +140,28 @@ def planar(polydem, scene_file, workdir):
     expect(not os.path.exists(os.path.join(workdir, "bad")), "nothing written for a refused scene")
 
 
+def wedge(polydem, scene_file, workdir):
+    scene = tomllib.load(open(scene_file, "rb"))
+    a, b = scene["rock_mass"][0]["plane"]
+    i = np.cross(normal_from_dip(a["dip"], a["dip_direction"]),
+                 normal_from_dip(b["dip"], b["dip_direction"]))
+    i /= np.linalg.norm(i)
+    if i[2] > 0:
+        i = -i  # down the line of intersection
+    proc = fos(polydem, scene_file, workdir, "wedge")
+    result, blocks = read_outputs(workdir, "wedge")
+    m = result["mechanism"]
+    names = sorted([a["joint"], b["joint"]])
+    expect(m["summary"] in [f"wedge sliding of 1 block on '{x}' and '{y}'" for x, y in
+                            (names, names[::-1])], f"summary '{m['summary']}'")
+    expect(f"mechanism: {m['summary']}" in proc.stdout, "the summary is printed")
+    expect(result["governing"] in names, f"governing '{result['governing']}'")
+    expect(len(blocks) == 1 and blocks[0]["mode"] == "sliding", f"blocks.csv: {blocks}")
+    d = np.array([float(blocks[0][k]) for k in ("dx", "dy", "dz")])
+    angle = math.degrees(math.acos(min(1.0, d @ i / np.linalg.norm(d))))
+    expect(angle < 2.0, f"the wedge moved {angle:.3f} deg off the line of intersection")
+
+
 def topple(polydem, scene_file, workdir):
     proc = fos(polydem, scene_file, workdir, "topple")
     result, blocks = read_outputs(workdir, "topple")
@@ -164,7 +188,7 @@ def main():
     scene = os.path.abspath(scene)
     shutil.rmtree(workdir, ignore_errors=True)
     os.makedirs(workdir)
-    {"planar": planar, "topple": topple}[mode](polydem, scene, workdir)
+    {"planar": planar, "wedge": wedge, "topple": topple}[mode](polydem, scene, workdir)
     if FAILURES:
         sys.exit(f"{len(FAILURES)} check(s) failed")
     print("all checks passed")
