@@ -134,6 +134,7 @@ json mechanismJson(const sim::FosMechanism& m, const std::string& picture) {
           {"blocks", blocks},
           {"thresholds",
            {{"move_share_of_largest", sim::kMoveShare},
+            {"rest_fraction_of_size", sim::kRestFraction},
             {"run_on_fraction_of_size", sim::kRunOnFraction},
             {"rotation_share", sim::kRotationShare},
             {"pivot_slip_share", sim::kPivotSlipShare}}}};

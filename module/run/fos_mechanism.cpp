@@ -144,6 +144,13 @@ class MechanismMeter {
     return (rel - rel.dot(n) * n).norm();
   }
 
+  // Whether contact k slips: a share of the largest slip, above the noise of its smaller block.
+  bool slips(std::size_t k, double largest) const {
+    const ContactRow& c = contacts_[k];
+    const double size = std::min(now_[c.lo].size, now_[c.hi].size);
+    return slip_[k] >= kMoveShare * largest && slip_[k] >= kRestFraction * size;
+  }
+
   void sumSlipByInteraction(FosMechanism& m) {
     std::map<std::tuple<int, int, int>, FosSlip> by;
     const double largest = slip_.empty() ? 0.0 : *std::max_element(slip_.begin(), slip_.end());
@@ -160,7 +167,7 @@ class MechanismMeter {
         s.name = interactionName(scene_, c.joint, a, b);
       }
       ++s.contacts;
-      s.slipping += largest > 0.0 && slip_[k] >= kMoveShare * largest;
+      s.slipping += slips(k, largest);
       s.total_slip += slip_[k];
       s.max_slip = std::max(s.max_slip, slip_[k]);
       interaction_of_.push_back(s.name);
@@ -169,7 +176,7 @@ class MechanismMeter {
     std::stable_sort(m.slips.begin(), m.slips.end(), [](const FosSlip& x, const FosSlip& y) {
       return x.total_slip > y.total_slip;
     });
-    if (!m.slips.empty() && m.slips.front().total_slip > 0.0) m.governing = m.slips.front().name;
+    if (!m.slips.empty() && m.slips.front().slipping > 0) m.governing = m.slips.front().name;
   }
 
   bool measured(Uid u) const {
@@ -198,7 +205,7 @@ class MechanismMeter {
       b.size = now_[u].size;
       const double d = b.displacement.norm(), turn = theta * now_[u].radius;
       b.reach = d + turn;
-      if (!(m.max_reach > 0.0 && b.reach >= kMoveShare * m.max_reach)) continue;
+      if (!(b.reach >= kMoveShare * m.max_reach && b.reach >= kRestFraction * b.size)) continue;
       // The seat: the contact whose normal is nearest the vertical.
       double best = -1.0;
       for (std::size_t k = 0; k < contacts_.size(); ++k) {
@@ -243,7 +250,7 @@ class MechanismMeter {
     const double largest = order.empty() ? 0.0 : slip_[order.front()];
     for (const std::size_t k : order) {
       const ContactRow& c = contacts_[k];
-      if (!(sliding[c.lo] || sliding[c.hi]) || !(slip_[k] >= kMoveShare * largest)) continue;
+      if (!(sliding[c.lo] || sliding[c.hi]) || !slips(k, largest)) continue;
       const Vec3 n(c.nx, c.ny, c.nz);
       total += slip_[k];
       auto g = std::find_if(groups.begin(), groups.end(), [&](const Group& x) {
@@ -264,7 +271,8 @@ class MechanismMeter {
 
   std::string summary(const FosMechanism& m) const {
     if (m.blocks.empty()) {
-      return cat("no block moved in the ", num(m.time - m.decided_time),
+      return cat("no block moved more than ", num(kRestFraction), " of its size in the ",
+                 num(m.time - m.decided_time),
                  " s after the decision of the failed trial at F = ", num(m.factor));
     }
     std::string mode;

@@ -6,14 +6,17 @@
 // elastic settling of its first moments is over) to the end:
 //   - each free block's displacement d (centroid) and rotation theta, and its reach |d| + theta R
 //     (R its circumradius: no point of the block moved further); the block moves when its reach
-//     is at least kMoveShare of the largest reach of any block. A trial just above the critical
+//     is at least kMoveShare of the largest reach of any block and kRestFraction of its size
+//     (below that it is noise, not motion). A trial just above the critical
 //     strength may only creep (millimetres on metre blocks): the mechanism is the pattern of that
 //     motion, whatever its size;
 //   - each touching contact's slip: the tangential part of the relative displacement of the two
 //     blocks' material points at the contact point, from their poses at the decision and the end;
-//     a contact slips when its slip is at least kMoveShare of the largest slip;
+//     a contact slips when its slip is at least kMoveShare of the largest slip (and
+//     kRestFraction of the smaller block's size);
 //   - the slip summed per interaction (the [[joint]] the contact takes, or its material pair):
-//     the governing interaction is the one with the largest total slip;
+//     the governing interaction is the one with the largest total slip (none if no contact
+//     slips);
 //   - each moving block's mode: falling (no contact at the end), else toppling when rotation
 //     carries it (theta R > kRotationShare |d|) and its seat (the contact whose normal is
 //     nearest the vertical) slips less than kPivotSlipShare |d| (it pivots on that edge),
@@ -35,8 +38,11 @@
 
 namespace polydem::sim {
 
-/// A block moves (a contact slips) when its reach (slip) is at least this share of the largest.
+/// A block moves (a contact slips) when its reach (slip) is at least this share of the largest,
 constexpr double kMoveShare = 0.1;
+/// and at least this fraction of its size (the smaller block's, for a contact): below it the
+/// motion is round-off and elastic noise, not a mechanism.
+constexpr double kRestFraction = 1e-5;
 /// The run-on ends early once some block has moved this fraction of its size V^(1/3).
 constexpr double kRunOnFraction = 0.1;
 /// Rotation carries a block when theta R exceeds this fraction of its centroid's displacement.
