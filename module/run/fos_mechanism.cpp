@@ -271,9 +271,8 @@ class MechanismMeter {
 
   std::string summary(const FosMechanism& m) const {
     if (m.blocks.empty()) {
-      return cat("no block moved more than ", num(kRestFraction), " of its size in the ",
-                 num(m.time - m.decided_time),
-                 " s after the decision of the failed trial at F = ", num(m.factor));
+      return cat("no block moved more than ", num(kRestFraction),
+                 " of its size after the trial's decision");
     }
     std::string mode;
     int count = 0;
