@@ -349,10 +349,12 @@ std::vector<std::string> criticalStrengthLines(const io::Scene& scene, double fa
     const io::JointSpec &j = scene.joints[k], &c = at_f.joints[k];
     std::string line = cat("joint '", j.name, "': friction angle ", num(c.friction_angle), " deg (",
                            num(j.friction_angle), " deg divided by F)");
-    if (j.cohesion > 0) line += cat(", cohesion ", num(c.cohesion), " Pa (", num(j.cohesion), ")");
+    if (j.cohesion > 0) {
+      line += cat(", cohesion ", num(c.cohesion), " Pa (", num(j.cohesion), " Pa / F)");
+    }
     if (j.tensile_strength > 0) {
       line += cat(", tensile strength ", num(c.tensile_strength), " Pa (", num(j.tensile_strength),
-                  ")");
+                  " Pa / F)");
     }
     lines.push_back(line);
   }
