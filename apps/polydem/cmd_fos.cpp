@@ -1,11 +1,13 @@
 // polydem fos SCENE --out DIR: the factor of safety of a scene by strength reduction
 // (sim/fos.h), its trials spread over groups of the launched ranks.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
 
 #include "commands.h"
 #include "fos_files.h"
+#include "picture.h"
 #include "polydem/contact/contact.h"
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
@@ -15,6 +17,7 @@
 #include "polydem/output/output_lock.h"
 #include "polydem/particles/material.h"
 #include "polydem/run/fos.h"
+#include "polydem/run/fos_mechanism.h"
 #include "polydem/scene/scene_reader.h"
 
 namespace polydem::app {
@@ -26,8 +29,9 @@ void usage() {
       "usage: [mpirun -n N] polydem fos SCENE.toml --out DIR [options]\n"
       "       [mpirun -n N] polydem fos --resume DIR [--ranks-per-trial K] [--quiet]\n"
       "Factor of safety by strength reduction: tan(friction angle) and cohesion of the scene's\n"
-      "[fos] interactions (default: every material pair) are divided by F. Each trial at F is a\n"
-      "static solution (local damping 0.8 unless [fos] local_damping says otherwise): stable\n"
+      "[fos] joints and interactions (default: every joint and material pair) are divided by F.\n"
+      "Each trial at F is a static solution (local damping 0.8 unless [fos] local_damping\n"
+      "says otherwise): stable\n"
       "when the force ratio and the blocks' speeds have decayed, failed when their speeds do not\n"
       "decay over a window while they keep moving, extended up to time_cap when undecided. F is\n"
       "bisected on decided trials to the resolution; the N ranks run N / ranks-per-trial trials\n"
@@ -41,9 +45,11 @@ void usage() {
       "  --contact-model M     sub-contacts (default) or point (the scene's otherwise)\n"
       "  --resume DIR          continue the search a signal stopped (DIR/fos.json)\n"
       "  --quiet               only the result, warnings and errors\n"
-      "writes DIR/fos.json (factor_of_safety, critical_friction_angle_deg, bracket, criterion,\n"
-      "every trial's F, outcome, displacement and time), DIR/fos_trials.csv and DIR/fos.svg\n"
-      "(mean displacement against time per trial). Settings: docs/scene-format.md, [fos].\n");
+      "writes DIR/fos.json (factor_of_safety, each reduced joint's and pair's critical strength,\n"
+      "the governing one, the mechanism, bracket, criterion, every trial's F, outcome,\n"
+      "displacement and time), DIR/fos_trials.csv, DIR/fos.svg (mean displacement against time\n"
+      "per trial) and DIR/mechanism/ (the failed trial just above F: snapshots, blocks.csv,\n"
+      "frames.png). Settings: docs/scene-format.md, [fos].\n");
 }
 
 std::string programPath() {
@@ -121,17 +127,40 @@ void printResult(const io::Scene& scene, const sim::FosResult& result) {
       "resolution %s)\n",
       num(*factor).c_str(), num(*result.stable).c_str(), num(*result.failed).c_str(),
       num(result.resolution).c_str());
-  particles::MaterialTable table;
-  for (const auto& m : scene.materials) table.add(m);
-  for (const auto& i : scene.interactions) table.setInteraction(i.a, i.b, i.properties);
-  table.finalize();
-  for (const auto& [a, b] : sim::reducedPairs(scene)) {
-    const double phi = table.pair(a, b).friction_angle;
-    std::printf("critical friction angle %s deg for %s/%s (%s deg divided by F)\n",
-                num(reducedFrictionAngle(phi, *factor)).c_str(), scene.materials[a].name.c_str(),
-                scene.materials[b].name.c_str(), num(phi).c_str());
+  for (const std::string& line : criticalStrengthLines(scene, *factor)) {
+    std::printf("critical strength of %s\n", line.c_str());
   }
   if (!result.note.empty()) std::printf("note: %s\n", result.note.c_str());
+}
+
+void printMechanism(const sim::FosMechanism& m) {
+  std::printf(
+      "mechanism: %s (failed trial at F = %s; blocks moved up to %s m in the %s s after "
+      "its decision; %s)\n",
+      m.summary.c_str(), num(m.factor).c_str(), num(m.max_reach).c_str(),
+      num(m.time - m.decided_time).c_str(), m.dir.c_str());
+}
+
+// The mechanism of the smallest failed trial, when the search found one (collective).
+std::optional<sim::FosMechanism> mechanismOf(const io::Scene& scene,
+                                             const sim::FosCriterion& criterion,
+                                             const sim::FosResult& result, const std::string& out) {
+  if (!result.complete || !result.failed) return std::nullopt;
+  const auto failed = std::find_if(result.trials.begin(), result.trials.end(),
+                                   [&](const auto& t) { return t.factor == *result.failed; });
+  if (failed == result.trials.end()) return std::nullopt;
+  log::info(cat("mechanism: the failed trial at F = ", num(failed->factor),
+                " again, with snapshots, into ", out, "/mechanism"));
+  const log::Level level = log::level();
+  log::setLevel(std::min(level, log::Level::kWarning));  // no run chatter from the trial
+  sim::FosMechanism m =
+      sim::runFosMechanism(scene, *failed, criterion, out + "/mechanism", MPI_COMM_WORLD);
+  log::setLevel(level);
+  if (!m.same_bits) {
+    log::warning(cat("mechanism: the rerun of the trial at F = ", num(m.factor),
+                     " did not reach the search's state at its decision"));
+  }
+  return m;
 }
 
 }  // namespace
@@ -190,18 +219,26 @@ int fosCommand(int argc, char** argv) {
                             per_trial != 1 ? cat(" --ranks-per-trial ", per_trial) : "");
   // Rank 0 writes the files; a failure (a full disk) is agreed, so that every rank ends with
   // the same message and status 1 instead of one rank aborting the others.
+  const std::optional<sim::FosMechanism> mechanism = mechanismOf(scene, criterion, result, out);
   std::string error;
   if (mpi::rank() == 0) {
     printResult(scene, result);
+    std::string picture;
+    if (mechanism) {
+      printMechanism(*mechanism);
+      picture = renderPicture(mechanism->dir);
+    }
     try {
-      writeFosFiles(out, scene, criterion, result, resume_command);
+      writeFosFiles(out, scene, criterion, result, resume_command,
+                    mechanism ? &*mechanism : nullptr, picture);
     } catch (const Error& e) {
       error = e.what();
     }
   }
   io::throwIfAnyRankFailed(error, MPI_COMM_WORLD);
   if (mpi::rank() == 0) {
-    log::info("wrote " + out + "/fos.json, fos_trials.csv, fos.svg");
+    log::info("wrote " + out + "/fos.json, fos_trials.csv, fos.svg" +
+              (mechanism ? ", mechanism/ (snapshots, series.csv, blocks.csv, frames.png)" : ""));
     if (!result.complete) {
       // Printed whatever the log level: the one line a stopped job must leave.
       std::printf("to continue: %s\n", resume_command.c_str());

@@ -13,6 +13,7 @@
 #include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
 #include "polydem/core/types.h"
+#include "polydem/dynamics/joint_law.h"
 #include "polydem/output/output_file.h"
 #include "polydem/output/summary_json.h"
 #include "polydem/particles/material.h"
@@ -65,26 +66,118 @@ json trialJson(const sim::FosTrial& t) {
           {"history", history}};
 }
 
+// Each reduced [[joint]] with its strength and, when F is known, the strength the reduction
+// gives it at F (read back from the reduced scene, so that it is whatever the joint's law does).
+json jointsJson(const io::Scene& scene, const std::optional<double>& f) {
+  const std::optional<io::Scene> at_f =
+      f ? std::optional<io::Scene>(sim::reduceStrength(scene, *f)) : std::nullopt;
+  json joints = json::array();
+  for (const int k : sim::reducedJoints(scene)) {
+    const io::JointSpec& j = scene.joints[k];
+    const dynamics::JointLawInfo& info = dynamics::jointLaw(j.law.law);
+    json e = {{"name", j.name}, {"law", j.lawName()}};
+    // Each parameter that strength reduction scales, with its value at F (json null until F is
+    // known); a law whose mobilized strength is divided as a whole reports the divisor.
+    json parameters = json::object(), critical = json::object();
+    for (std::size_t i = 0; i < info.parameters.size(); ++i) {
+      const dynamics::LawParameter& p = info.parameters[i];
+      if (p.reduction == dynamics::Reduction::kNone) continue;
+      parameters[p.name] = j.law.values[i];
+      critical[p.name] = at_f ? json(at_f->joints[k].law.values[i]) : json();
+    }
+    e["parameters"] = parameters;
+    e["critical"] = critical;
+    if (info.reduces_mobilized_strength) {
+      e["critical_strength_divisor"] = at_f ? json(at_f->joints[k].law.strength_divisor) : json();
+    }
+    const int phi = dynamics::parameterIndex(info, "friction_angle");
+    e["critical_friction_angle_deg"] =
+        at_f && phi >= 0 ? json(at_f->joints[k].law.values[phi]) : json();
+    joints.push_back(e);
+  }
+  return joints;
+}
+
+json mechanismJson(const sim::FosMechanism& m, const std::string& picture) {
+  json blocks = json::array();
+  for (const auto& b : m.blocks) {
+    blocks.push_back(
+        {{"uid", b.uid},
+         {"label", b.label},
+         {"mode", b.mode},
+         {"displacement", {b.displacement.x(), b.displacement.y(), b.displacement.z()}},
+         {"rotation_deg", b.rotation_deg},
+         {"size", b.size},
+         {"reach", b.reach},
+         {"contacts", b.contacts},
+         {"seat_slip", b.seat_slip}});
+  }
+  json slips = json::array();
+  for (const auto& s : m.slips) {
+    slips.push_back({{"name", s.name},
+                     {"kind", s.joint >= 0 ? "joint" : "material pair"},
+                     {"contacts", s.contacts},
+                     {"slipping", s.slipping},
+                     {"total_slip", s.total_slip},
+                     {"max_slip", s.max_slip}});
+  }
+  return {{"summary", m.summary},
+          {"factor", m.factor},
+          {"folder", m.dir},
+          {"same_bits_as_search", m.same_bits},
+          {"decided_time", m.decided_time},
+          {"time", m.time},
+          {"max_reach", m.max_reach},
+          {"steps", m.steps},
+          {"stopped_by", m.stopped_by},
+          {"snapshots", m.snapshots},
+          {"picture", picture.empty() ? json() : json(picture)},
+          {"free_blocks", m.free_blocks},
+          {"moving_blocks", m.blocks.size()},
+          {"modes", m.modes},
+          {"governing", m.governing.empty() ? json() : json(m.governing)},
+          {"slip", slips},
+          {"blocks", blocks},
+          {"thresholds",
+           {{"move_share_of_largest", sim::kMoveShare},
+            {"rest_fraction_of_size", sim::kRestFraction},
+            {"run_on_fraction_of_size", sim::kRunOnFraction},
+            {"rotation_share", sim::kRotationShare},
+            {"pivot_slip_share", sim::kPivotSlipShare}}}};
+}
+
 json fosJson(const io::Scene& scene, const sim::FosCriterion& c, const sim::FosResult& r,
-             const std::string& resume_command) {
+             const std::string& resume_command, const sim::FosMechanism* mechanism,
+             const std::string& picture) {
   particles::MaterialTable table;
   for (const auto& m : scene.materials) table.add(m);
   for (const auto& i : scene.interactions) table.setInteraction(i.a, i.b, i.properties);
   table.finalize();
   const std::optional<double> f = r.factor();
   json pairs = json::array();
-  std::optional<double> critical;
   for (const auto& [a, b] : sim::reducedPairs(scene)) {
     const auto& p = table.pair(a, b);
-    const std::optional<double> phi =
-        f ? std::optional<double>(reducedFrictionAngle(p.friction_angle, *f)) : std::nullopt;
-    if (!critical) critical = phi;
-    pairs.push_back({{"materials", {scene.materials[a].name, scene.materials[b].name}},
+    const json phi = f ? json(reducedFrictionAngle(p.friction_angle, *f)) : json();
+    pairs.push_back({{"name", scene.materials[a].name + "/" + scene.materials[b].name},
+                     {"materials", {scene.materials[a].name, scene.materials[b].name}},
                      {"friction_angle_deg", p.friction_angle},
                      {"cohesion", p.cohesion},
-                     {"critical_friction_angle_deg", optional(phi)},
+                     {"critical_friction_angle_deg", phi},
                      {"critical_cohesion", f ? json(p.cohesion / *f) : json()}});
   }
+  const json joints = jointsJson(scene, f);
+  // The governing interaction's critical friction angle where it is reduced, else the first
+  // reduced joint's, else the first reduced pair's.
+  json critical;
+  for (const json* list : {&joints, static_cast<const json*>(&pairs)}) {
+    for (const json& e : *list) {
+      if (mechanism && mechanism->governing == e["name"].get<std::string>()) {
+        critical = e["critical_friction_angle_deg"];
+      }
+    }
+  }
+  if (critical.is_null() && !joints.empty()) critical = joints[0]["critical_friction_angle_deg"];
+  if (critical.is_null() && !pairs.empty()) critical = pairs[0]["critical_friction_angle_deg"];
   json trials = json::array();
   for (const auto& t : r.trials) trials.push_back(trialJson(t));
   json j = {{"scene", scene.id},
@@ -102,8 +195,12 @@ json fosJson(const io::Scene& scene, const sim::FosCriterion& c, const sim::FosR
             {"resolution", r.resolution},
             {"f_min", scene.fos.f_min},
             {"f_max", scene.fos.f_max},
-            {"critical_friction_angle_deg", optional(critical)},
+            {"critical_friction_angle_deg", critical},
             {"interactions", pairs},
+            {"joints", joints},
+            {"governing",
+             mechanism && !mechanism->governing.empty() ? json(mechanism->governing) : json()},
+            {"mechanism", mechanism ? mechanismJson(*mechanism, picture) : json()},
             {"criterion", criterionJson(c)},
             {"ranks", r.ranks},
             {"groups", r.groups},
@@ -251,11 +348,49 @@ double reducedFrictionAngle(double phi_deg, double factor) {
   return radToDeg(std::atan(std::tan(degToRad(phi_deg)) / factor));
 }
 
+std::vector<std::string> criticalStrengthLines(const io::Scene& scene, double factor) {
+  const io::Scene at_f = sim::reduceStrength(scene, factor);
+  std::vector<std::string> lines;
+  for (const int k : sim::reducedJoints(scene)) {
+    const io::JointSpec &j = scene.joints[k], &c = at_f.joints[k];
+    const dynamics::JointLawInfo& info = dynamics::jointLaw(j.law.law);
+    std::string line = cat("joint '", j.name, "' (", j.lawName(), "):");
+    const char* separator = " ";
+    for (std::size_t i = 0; i < info.parameters.size(); ++i) {
+      const dynamics::LawParameter& p = info.parameters[i];
+      if (p.reduction == dynamics::Reduction::kNone) continue;
+      if (p.reduction == dynamics::Reduction::kDivide && j.law.values[i] == 0.0) continue;
+      const char* unit = p.unit == dynamics::ParameterUnit::kAngle ? " deg" : " Pa";
+      const char* how = p.reduction == dynamics::Reduction::kTangent ? " divided by F" : " / F";
+      line += cat(separator, p.name, " ", num(c.law.values[i]), unit, " (", num(j.law.values[i]),
+                  unit, how, ")");
+      separator = ", ";
+    }
+    if (info.reduces_mobilized_strength) {
+      line += cat(separator, "shear strength divided by ", num(c.law.strength_divisor));
+    }
+    lines.push_back(line);
+  }
+  particles::MaterialTable table;
+  for (const auto& m : scene.materials) table.add(m);
+  for (const auto& i : scene.interactions) table.setInteraction(i.a, i.b, i.properties);
+  table.finalize();
+  for (const auto& [a, b] : sim::reducedPairs(scene)) {
+    const double phi = table.pair(a, b).friction_angle;
+    lines.push_back(cat("pair ", scene.materials[a].name, "/", scene.materials[b].name,
+                        ": friction angle ", num(reducedFrictionAngle(phi, factor)), " deg (",
+                        num(phi), " deg divided by F)"));
+  }
+  return lines;
+}
+
 void writeFosFiles(const std::string& dir, const io::Scene& scene,
                    const sim::FosCriterion& criterion, const sim::FosResult& result,
-                   const std::string& resume_command) {
+                   const std::string& resume_command, const sim::FosMechanism* mechanism,
+                   const std::string& picture) {
   io::createDirectories(dir);
-  io::writeJsonAtomic(dir + "/fos.json", fosJson(scene, criterion, result, resume_command));
+  io::writeJsonAtomic(dir + "/fos.json",
+                      fosJson(scene, criterion, result, resume_command, mechanism, picture));
   io::writeFileAtomic(dir + "/fos_trials.csv", trialsCsv(result));
   io::writeFileAtomic(dir + "/fos.svg", displacementSvg(scene, criterion, result));
 }

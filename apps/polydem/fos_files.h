@@ -5,17 +5,25 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "polydem/run/fos.h"
+#include "polydem/run/fos_mechanism.h"
 #include "polydem/setup/setup.h"
 
 namespace polydem::app {
 
 /// Writes the three files into `dir` (created if needed), each atomically. Rank 0 only.
-/// `resume_command`: how to continue a search a signal stopped (empty when complete).
+/// `resume_command`: how to continue a search a signal stopped (empty when complete);
+/// `mechanism`: that of the smallest failed trial, if it was run; `picture`: its PNG ("" none).
 void writeFosFiles(const std::string& dir, const io::Scene& scene,
                    const sim::FosCriterion& criterion, const sim::FosResult& result,
-                   const std::string& resume_command);
+                   const std::string& resume_command, const sim::FosMechanism* mechanism,
+                   const std::string& picture);
+
+/// The critical strength of each reduced joint and pair at `factor`, one line each, for the
+/// console: "joint 'base': friction angle 19.8 deg (25 deg / F), cohesion 7.7 kPa (...)".
+std::vector<std::string> criticalStrengthLines(const io::Scene& scene, double factor);
 
 /// A hash of a scene file's text, 16 hex digits: fos.json keeps it so that a continued search
 /// runs the scene its trials ran.

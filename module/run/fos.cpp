@@ -201,16 +201,6 @@ void takePrior(const FosResult& prior, FosResult& r, std::vector<FosTrial>& cut_
 
 }  // namespace
 
-std::vector<std::pair<int, int>> reducedPairs(const io::Scene& scene) {
-  if (!scene.fos.interactions.empty()) return scene.fos.interactions;
-  std::vector<std::pair<int, int>> pairs;
-  const int n = static_cast<int>(scene.materials.size());
-  for (int a = 0; a < n; ++a) {
-    for (int b = a; b < n; ++b) pairs.emplace_back(a, b);
-  }
-  return pairs;
-}
-
 io::Scene reduceStrength(const io::Scene& scene, double factor) {
   if (!(factor > 0.0) || !std::isfinite(factor)) {
     throw Error(cat("strength reduction: the factor must be > 0, got ", factor));
@@ -232,6 +222,13 @@ io::Scene reduceStrength(const io::Scene& scene, double factor) {
   }
   // Every [[joint]] likewise, by its law's own rule (dynamics/joint_law.h).
   for (auto& j : out.joints) j.law = dynamics::reduceJointStrength(j.law, factor);
+
+  // The joints [fos] leaves out keep the scene's strength.
+  std::vector<char> reduced(scene.joints.size(), 0);
+  for (const int k : reducedJoints(scene)) reduced[k] = 1;
+  for (std::size_t k = 0; k < out.joints.size(); ++k) {
+    if (!reduced[k]) out.joints[k] = scene.joints[k];
+  }
   return out;
 }
 

@@ -32,14 +32,24 @@
 
 namespace polydem::sim {
 
-/// The scene with the strength of its [fos] interactions (or of every material pair) divided by
+/// The scene with the strength of what [fos] reduces (reducedPairs, reducedJoints) divided by
 /// `factor`: each such pair becomes an explicit [[interaction]] with friction angle
-/// atan(tan(phi) / factor) and cohesion c / factor; stiffness and damping are unchanged. Every
-/// [[joint]] is reduced likewise (its tensile strength too, as cohesion).
+/// atan(tan(phi) / factor) and cohesion c / factor; stiffness and damping are unchanged. Each
+/// such [[joint]] is reduced likewise (its tensile strength too, as cohesion).
 io::Scene reduceStrength(const io::Scene& scene, double factor);
 
-/// The material pairs [fos] reduces (lower index first): its list, or every pair of materials.
+/// What [fos] reduces (run/fos_selection.cpp). Naming `interactions` or `joints` reduces only
+/// what is named; naming neither reduces every material pair and every [[joint]] that a contact
+/// of a free block can use (pairUsable, jointUsable): never one only fixed bodies share.
+/// The material pairs reduced (lower index first).
 std::vector<std::pair<int, int>> reducedPairs(const io::Scene& scene);
+/// The [[joint]]s reduced (indices into scene.joints, in [fos] or file order).
+std::vector<int> reducedJoints(const io::Scene& scene);
+/// Whether some contact can be between materials a and b: two particles of these materials, at
+/// least one of them free (fixed and driven bodies never meet each other's forces).
+bool pairUsable(const io::Scene& scene, int a, int b);
+/// Whether some free block has a face on a plane that takes [[joint]] `joint`.
+bool jointUsable(const io::Scene& scene, int joint);
 
 /// The fewest steps a trial may have (max_time / dt): the contacts' elastic transients, a few
 /// periods of the stiffest contact at the usual 10 to 50 steps a period, must have died out
@@ -99,11 +109,25 @@ struct FosTrial {
   bool decided() const { return stable() || failed(); }
 };
 
+class Simulation;
+
+/// Watches a trial as it runs (the mechanism of a failed trial, run/fos_mechanism.h): after the
+/// initial equilibrium, after every evaluation of the criterion, and once the trial is decided,
+/// with the simulation in the state the trial's result (and state hash) describes. Not called
+/// for an interrupted trial. Every call is collective over the trial's ranks.
+class FosTrialObserver {
+ public:
+  virtual ~FosTrialObserver() = default;
+  virtual void started(Simulation& sim) = 0;
+  virtual void checked(Simulation& sim) = 0;
+  virtual void decided(Simulation& sim, const FosTrial& trial) = 0;
+};
+
 /// One trial of `scene` at `factor` on `comm` (collective). The result is the same bits on any
-/// rank count, wall_seconds and group aside. A stop signal received by a rank of `comm` ends it
-/// after the current step with outcome "interrupted".
+/// rank count, wall_seconds and group aside, with or without an observer. A stop signal
+/// received by a rank of `comm` ends it after the current step with outcome "interrupted".
 FosTrial runFosTrial(const io::Scene& scene, double factor, const FosCriterion& criterion,
-                     MPI_Comm comm);
+                     MPI_Comm comm, FosTrialObserver* observer = nullptr);
 
 struct FosResult {
   std::vector<FosTrial> trials;  // decided and undecided, in the order of the search

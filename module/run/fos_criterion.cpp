@@ -11,29 +11,6 @@ namespace polydem::sim {
 
 namespace {
 
-bool isFree(const setup::ParticleSpec& p) {
-  return !p.fixed && p.driver < 0;
-}
-
-// Whether some contact of the scene can be between materials a and b: two particles of these
-// materials, at least one of them free (fixed and driven bodies never meet each other's forces).
-bool pairUsable(const io::Scene& scene, int a, int b) {
-  bool free_a = false, free_b = false;
-  int count_a = 0, count_b = 0;
-  for (const auto& p : scene.particles) {
-    if (p.material == a) {
-      ++count_a;
-      free_a = free_a || isFree(p);
-    }
-    if (p.material == b) {
-      ++count_b;
-      free_b = free_b || isFree(p);
-    }
-  }
-  if (a == b) return count_a >= 2 && free_a;
-  return count_a >= 1 && count_b >= 1 && (free_a || free_b);
-}
-
 void checkInteractions(const io::Scene& scene) {
   const io::FosSpec& f = scene.fos;
   for (std::size_t i = 0; i < f.interactions.size(); ++i) {
@@ -47,6 +24,25 @@ void checkInteractions(const io::Scene& scene) {
             a == b ? "fewer than two particles of that material, or none of them free"
                    : "no particle of one of the materials, or none of them free",
             "): reducing it changes nothing, and every trial would be stable"));
+  }
+}
+
+// A named joint must be one a contact of a free block can take, and something must be reduced.
+void checkJoints(const io::Scene& scene) {
+  const io::FosSpec& f = scene.fos;
+  if (!f.joints_named) return;
+  if (f.joints.empty() && f.interactions.empty()) {
+    throw InputError(scene.file, f.line,
+                     "[fos] joints = [] and no interactions: nothing would be reduced, and every "
+                     "trial would be stable");
+  }
+  for (std::size_t i = 0; i < f.joints.size(); ++i) {
+    if (jointUsable(scene, f.joints[i])) continue;
+    const int line = i < f.joint_lines.size() ? f.joint_lines[i] : f.line;
+    throw InputError(scene.file, line,
+                     cat("[fos] joints[", i, "] = \"", scene.joints[f.joints[i]].name,
+                         "\": no free block has a face on a plane that takes this joint (only "
+                         "fixed rock, or no plane names it): reducing it changes nothing"));
   }
 }
 
@@ -103,6 +99,7 @@ FosCriterion fosCriterion(const io::Scene& scene) {
   c.check_every = f.check_every;
   checkLengths(scene, c);
   checkInteractions(scene);
+  checkJoints(scene);
   return c;
 }
 

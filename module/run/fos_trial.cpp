@@ -72,7 +72,7 @@ std::string judge(const std::vector<FosSample>& h, const Peaks& peak, const FosC
 }  // namespace
 
 FosTrial runFosTrial(const io::Scene& scene, double factor, const FosCriterion& criterion,
-                     MPI_Comm comm) {
+                     MPI_Comm comm, FosTrialObserver* observer) {
   const auto wall0 = std::chrono::steady_clock::now();
   io::Scene reduced = reduceStrength(scene, factor);
   for (auto& m : reduced.materials) m.local_damping = criterion.local_damping;  // static solution
@@ -103,6 +103,7 @@ FosTrial runFosTrial(const io::Scene& scene, double factor, const FosCriterion& 
     t.time = time;
   };
   if (!interrupted) sample();
+  if (observer && !interrupted) observer->started(sim);
   testPause("fos-trial");  // test hook: a signal here stops the trial after its next step
   while (!interrupted && t.outcome.empty()) {
     for (std::int64_t i = 0; i < criterion.check_every && !interrupted; ++i) {
@@ -111,6 +112,7 @@ FosTrial runFosTrial(const io::Scene& scene, double factor, const FosCriterion& 
     }
     if (interrupted) break;
     sample();
+    if (observer) observer->checked(sim);
     t.outcome = judge(t.history, peak, criterion);
     if (t.outcome.empty() && t.time >= criterion.time_cap) t.outcome = "undecided";
   }
@@ -118,6 +120,7 @@ FosTrial runFosTrial(const io::Scene& scene, double factor, const FosCriterion& 
   t.extended = t.time > criterion.max_time;
   t.steps = sim.stepCount();
   t.state_hash = sim.stateHash().combined;
+  if (observer && !interrupted) observer->decided(sim, t);
   t.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return t;
 }

@@ -6,13 +6,43 @@
 
 namespace polydem::io::detail {
 
+namespace {
+
+// [fos] joints = ["base", ...]: the [[joint]]s reduced, by name.
+void readFosJoints(const Context& ctx, const Section& s, const toml::node& list, Scene& scene) {
+  const toml::array* a = list.as_array();
+  if (!a) s.fail("joints", "expected a list of [[joint]] names, as in [\"base\", \"bedding\"]");
+  FosSpec& f = scene.fos;
+  f.joints_named = true;
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    const std::string what = element(s.where("joints"), i);
+    const toml::node& e = (*a)[i];
+    if (!e.is_string()) ctx.fail(lineOf(e), what + ": expected the name of a [[joint]]");
+    const std::string name = e.as_string()->get();
+    const int index = indexByName(scene.joints, name);
+    if (index < 0) {
+      std::string known;
+      for (const auto& j : scene.joints) known += (known.empty() ? "'" : ", '") + j.name + "'";
+      ctx.fail(lineOf(e), what + ": no [[joint]] is named '" + name + "' (" +
+                              (known.empty() ? "the scene has none" : "known: " + known) + ")");
+    }
+    for (std::size_t k = 0; k < f.joints.size(); ++k) {
+      if (f.joints[k] == index) ctx.fail(lineOf(e), what + ": '" + name + "' is named twice");
+    }
+    f.joints.push_back(index);
+    f.joint_lines.push_back(lineOf(e));
+  }
+}
+
+}  // namespace
+
 void readFos(const Context& ctx, const toml::table& root, Scene& scene) {
   const toml::node* n = root.get("fos");
   if (!n) return;
   const toml::table* t = n->as_table();
   if (!t) ctx.fail(lineOf(*n), "'fos' must be a table: write [fos], got " + typeName(*n));
   const Section s(ctx, *t, "[fos]");
-  s.allowOnly({"interactions", "f_min", "f_max", "resolution", "max_time", "time_cap",
+  s.allowOnly({"interactions", "joints", "f_min", "f_max", "resolution", "max_time", "time_cap",
                "settle_time", "force_ratio", "speed_decay", "local_damping", "speed_limit",
                "displacement_limit", "check_every", "label_prefix"});
   FosSpec& f = scene.fos;
@@ -39,6 +69,7 @@ void readFos(const Context& ctx, const toml::table& root, Scene& scene) {
       f.interaction_lines.push_back(lineOf((*a)[i]));
     }
   }
+  if (const toml::node* list = s.find("joints")) readFosJoints(ctx, s, *list, scene);
   f.f_min = s.number("f_min", Quantity::kDimensionless, f.f_min, Range::kPositive);
   f.f_max = s.number("f_max", Quantity::kDimensionless, f.f_max, Range::kPositive);
   if (!(f.f_max > f.f_min)) s.fail("f_max", "must exceed f_min");

@@ -175,8 +175,13 @@ struct CheckpointSpec {
 /// decayed over a window while the displacement grows. F is bisected between f_min and f_max to
 /// `resolution` (run/fos.h).
 struct FosSpec {
-  std::vector<std::pair<int, int>> interactions;  // material pairs reduced; empty: all pairs
+  std::vector<std::pair<int, int>> interactions;  // material pairs reduced (run/fos.h)
   std::vector<int> interaction_lines;             // of each pair in the file
+  // [[joint]]s reduced (indices into Setup::joints), when `joints_named`. Naming either list
+  // reduces only what the lists name; naming neither reduces every joint and pair.
+  std::vector<int> joints;
+  std::vector<int> joint_lines;  // of each name in the file
+  bool joints_named = false;     // [fos] joints was given (possibly empty)
   double f_min = 0.5, f_max = 4.0;
   double resolution = 0.01;                  // width of the final bracket, in F
   std::optional<double> max_time;            // s, required (here or on the command line)

@@ -10,7 +10,10 @@
 // creep.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
@@ -105,7 +108,15 @@ TEST(StrengthReduction, DividesTanPhiAndCohesionOfTheChosenPairs) {
   EXPECT_DOUBLE_EQ(p.cohesion, 0.0);
   EXPECT_DOUBLE_EQ(p.kn, scene.materials[0].kn);
   EXPECT_EQ(reducedPairs(scene).size(), 1u);
-  scene.fos.interactions.clear();  // every pair: (0,0), (0,1), (1,1)
+  // Two free clay blocks: every pair, (0,0), (0,1), (1,1), has a contact that can use it.
+  for (int k = 0; k < 2; ++k) {
+    setup::ParticleSpec clay = scene.particles[1];
+    clay.material = 1;
+    clay.uid = static_cast<Uid>(scene.particles.size() + 1);
+    clay.position.y() += 2.0 * (k + 1);
+    scene.particles.push_back(clay);
+  }
+  scene.fos.interactions.clear();
   const io::Scene all = reduceStrength(scene, 4.0);
   ASSERT_EQ(all.interactions.size(), 3u);
   for (const auto& i : all.interactions) {
@@ -114,6 +125,53 @@ TEST(StrengthReduction, DividesTanPhiAndCohesionOfTheChosenPairs) {
     }
   }
   EXPECT_THROW(reduceStrength(scene, 0.0), Error);
+}
+
+TEST(StrengthReduction, NeverReducesOrListsAPairOnlyFixedBodiesShare) {
+  // The incline becomes "bedrock": bedrock/bedrock only ever meets itself fixed.
+  io::Scene scene = io::readScene(kExamples + "fos-incline.toml");
+  particles::Material bedrock = scene.materials[0];
+  bedrock.name = "bedrock";
+  scene.materials.push_back(bedrock);
+  scene.particles[0].material = 1;
+  setup::ParticleSpec second = scene.particles[0];  // a second fixed bedrock body
+  second.uid = 3;
+  second.position.y() += 10.0;
+  scene.particles.push_back(second);
+  const auto pairs = reducedPairs(scene);
+  ASSERT_EQ(pairs.size(), 1u);  // rock/bedrock; rock/rock needs two rock blocks
+  EXPECT_EQ(pairs[0], std::make_pair(0, 1));
+  const io::Scene reduced = reduceStrength(scene, 2.0);
+  for (const auto& i : reduced.interactions) EXPECT_FALSE(i.a == 1 && i.b == 1);
+}
+
+// J-PLANAR-COHESION has joints "base" (friction 25 deg, 10 kPa) and "release" (0 deg) and the
+// rock/rock pair (10 deg) for corners and edges.
+TEST(StrengthReduction, ReducesOnlyTheNamedJoints) {
+  const std::string file = std::string(POLYDEM_SCENES_DIR) + "/J-PLANAR-COHESION.toml";
+  io::Scene scene = io::readScene(file);
+  ASSERT_EQ(scene.joints.size(), 2u);
+  // Naming nothing: every joint a free block touches and every usable pair.
+  EXPECT_EQ(reducedJoints(scene), (std::vector<int>{0, 1}));
+  EXPECT_EQ(reducedPairs(scene).size(), 1u);
+  // Naming "base" only: the release joint and the pair keep their strength.
+  scene.fos.joints = {0};
+  scene.fos.joints_named = true;
+  EXPECT_EQ(reducedJoints(scene), (std::vector<int>{0}));
+  EXPECT_TRUE(reducedPairs(scene).empty());
+  io::Scene modified = scene;
+  modified.joints[1].friction_angle = 30.0;  // so that a reduction of "release" would show
+  const io::Scene reduced = reduceStrength(modified, 2.0);
+  EXPECT_DOUBLE_EQ(std::tan(degToRad(reduced.joints[0].friction_angle)),
+                   std::tan(degToRad(25.0)) / 2.0);
+  EXPECT_DOUBLE_EQ(reduced.joints[0].cohesion, scene.joints[0].cohesion / 2.0);
+  EXPECT_DOUBLE_EQ(reduced.joints[1].friction_angle, 30.0);
+  EXPECT_EQ(reduced.interactions.size(), scene.interactions.size());
+  // Naming a pair only: no joint is reduced.
+  scene.fos.joints.clear();
+  scene.fos.joints_named = false;
+  scene.fos.interactions = {{0, 0}};
+  EXPECT_TRUE(reducedJoints(scene).empty());
 }
 
 TEST(FosCriterion, DefaultsAndMissingMaxTime) {
@@ -176,6 +234,42 @@ TEST(FosCriterion, RefusesAnInteractionNoContactUses) {
   io::Scene fixed_only = inclineWith(kInclineFos + "interactions = [[\"rock\", \"rock\"]]\n");
   fixed_only.particles[1].fixed = true;
   EXPECT_NE(refusal(fixed_only, line).find("no contact"), std::string::npos);
+}
+
+TEST(FosCriterion, RefusesJointsThatNoFreeBlockTouchesOrAnEmptyChoice) {
+  const std::string file = std::string(POLYDEM_SCENES_DIR) + "/J-PLANAR-COHESION.toml";
+  const std::string text = [&] {
+    std::ifstream in(file);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  const auto withFos = [&](const std::string& lines) {
+    std::string t = text;
+    t.replace(t.find("[fos]\n"), 6, "[fos]\n" + lines);
+    return t;
+  };
+  // An unknown name: the reader refuses it with the file, the line and the known names.
+  try {
+    io::parseScene(withFos("joints = [\"base\",\n  \"bsae\"]\n"), "planar.toml");
+    ADD_FAILURE() << "an unknown joint was accepted";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    const int line =
+        1 + static_cast<int>(std::count(
+                text.begin(), text.begin() + static_cast<long>(text.find("[fos]")), '\n'));
+    EXPECT_NE(m.find("planar.toml:" + std::to_string(line + 2)), std::string::npos) << m;
+    EXPECT_NE(m.find("'bsae'"), std::string::npos) << m;
+    EXPECT_NE(m.find("known: 'base', 'release'"), std::string::npos) << m;
+  }
+  // A joint only fixed rock has: the release plane's faces all belong to fixed blocks once no
+  // free block is left.
+  io::Scene scene = io::parseScene(withFos("joints = [\"release\"]\n"), "planar.toml");
+  for (auto& p : scene.particles) p.fixed = true;
+  int line = 0;
+  EXPECT_NE(refusal(scene, line).find("no free block has a face"), std::string::npos);
+  EXPECT_EQ(line, scene.fos.joint_lines[0]);
+  // joints = [] with no interactions: nothing to reduce.
+  io::Scene empty = io::parseScene(withFos("joints = []\n"), "planar.toml");
+  EXPECT_NE(refusal(empty, line).find("nothing would be reduced"), std::string::npos);
 }
 
 TEST(FosCriterion, RefusesTrialsTooShortToJudge) {
