@@ -226,7 +226,10 @@ int fosCommand(int argc, char** argv) {
     std::string picture;
     if (mechanism) {
       printMechanism(*mechanism);
-      picture = renderPicture(mechanism->dir);
+      // The failing blocks coloured by how far they moved, seen from the slope's face.
+      PictureOptions view;
+      view.field = "displacement";
+      picture = renderPicture(mechanism->dir, view);
     }
     try {
       writeFosFiles(out, scene, criterion, result, resume_command,
