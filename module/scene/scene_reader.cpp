@@ -340,7 +340,7 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
   Section(ctx, root, "top level")
       .allowOnly({"scene", "simulation", "kernel_params", "material", "interaction", "joint",
                   "shape", "driver", "particle", "particle_grid", "rock_mass", "domain",
-                  "equilibrium", "output", "checkpoint", "check", "fos", "water"});
+                  "equilibrium", "output", "checkpoint", "check", "fos", "water", "seismic"});
   Scene scene;
   scene.file = name_for_messages;
   scene.text = std::string(text);
@@ -361,6 +361,7 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
   detail::readChecks(ctx, root, scene);
   detail::readFos(ctx, root, scene);
   detail::readWater(ctx, root, scene);
+  detail::readSeismic(ctx, root, scene);
   return scene;
 }
 

@@ -49,6 +49,9 @@ void readFos(const Context& ctx, const toml::table& root, Scene& scene);
 /// [water] (scene_water.cpp).
 void readWater(const Context& ctx, const toml::table& root, Scene& scene);
 
+/// [seismic] (scene_seismic.cpp); needs [simulation] gravity.
+void readSeismic(const Context& ctx, const toml::table& root, Scene& scene);
+
 /// Index of the entry called `name` in `items` (by their .name), or -1.
 template <typename T>
 int indexByName(const std::vector<T>& items, const std::string& name) {

@@ -228,6 +228,17 @@ struct WaterSpec {
   int line = 0;
 };
 
+/// [seismic]: the pseudo-static earthquake load (docs/scene-format.md "Earthquakes"): on every free
+/// block a body force m g (kh h + kv z), g = |gravity|, h the horizontal unit vector at `azimuth`
+/// (degrees clockwise from north = +y: h = (sin azimuth, cos azimuth, 0)), z = +z (up).
+struct SeismicSpec {
+  bool enabled = false;
+  double kh = 0.0;       // horizontal coefficient, a fraction of g, in [0, 1]
+  double azimuth = 0.0;  // degrees clockwise from +y: where the horizontal load pushes
+  double kv = 0.0;       // vertical coefficient, a fraction of g, positive upward, in [-1, 1]
+  int line = 0;
+};
+
 struct Setup {
   std::string file;  // path of the scene file, for messages (diagnostics only)
   // The TOML text the scene was parsed from, verbatim: what a checkpoint of its run stores (and a
@@ -271,8 +282,9 @@ struct Setup {
   OutputSpec output;
   CheckpointSpec checkpoint;
   std::vector<CheckSpec> checks;
-  FosSpec fos;      // [fos]; defaults when the scene has no such table
-  WaterSpec water;  // [water]; off when the scene has no such table
+  FosSpec fos;          // [fos]; defaults when the scene has no such table
+  WaterSpec water;      // [water]; off when the scene has no such table
+  SeismicSpec seismic;  // [seismic]; off when the scene has no such table
 };
 
 }  // namespace polydem::setup
@@ -294,6 +306,7 @@ using setup::kContactModels;
 using setup::OutputSpec;
 using setup::ParticleSpec;
 using setup::RockMassInfo;
+using setup::SeismicSpec;
 using setup::ShapeSpec;
 using setup::unknownContactModel;
 using setup::WaterSpec;

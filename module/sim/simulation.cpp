@@ -15,6 +15,7 @@
 #include "polydem/dynamics/driver.h"
 #include "polydem/dynamics/integrator.h"
 #include "polydem/sim/pair_memory.h"
+#include "polydem/sim/seismic.h"
 #include "polydem/sim/water.h"
 
 namespace polydem::sim {
@@ -157,8 +158,10 @@ void Simulation::computeContacts() {
   } else {
     last_work_ = stepWork(storage_, contact_phase_.records(), load_model_);
   }
+  // Gravity, and the pseudo-static earthquake load when the scene has one (sim/seismic.h).
+  const Vec3 body = bodyAcceleration(scene_);
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    if (storage_[i].isFree()) forces_[i].addBodyForce(storage_.mass(i) * scene_.gravity);
+    if (storage_[i].isFree()) forces_[i].addBodyForce(storage_.mass(i) * body);
   }
   if (scene_.water.enabled) {
     addWaterForces(scene_.water, stage_ == Stage::kEquilibrium ? 0.0 : time(), shapes_, storage_,

@@ -3,7 +3,7 @@
 // particles whose centroids lie in its blocks, sees ghost copies of its neighbours' particles and
 // replicated fixed/driven bodies, and runs the same timeloop:
 //
-//   sort (now and then) -> derived -> broadphase -> contacts -> gravity -> water
+//   sort (now and then) -> derived -> broadphase -> contacts -> gravity (+ seismic) -> water
 //   -> force operators -> integrate -> communicate -> monitors
 //
 // (see contact_phase.h for why the result is the same bits on any number of ranks, and

@@ -27,6 +27,7 @@ _SECTION_KEYS = {
             "settle_time", "force_ratio", "speed_decay", "local_damping", "speed_limit",
             "displacement_limit", "check_every", "label_prefix"),
     "water": ("unit_weight", "level", "points", "table"),
+    "seismic": ("kh", "azimuth", "kv"),
 }
 _CONTACT_KEYS = ("kn", "ks", "friction_angle", "cohesion", "normal_damping", "penalty", "jkn",
                  "jks")
@@ -196,6 +197,36 @@ class Scene(Bodies):
         except (TypeError, ValueError):
             if previous is not None:
                 self._sections["water"] = previous
+            raise
+
+    def set_seismic(self, **settings):
+        """[seismic] (the pseudo-static earthquake load, docs/scene-format.md "Earthquakes"):
+        kh (horizontal, a fraction of g) with its azimuth (degrees clockwise from north = +y,
+        where the load pushes), kv (vertical, a fraction of g, positive upward). None removes a
+        key; seismic=None (the property) removes the table."""
+        return self._set("seismic", settings)
+
+    @property
+    def seismic(self):
+        """The [seismic] settings as given (a dict), or None when the scene has no earthquake."""
+        table = self._sections.get("seismic")
+        return dict(table) if table else None
+
+    @seismic.setter
+    def seismic(self, settings):
+        if settings is None:
+            self._sections.pop("seismic", None)
+            self._changed()
+            return
+        if not isinstance(settings, dict):
+            raise TypeError("Scene seismic must be a dict of [seismic] keys or None, got %s"
+                            % type(settings).__name__)
+        previous = self._sections.pop("seismic", None)
+        try:
+            self._set("seismic", settings)
+        except (TypeError, ValueError):
+            if previous is not None:
+                self._sections["seismic"] = previous
             raise
 
     # --- tables ------------------------------------------------------------------------------

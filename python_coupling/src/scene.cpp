@@ -138,6 +138,16 @@ py::object water(const Scene& s) {
   return d;
 }
 
+py::object seismic(const Scene& s) {
+  if (!s.seismic.enabled) return py::none();
+  py::dict d;
+  d["kh"] = s.seismic.kh;
+  d["azimuth"] = s.seismic.azimuth;
+  d["kv"] = s.seismic.kv;
+  d["line"] = s.seismic.line;
+  return d;
+}
+
 py::list rockMasses(const Scene& s) {
   py::list out;
   for (const auto& r : s.rock_masses) {
@@ -320,6 +330,9 @@ replaces the scene's whole stop condition: the other one is cleared.)")
                              "[water] as read, in SI units: a dict (unit_weight [N/m^3], points "
                              "(x, y of the plane's three points; empty: a level surface), times "
                              "[s], heights [m] per time), or None without water.")
+      .def_property_readonly("seismic", &seismic,
+                             "[seismic] as read: a dict (kh, azimuth [deg clockwise from +y], kv "
+                             "[positive upward], line), or None without an earthquake load.")
       .def(
           "copy", [](const Scene& s) { return Scene(s); },
           "An independent copy (to override kernel or stop time without changing this one).")

@@ -1,0 +1,33 @@
+// [seismic]: the pseudo-static earthquake load (docs/scene-format.md "Earthquakes"): horizontal
+// and vertical seismic coefficients as fractions of g, and the azimuth of the horizontal load.
+#include "polydem/core/strings.h"
+#include "polydem/scene/scene_sections.h"
+
+namespace polydem::io::detail {
+
+void readSeismic(const Context& ctx, const toml::table& root, Scene& scene) {
+  const toml::node* n = root.get("seismic");
+  if (!n) return;
+  const toml::table* t = n->as_table();
+  if (!t) ctx.fail(lineOf(*n), "'seismic' must be a table: write [seismic], got " + typeName(*n));
+  const Section s(ctx, *t, "[seismic]");
+  s.allowOnly({"kh", "azimuth", "kv"});
+  SeismicSpec& e = scene.seismic;
+  e.enabled = true;
+  e.line = s.line();
+  e.kh = s.bounded("kh", Quantity::kDimensionless, 0.0, 0.0, 1.0, true);
+  e.kv = s.bounded("kv", Quantity::kDimensionless, 0.0, -1.0, 1.0, true);
+  // A horizontal load without its direction would be a silent guess: the azimuth is required.
+  if (s.has("kh") && !s.has("azimuth")) {
+    s.fail("kh",
+           "give the azimuth of the horizontal load too (degrees clockwise from north = "
+           "+y, the direction it pushes: the slope's dip direction for a load out of it)");
+  }
+  e.azimuth = s.bounded("azimuth", Quantity::kAngle, 0.0, 0.0, 360.0, false);
+  if (!s.has("kh") && !s.has("kv")) s.failHere("give kh (with its azimuth), kv, or both");
+  if ((e.kh != 0.0 || e.kv != 0.0) && !(scene.gravity.norm() > 0.0)) {
+    s.failHere("the coefficients are fractions of g, but [simulation] gravity is zero");
+  }
+}
+
+}  // namespace polydem::io::detail
