@@ -17,6 +17,7 @@
 
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
+#include "polydem/dynamics/joint_law.h"
 #include "polydem/run/fos.h"
 #include "polydem/scene/scene_reader.h"
 
@@ -160,12 +161,15 @@ TEST(StrengthReduction, ReducesOnlyTheNamedJoints) {
   EXPECT_EQ(reducedJoints(scene), (std::vector<int>{0}));
   EXPECT_TRUE(reducedPairs(scene).empty());
   io::Scene modified = scene;
-  modified.joints[1].friction_angle = 30.0;  // so that a reduction of "release" would show
+  // So that a reduction of "release" would show.
+  const auto phi = static_cast<std::size_t>(
+      dynamics::parameterIndex(dynamics::jointLaw(modified.joints[1].law.law), "friction_angle"));
+  modified.joints[1].law.values[phi] = 30.0;
   const io::Scene reduced = reduceStrength(modified, 2.0);
-  EXPECT_DOUBLE_EQ(std::tan(degToRad(reduced.joints[0].friction_angle)),
+  EXPECT_DOUBLE_EQ(std::tan(degToRad(reduced.joints[0].value("friction_angle"))),
                    std::tan(degToRad(25.0)) / 2.0);
-  EXPECT_DOUBLE_EQ(reduced.joints[0].cohesion, scene.joints[0].cohesion / 2.0);
-  EXPECT_DOUBLE_EQ(reduced.joints[1].friction_angle, 30.0);
+  EXPECT_DOUBLE_EQ(reduced.joints[0].value("cohesion"), scene.joints[0].value("cohesion") / 2.0);
+  EXPECT_DOUBLE_EQ(reduced.joints[1].value("friction_angle"), 30.0);
   EXPECT_EQ(reduced.interactions.size(), scene.interactions.size());
   // Naming a pair only: no joint is reduced.
   scene.fos.joints.clear();
