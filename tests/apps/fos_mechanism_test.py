@@ -22,23 +22,14 @@ import glob
 import json
 import math
 import os
-import shutil
 import subprocess
 import sys
 import tomllib
 
 import numpy as np
+from scene_test_util import expect, main_by_mode
 
 from joint_scenes_test import limit_equilibrium, normal_from_dip
-
-FAILURES = []
-
-
-def expect(ok, message):
-    print("ok:  " if ok else "FAIL:", message)
-    if not ok:
-        FAILURES.append(message)
-
 
 def fos(polydem, scene, workdir, out, expect_status=0):
     proc = subprocess.run([polydem, "fos", scene, "--out", out], cwd=workdir, capture_output=True,
@@ -182,17 +173,5 @@ def topple(polydem, scene_file, workdir):
            f"{np.linalg.norm(d)} m ({b['rotation_deg']} deg)")
 
 
-def main():
-    polydem, mode, scene, workdir = sys.argv[1:5]
-    polydem = os.path.abspath(polydem)
-    scene = os.path.abspath(scene)
-    shutil.rmtree(workdir, ignore_errors=True)
-    os.makedirs(workdir)
-    {"planar": planar, "wedge": wedge, "topple": topple}[mode](polydem, scene, workdir)
-    if FAILURES:
-        sys.exit(f"{len(FAILURES)} check(s) failed")
-    print("all checks passed")
-
-
 if __name__ == "__main__":
-    main()
+    main_by_mode({"planar": planar, "wedge": wedge, "topple": topple})

@@ -22,44 +22,15 @@ planar SCENE: `polydem fos` on J-PLANAR-COHESION: F within 2 % of the limit-equi
 Usage: joint_scenes_test.py POLYDEM MODE SCENE WORKDIR [MPIEXEC]
 """
 import glob
-import json
 import math
 import os
 import shutil
-import subprocess
 import sys
 import tomllib
 
 import h5py
 import numpy as np
-
-FAILURES = []
-
-
-def expect(ok, message):
-    if not ok:
-        FAILURES.append(message)
-        print("FAIL:", message)
-
-
-def normal_from_dip(dip, dip_direction):
-    d, a = math.radians(dip), math.radians(dip_direction)
-    return np.array([math.sin(d) * math.sin(a), math.sin(d) * math.cos(a), math.cos(d)])
-
-
-def run(cmd, workdir):
-    out = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True)
-    if out.returncode != 0:
-        print(out.stdout[-3000:], out.stderr[-3000:])
-        sys.exit(f"{cmd[:2]} failed with exit status {out.returncode}")
-    return out
-
-
-def fos(polydem, scene, workdir):
-    run([polydem, "fos", scene, "--out", "fos", "--quiet"], workdir)
-    with open(os.path.join(workdir, "fos", "fos.json")) as f:
-        return json.load(f)["factor_of_safety"]
-
+from scene_test_util import FAILURES, expect, fos, metres, normal_from_dip, run
 
 def check_contacts(polydem, scene_file, workdir):
     scene = tomllib.load(open(scene_file, "rb"))
@@ -96,11 +67,6 @@ def check_contacts(polydem, scene_file, workdir):
         share = np.mean(joint[on_plane] == pj) if on_plane.any() else 0.0
         print(f"plane '{plane}': {on_plane.sum()} contacts, {share:.0%} take joint '{joints[pj]}'")
         expect(share >= 0.95, f"plane '{plane}': only {share:.0%} of its contacts take its joint")
-
-
-def metres(value):
-    number, unit = (value.split() + ["m"])[:2] if isinstance(value, str) else (value, "m")
-    return float(number) * {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "km": 1e3}[unit]
 
 
 def scene_planes(scene):

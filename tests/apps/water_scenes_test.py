@@ -20,47 +20,13 @@ Usage: water_scenes_test.py POLYDEM MODE SCENE WORKDIR
 """
 import itertools
 import csv
-import json
 import math
 import os
 import re
-import shutil
-import subprocess
-import sys
 import tomllib
 
 import numpy as np
-
-FAILURES = []
-
-
-def expect(ok, message):
-    if not ok:
-        FAILURES.append(message)
-        print("FAIL:", message)
-
-
-def run(cmd, workdir):
-    out = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True)
-    if out.returncode != 0:
-        print(out.stdout[-3000:], out.stderr[-3000:])
-        sys.exit(f"{cmd[:2]} failed with exit status {out.returncode}")
-    return out
-
-
-def quantity(text, units):
-    """'10 kPa' -> 10000.0 with units {'kPa': 1e3, ...}; a plain number as it is."""
-    if isinstance(text, (int, float)):
-        return float(text)
-    number, unit = text.split()
-    return float(number) * units[unit]
-
-
-def fos(polydem, scene, workdir, out):
-    run([polydem, "fos", scene, "--out", out, "--quiet"], workdir)
-    with open(os.path.join(workdir, out, "fos.json")) as f:
-        return json.load(f)["factor_of_safety"]
-
+from scene_test_util import expect, fos, main_by_mode, normal_from_dip, quantity, run
 
 # --- W-PLANAR-CRACK -------------------------------------------------------------------------
 def planar_geometry(scene):
@@ -182,11 +148,6 @@ def check_rising(polydem, scene_file, workdir):
 
 
 # --- W-WEDGE --------------------------------------------------------------------------------
-def normal_from_dip(dip, dip_direction):
-    d, a = math.radians(dip), math.radians(dip_direction)
-    return np.array([math.sin(d) * math.sin(a), math.sin(d) * math.cos(a), math.cos(d)])
-
-
 def convex_cell(halfspaces):
     """Vertices of {x : n . x <= d for every (n, d)}: the feasible corners of three planes."""
     vertices = []
@@ -282,18 +243,5 @@ def check_wedge(polydem, scene_file, workdir):
     expect(error <= 0.02, f"wedge: F = {f_measured}, expected {expected:.4f} within 2%")
 
 
-def main():
-    polydem, mode, scene, workdir = sys.argv[1:5]
-    polydem = os.path.abspath(polydem)
-    scene = os.path.abspath(scene)
-    workdir = os.path.abspath(workdir)
-    shutil.rmtree(workdir, ignore_errors=True)
-    os.makedirs(workdir)
-    {"planar-crack": check_planar_crack, "wedge": check_wedge, "rising": check_rising}[mode](polydem, scene, workdir)
-    if FAILURES:
-        sys.exit(f"{len(FAILURES)} failure(s)")
-    print("all checks passed")
-
-
 if __name__ == "__main__":
-    main()
+    main_by_mode({"planar-crack": check_planar_crack, "wedge": check_wedge, "rising": check_rising})
