@@ -31,7 +31,11 @@ options=(--resolution 0.05)  # a few rounds: enough to stop in the middle of the
 # stopped NAME SIGNAL RANKS [mid-trial]: a search stopped by SIGNAL after its first round (or
 # during its first trial), then continued.
 stopped() {
-  local name=$1 sig=$2 ranks=$3 when=${4:-after-round} launch=() pause="" pattern="  F = "
+  # After a round, every trial waits 1 s before its first step, so that the signal is sure to
+  # arrive while the search goes on (this scene's trials take a hundredth of a second each: a
+  # signal sent after the first round could otherwise find the search, and the mechanism's
+  # rerun, over).
+  local name=$1 sig=$2 ranks=$3 when=${4:-after-round} launch=() pause=fos-trial:1 pattern="  F = "
   [ "$ranks" -gt 1 ] && launch=("$wrapper" -n "$ranks")
   [ "$when" = mid-trial ] && pause=fos-trial:2 pattern="test pause: fos-trial"
   POLYDEM_TEST_PAUSE=$pause "${launch[@]}" "$polydem" fos scene.toml --out "$name" "${options[@]}" \
@@ -84,7 +88,7 @@ done
 "$polydem" fos --resume term1 > complete.log 2>&1
 [ $? = 2 ] && grep -q "complete: there is nothing to resume" complete.log ||
   fail "resuming a complete search: $(cat complete.log)"
-"$polydem" fos scene.toml --out changed "${options[@]}" > changed.log 2>&1 &
+POLYDEM_TEST_PAUSE=fos-trial:1 "$polydem" fos scene.toml --out changed "${options[@]}" > changed.log 2>&1 &
 pid=$!
 waitfor changed.log "  F = " || fail "changed: no trial finished"
 kill -TERM $pid
