@@ -44,7 +44,7 @@ void readFos(const Context& ctx, const toml::table& root, Scene& scene) {
   const Section s(ctx, *t, "[fos]");
   s.allowOnly({"interactions", "joints", "f_min", "f_max", "resolution", "max_time", "time_cap",
                "settle_time", "force_ratio", "speed_decay", "local_damping", "speed_limit",
-               "displacement_limit", "check_every", "label_prefix"});
+               "displacement_limit", "check_every", "label_prefix", "reduce_bolts"});
   FosSpec& f = scene.fos;
   f.line = s.line();
   if (const toml::node* list = s.find("interactions")) {
@@ -98,6 +98,7 @@ void readFos(const Context& ctx, const toml::table& root, Scene& scene) {
   f.check_every = s.integer("check_every", f.check_every, Range::kPositive);
   f.check_every_line = s.lineOf("check_every");
   f.label_prefix = s.string("label_prefix").value_or("");
+  f.reduce_bolts = s.boolean("reduce_bolts").value_or(false);
 }
 
 }  // namespace polydem::io::detail

@@ -337,10 +337,12 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
                                                           std::to_string(e.source().begin.column) +
                                                           ": " + std::string(e.description()));
   }
-  Section(ctx, root, "top level")
-      .allowOnly({"scene", "simulation", "kernel_params", "material", "interaction", "joint",
-                  "shape", "driver", "particle", "particle_grid", "rock_mass", "domain",
-                  "equilibrium", "output", "checkpoint", "check", "fos", "water", "seismic"});
+  static const std::vector<std::string_view> kSections = {
+      "scene",     "simulation", "kernel_params", "material", "interaction",
+      "joint",     "shape",      "driver",        "particle", "particle_grid",
+      "rock_mass", "domain",     "equilibrium",   "output",   "checkpoint",
+      "check",     "fos",        "water",         "seismic",  "bolt"};
+  Section(ctx, root, "top level").allowOnly(kSections);
   Scene scene;
   scene.file = name_for_messages;
   scene.text = std::string(text);
@@ -362,6 +364,7 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
   detail::readFos(ctx, root, scene);
   detail::readWater(ctx, root, scene);
   detail::readSeismic(ctx, root, scene);
+  detail::readBolts(ctx, root, scene);
   return scene;
 }
 

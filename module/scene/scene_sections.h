@@ -52,6 +52,9 @@ void readWater(const Context& ctx, const toml::table& root, Scene& scene);
 /// [seismic] (scene_seismic.cpp); needs [simulation] gravity.
 void readSeismic(const Context& ctx, const toml::table& root, Scene& scene);
 
+/// [[bolt]] (scene_bolts.cpp); the blocks they cross are found by the simulation.
+void readBolts(const Context& ctx, const toml::table& root, Scene& scene);
+
 /// Index of the entry called `name` in `items` (by their .name), or -1.
 template <typename T>
 int indexByName(const std::vector<T>& items, const std::string& name) {

@@ -182,6 +182,7 @@ struct FosSpec {
   std::vector<int> joints;
   std::vector<int> joint_lines;  // of each name in the file
   bool joints_named = false;     // [fos] joints was given (possibly empty)
+  bool reduce_bolts = false;     // divide the [[bolt]]s' yield forces by F too (run/fos.h)
   double f_min = 0.5, f_max = 4.0;
   double resolution = 0.01;                  // width of the final bracket, in F
   std::optional<double> max_time;            // s, required (here or on the command line)
@@ -239,6 +240,24 @@ struct SeismicSpec {
   int line = 0;
 };
 
+/// A [[bolt]] (docs/scene-format.md "Rock bolts"): a straight bolt or cable from `start` along
+/// `direction` over `length`, anchored in every block it crosses (sim/bolt_geometry.h), with an
+/// elastic-perfectly plastic law in tension/compression and in shear at each joint it crosses
+/// (dynamics/bolt_law.h).
+struct BoltSpec {
+  std::string name;
+  Vec3 start = Vec3::Zero();                  // m
+  Vec3 direction = Vec3::UnitZ();             // unit, from start towards the far end
+  double length = 0.0;                        // m
+  double axial_stiffness = 0.0;               // N/m
+  double axial_yield = 0.0;                   // N
+  double shear_stiffness = 0.0;               // N/m
+  double shear_yield = 0.0;                   // N
+  double pretension = 0.0;                    // N, tension positive
+  std::optional<double> ultimate_elongation;  // m of plastic elongation at a joint: it breaks
+  int line = 0;
+};
+
 struct Setup {
   std::string file;  // path of the scene file, for messages (diagnostics only)
   // The TOML text the scene was parsed from, verbatim: what a checkpoint of its run stores (and a
@@ -285,6 +304,8 @@ struct Setup {
   FosSpec fos;          // [fos]; defaults when the scene has no such table
   WaterSpec water;      // [water]; off when the scene has no such table
   SeismicSpec seismic;  // [seismic]; off when the scene has no such table
+  // [[bolt]], in file order
+  std::vector<BoltSpec> bolts;
 };
 
 }  // namespace polydem::setup
@@ -293,6 +314,7 @@ struct Setup {
 // scene reader, the apps and Python still use them.
 namespace polydem::io {
 using Scene = setup::Setup;
+using setup::BoltSpec;
 using setup::CheckpointSpec;
 using setup::CheckSpec;
 using setup::DomainSpec;
