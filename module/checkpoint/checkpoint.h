@@ -38,14 +38,14 @@ namespace polydem::io {
 /// Version of the file layout. Version 2 added sub-contacts (/subcontacts) and the joint
 /// stiffnesses (jkn/jks columns), version 3 the whole-file digest (io/checkpoint_digest.h),
 /// version 4 the faces' joint planes (/shapes/face_plane), version 5 the joint laws' history per
-/// sub-contact (/subcontacts/law_state).
-/// readCheckpoint() reads versions 1 to 5 and refuses others: a version 1 file continues with the
+/// sub-contact (/subcontacts/law_state), version 6 the bolts' state (/bolts).
+/// readCheckpoint() reads versions 1 to 6 and refuses others: a version 1 file continues with the
 /// single-point contact model it was written with, files before version 3 are read on their
 /// per-dataset checksums alone, with a warning, and files before version 4 continue without
 /// joints: every contact takes its material pair's properties; files before version 5 continue
-/// with every sub-contact's law history 0 (intact, not yet sheared) (docs/checkpoint.md, 'Older
-/// files').
-inline constexpr int kCheckpointFormatVersion = 5;
+/// with every sub-contact's law history 0 (intact, not yet sheared); files before version 6 hold no
+/// bolts (docs/checkpoint.md, 'Older files').
+inline constexpr int kCheckpointFormatVersion = 6;
 inline constexpr int kOldestReadableCheckpointVersion = 1;
 inline constexpr int kFirstDigestCheckpointVersion = 3;
 

@@ -89,6 +89,14 @@ inline constexpr Dataset kInteractionJks{"/materials/interaction/jks", "Pa/m",
 
 // --- /domain
 // --------------------------------------------------------------------------------------
+// --- /bolts: the state of every [[bolt]] at every joint it crosses (version 6), replicated; rows
+// are the bolts in file order, each bolt's joints from its start (sim/bolts.h)
+inline constexpr Dataset kBoltAxialPlastic{"/bolts/axial_plastic", "m",
+                                           "plastic elongation at the joint (shortening < 0)"};
+inline constexpr Dataset kBoltShearPlastic{"/bolts/shear_plastic", "m",
+                                           "plastic shear slip at the joint, world frame"};
+inline constexpr Dataset kBoltBroken{"/bolts/broken", "", "1 if the bolt broke at the joint"};
+
 inline constexpr Dataset kDomainLo{"/domain/lo", "m", "lower corner of the domain box"};
 inline constexpr Dataset kDomainHi{"/domain/hi", "m", "upper corner of the domain box"};
 inline constexpr Dataset kDomainBlocks{"/domain/blocks", "", "block counts along x, y, z"};

@@ -89,6 +89,7 @@ class Reader {
     readShapes();
     readMaterials();
     readDomain();
+    if (d_.format_version >= 6) readBolts();
     readParticles();
     readContacts();
     if (d_.format_version >= 2) readSubContacts();
@@ -299,6 +300,22 @@ class Reader {
       in.properties = {ikn[i],      iks[i],      ifriction[i], icohesion[i],
                        idamping[i], ipenalty[i], ijkn[i],      ijks[i]};
       d_.interactions.push_back(in);
+    }
+  }
+
+  // Version 6 added the bolts' state; older files hold none (a scene without bolts).
+  void readBolts() {
+    const std::uint64_t n = rows(layout::kBoltAxialPlastic);
+    const auto axial = table<double>(layout::kBoltAxialPlastic, n);
+    const auto shear = table<double>(layout::kBoltShearPlastic, n, 3);
+    const auto broken = table<std::uint8_t>(layout::kBoltBroken, n);
+    for (std::uint64_t i = 0; i < n; ++i) {
+      if (broken[i] > 1) throw inconsistent(cat(layout::kBoltBroken.name, ": row ", i, " not 0/1"));
+      dynamics::BoltJointState b;
+      b.axial_plastic = axial[i];
+      b.shear_plastic = vec3At(shear, i);
+      b.broken = broken[i] == 1;
+      d_.bolt_states.push_back(b);
     }
   }
 

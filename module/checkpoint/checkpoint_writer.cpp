@@ -118,6 +118,7 @@ class Writer {
     addShapes();
     addMaterials();
     addDomain();
+    addBolts();
     f_.write(batch_);
     writeParticles();
     writeContacts();
@@ -186,6 +187,7 @@ class Writer {
     f_.writeAttribute("/particles", "replicated_count", h.replicated_particles);
     f_.createGroup("/contacts", "pair histories, one row per pair");
     f_.createGroup("/subcontacts", "sub-contact histories, one row per sub-contact in compression");
+    f_.createGroup("/bolts", "state of every [[bolt]] at every joint it crosses (sim/bolts.h)");
   }
 
   void addRun() {
@@ -265,6 +267,19 @@ class Writer {
           1);
     table(layout::kInteractionJkn, column(in, [](const In& x) { return x.properties.jkn; }), 1);
     table(layout::kInteractionJks, column(in, [](const In& x) { return x.properties.jks; }), 1);
+  }
+
+  void addBolts() {
+    std::vector<double> axial, shear;
+    std::vector<std::uint8_t> broken;
+    for (const auto& b : data_.bolt_states) {
+      axial.push_back(b.axial_plastic);
+      shear.insert(shear.end(), {b.shear_plastic.x(), b.shear_plastic.y(), b.shear_plastic.z()});
+      broken.push_back(b.broken ? 1 : 0);
+    }
+    table(layout::kBoltAxialPlastic, axial, 1);
+    table(layout::kBoltShearPlastic, shear, 3);
+    table(layout::kBoltBroken, broken, 1);
   }
 
   void addDomain() {

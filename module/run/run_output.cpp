@@ -58,6 +58,7 @@ RunOutput::RunOutput(const std::string& dir, Simulation& sim, const Tracker& tra
         io::XdmfSnapshotWriter::Options{sim.scene().output.fields,
                                         sim.scene().output.contact_fields, jointNames(sim)});
   }
+  if (snapshots) bolts_ = std::make_unique<BoltOutput>(dir, sim);
 
   // Initial centroids of all free particles (indexed by uid) for the displacement field.
   struct Start {
@@ -168,6 +169,7 @@ void RunOutput::writeSnapshot(const Simulation& sim) {
   }
   if (snapshots_) snapshots_->write(sim.time(), sim.stepCount(), batch_, &contacts_);
   if (xdmf_) xdmf_->write(sim.time(), sim.stepCount(), batch_, &contacts_);
+  if (bolts_) bolts_->write(sim);
 }
 
 void RunOutput::close() {

@@ -9,6 +9,7 @@
 #include "polydem/output/series_writer.h"
 #include "polydem/output/snapshot_h5.h"
 #include "polydem/output/vtk_writer.h"
+#include "polydem/run/bolt_output.h"
 #include "polydem/run/checks.h"
 #include "polydem/sim/simulation.h"
 
@@ -50,6 +51,7 @@ class RunOutput {
   std::unique_ptr<io::SeriesWriter> series_;
   std::unique_ptr<io::SnapshotWriter> snapshots_;  // snapshot_format = "vtk"
   std::unique_ptr<io::XdmfSnapshotWriter> xdmf_;   // snapshot_format = "xdmf"
+  std::unique_ptr<BoltOutput> bolts_;              // with either, for a scene with bolts
   std::vector<std::int32_t> contact_count_;        // per local particle, for the snapshot
   std::vector<Vec3> contact_force_;
   std::vector<Vec3> initial_positions_;  // by uid order of the scene, for displacement

@@ -12,6 +12,7 @@
 
 #include "polydem/core/exact_sum.h"
 #include "polydem/core/types.h"
+#include "polydem/dynamics/bolt_law.h"
 #include "polydem/particles/contact_history.h"
 #include "polydem/particles/material.h"
 #include "polydem/particles/particle.h"
@@ -91,6 +92,10 @@ struct CheckpointData {
   std::vector<setup::Setup::Interaction> interactions;  // explicit material pairs
   CheckpointDomain domain;
   std::string run_state;  // opaque JSON (checks, tracker...), stored as given
+  /// The state of every [[bolt]] at every joint it crosses (sim/bolts.h: bolts in file order,
+  /// joints from each bolt's start); replicated. Empty for a scene without bolts and in files
+  /// before layout version 6.
+  std::vector<dynamics::BoltJointState> bolt_states;
 
   // --- distributed ------------------------------------------------------------------------------
   /// Write: this rank's non-ghost particles. Replicated (fixed/driven) particles are written once,

@@ -9,6 +9,7 @@
 #include "polydem/core/logging.h"
 #include "polydem/core/memory.h"
 #include "polydem/core/mpi_env.h"
+#include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
 #include "polydem/domain/partition.h"
 #include "polydem/domain/rebalance.h"
@@ -166,6 +167,11 @@ void Simulation::computeContacts() {
   if (scene_.water.enabled) {
     addWaterForces(scene_.water, stage_ == Stage::kEquilibrium ? 0.0 : time(), shapes_, storage_,
                    std::span<dynamics::ForceAccumulator>(forces_.data(), storage_.localCount()));
+  }
+  if (!bolts_.empty()) {
+    bolts_.addForces(storage_,
+                     std::span<dynamics::ForceAccumulator>(forces_.data(), storage_.localCount()),
+                     stage_ == Stage::kEquilibrium ? 0.0 : time(), comm_);
   }
   applyForceOperators();
   ratio_local_.clear();
@@ -330,12 +336,15 @@ void Simulation::observe() {
 
 void Simulation::startLeapfrog() {
   // Velocities of a scene are given at t = 0; the leapfrog keeps them at t - dt/2. The forces at
-  // t = 0 are computed on a copy of the (empty) history so that this start leaves no trace.
+  // t = 0 are computed on a copy of the (empty) history and bolt state so that this start leaves
+  // no trace.
   const particles::ContactHistory saved = history_;
+  const auto saved_bolts = bolts_.states();
   updateDerived();
   findCandidates();
   computeContacts();
   history_ = saved;
+  bolts_.restore(saved_bolts);
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
     auto& p = storage_[i];
     if (p.isFree()) {
@@ -438,7 +447,20 @@ GlobalMonitors Simulation::monitors() {
 }
 
 comm::StateHash Simulation::stateHash() const {
-  return comm::globalStateHash(storage_, history_, comm_);
+  comm::StateHash h = comm::globalStateHash(storage_, history_, comm_);
+  // The bolts' state, replicated on every rank, joins the combined hash; a scene without bolts
+  // keeps its hash.
+  if (!bolts_.empty()) {
+    BitHasher bolts;
+    bolts.add(h.combined);
+    for (const auto& b : bolts_.states()) {
+      bolts.add(b.axial_plastic);
+      bolts.add(b.shear_plastic);
+      bolts.add(std::uint64_t{b.broken});
+    }
+    h.combined = bolts.value();
+  }
+  return h;
 }
 
 }  // namespace polydem::sim

@@ -4,7 +4,7 @@
 // replicated fixed/driven bodies, and runs the same timeloop:
 //
 //   sort (now and then) -> derived -> broadphase -> contacts -> gravity (+ seismic) -> water
-//   -> force operators -> integrate -> communicate -> monitors
+//   -> bolts -> force operators -> integrate -> communicate -> monitors
 //
 // (see contact_phase.h for why the result is the same bits on any number of ranks, and
 // force_operator.h for the forces a user adds).
@@ -32,6 +32,7 @@
 #include "polydem/particles/material.h"
 #include "polydem/particles/particle_storage.h"
 #include "polydem/setup/setup.h"
+#include "polydem/sim/bolts.h"
 #include "polydem/sim/contact_phase.h"
 #include "polydem/sim/force_operator.h"
 #include "polydem/sim/load_balance.h"
@@ -113,6 +114,10 @@ class Simulation {
   timeloop::TimeLoop& loop() { return loop_; }
   const timeloop::TimeLoop& loop() const { return loop_; }
   const contact::Kernel& kernel() const { return *kernel_; }
+  /// The scene's [[bolt]]s and their state (sim/bolts.h).
+  const Bolts& bolts() const { return bolts_; }
+  /// A line per joint of every bolt at the current poses, with its axial force (collective).
+  std::vector<BoltLine> boltLines() const { return bolts_.lines(storage_, comm_); }
 
   /// The centroid (world frame) particle `spec` of the scene starts at, as placeParticles() puts
   /// it.
@@ -237,6 +242,7 @@ class Simulation {
   void placeParticles();
   void buildLaws();
   void buildJointLaws();  // the joints' coefficients, from buildLaws()
+  void buildBolts();      // the bolts' crossings, from the scene's initial poses
   void registerSteps();
   void startLeapfrog();
   void enterEquilibrium();
@@ -289,6 +295,7 @@ class Simulation {
   // (sim/pair_law.h PairJoints); empty for a scene without joints.
   std::vector<std::int32_t> plane_joint_;
   std::vector<dynamics::LawCoefficients> joint_law_main_, joint_law_equilibrium_;
+  Bolts bolts_;  // replicated on every rank (sim/bolts.h)
   std::unique_ptr<contact::Kernel> kernel_;
   std::unique_ptr<broadphase::BroadPhase> broadphase_;
   std::unique_ptr<domain::BlockForest> forest_;

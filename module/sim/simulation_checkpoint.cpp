@@ -62,6 +62,7 @@ CheckpointData Simulation::checkpoint(const std::string& scene_toml, const std::
   d.domain.rank_map = forest_->rankMap();
   d.domain.ranks = ranks_;
   d.run_state = run_state;
+  d.bolt_states = bolts_.states();
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
     const auto& p = storage_[i];
     if (p.isGlobal() && rank_ != 0) continue;  // replicated: rank 0's copy only
@@ -101,6 +102,14 @@ Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoi
   if (checkpoint.materials.size() != materials_.size()) {
     throw CheckpointError(cat(file, ": ", checkpoint.materials.size(),
                               " stored materials, the scene has ", materials_.size()));
+  }
+  buildBolts();
+  // A file of a layout without bolts (before version 6) holds no bolt state: it continues a scene
+  // without bolts, or refuses one with them below.
+  if (!bolts_.restore(checkpoint.bolt_states)) {
+    throw CheckpointError(cat(file, ": ", checkpoint.bolt_states.size(),
+                              " stored bolt joint states, the scene's [[bolt]]s cross ",
+                              bolts_.jointCount(), " joints"));
   }
   buildLaws();
   computeExtents();

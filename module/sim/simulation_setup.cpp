@@ -30,6 +30,7 @@ Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm, Unbuilt)
 Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm)
     : Simulation(scene, comm, Unbuilt{}) {
   buildTables();
+  buildBolts();
   buildLaws();
   buildDomain();
   placeParticles();
@@ -72,6 +73,15 @@ void Simulation::buildTables() {
   kernel_ = contact::makeKernel(scene_.kernel, scene_.kernel_params);
   load_model_ = loadModelFor(scene_.kernel);
   broadphase_ = broadphase::makeBroadPhase(scene_.broadphase);
+}
+
+void Simulation::buildBolts() {
+  if (scene_.bolts.empty()) return;
+  bolts_ = Bolts(scene_, [this](std::size_t i) {
+    const auto& spec = scene_.particles[i];
+    return InitialBody{&shapes_[static_cast<std::size_t>(spec.shape)], initialCentroid(spec),
+                       initialOrientation(spec), !spec.fixed && spec.driver < 0};
+  });
 }
 
 void Simulation::buildLaws() {

@@ -37,9 +37,10 @@ except ImportError as e:  # pragma: no cover - reported to the user
     sys.exit(2)
 
 FORMAT = "polydem-checkpoint"
-FORMAT_VERSION = 5
-READABLE_VERSIONS = (1, 2, 3, 4, 5)  # 1: no sub-contacts; 1 and 2: no whole-file digest;
-#                                   before 4: no joint planes; before 5: no joint-law history
+FORMAT_VERSION = 6
+READABLE_VERSIONS = (1, 2, 3, 4, 5, 6)  # 1: no sub-contacts; 1 and 2: no whole-file digest;
+#                                   before 4: no joint planes; before 5: no joint-law history;
+#                                   before 6: no bolts
 DIGEST_VERSION = 3
 MASK = (1 << 64) - 1
 GAMMA = 0x9E3779B97F4A7C15
@@ -74,6 +75,7 @@ REQUIRED_V2 = [
 ]
 REQUIRED_V4 = ["/shapes/face_plane"]
 REQUIRED_V5 = ["/subcontacts/law_state"]
+REQUIRED_V6 = ["/bolts/axial_plastic", "/bolts/shear_plastic", "/bolts/broken"]
 
 FIXED, DRIVEN = 1 << 1, 1 << 2
 
@@ -248,7 +250,8 @@ def summarize(path):
                             % ("missing" if stored_digest is None else "%016x" % stored_digest,
                                computed_digest))
         required = REQUIRED + (REQUIRED_V2 if version >= 2 else []) + \
-            (REQUIRED_V4 if version >= 4 else []) + (REQUIRED_V5 if version >= 5 else [])
+            (REQUIRED_V4 if version >= 4 else []) + (REQUIRED_V5 if version >= 5 else []) + \
+            (REQUIRED_V6 if version >= 6 else [])
         for name in required:
             if name not in f:
                 problems.append("dataset %s is missing" % name)

@@ -74,6 +74,7 @@ summary = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(summary)
 with h5py.File(sys.argv[1], "r+") as f:
     del f["/subcontacts/law_state"]
+    del f["/bolts"]
     f.attrs["format_version"] = np.int32(4)
     stream, _ = summary.digest_walk(f)
     f.attrs["digest"] = np.uint64(summary.bytes_checksum(stream))

@@ -102,10 +102,11 @@ def main(script, sample_dir):
            "dataset /particles/extra is not part of a version %d checkpoint" % version)
 
     # Version 2, before the digest (and the faces' joint planes of version 4, the joint laws'
-    # history of version 5): summarised, checksums verified, with a warning.
+    # history of version 5, the bolts of version 6): summarised, checksums verified, with a warning.
     def version2(f):
         del f["/shapes/face_plane"]
         del f["/subcontacts/law_state"]
+        del f["/bolts"]
         del f.attrs["digest"]
         del f.attrs["digest_algorithm"]
         f.attrs["format_version"] = numpy.int32(2)
