@@ -198,6 +198,8 @@ json fosJson(const io::Scene& scene, const sim::FosCriterion& c, const sim::FosR
             {"critical_friction_angle_deg", critical},
             {"interactions", pairs},
             {"joints", joints},
+            {"bolts",
+             scene.bolts.empty() ? json() : json(scene.fos.reduce_bolts ? "reduced" : "unreduced")},
             {"governing",
              mechanism && !mechanism->governing.empty() ? json(mechanism->governing) : json()},
             {"mechanism", mechanism ? mechanismJson(*mechanism, picture) : json()},

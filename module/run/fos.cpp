@@ -229,6 +229,15 @@ io::Scene reduceStrength(const io::Scene& scene, double factor) {
   for (std::size_t k = 0; k < out.joints.size(); ++k) {
     if (!reduced[k]) out.joints[k] = scene.joints[k];
   }
+  // Bolts are support, not the rock's strength: kept as given unless [fos] reduce_bolts asks that
+  // their yield forces be divided by F too (their pretension stays an applied load, capped by the
+  // reduced yield force).
+  if (scene.fos.reduce_bolts) {
+    for (auto& b : out.bolts) {
+      b.axial_yield /= factor;
+      b.shear_yield /= factor;
+    }
+  }
   return out;
 }
 
