@@ -5,7 +5,7 @@ reader checks them when the scene is built, as it checks the file.
 import re
 import tomllib
 
-_TABLES = ("material", "interaction", "joint", "shape", "driver", "check")
+_TABLES = ("material", "interaction", "joint", "shape", "driver", "check", "bolt")
 _BODIES = ("particle", "particle_grid", "rock_mass")
 _BODY_HEADER = re.compile(r"^\s*\[\[\s*(particle|particle_grid|rock_mass)\s*\]\]\s*(#.*)?$")
 

@@ -25,7 +25,7 @@ _SECTION_KEYS = {
     "checkpoint": ("every_steps", "every_seconds", "keep"),
     "fos": ("interactions", "f_min", "f_max", "resolution", "max_time", "time_cap",
             "settle_time", "force_ratio", "speed_decay", "local_damping", "speed_limit",
-            "displacement_limit", "check_every", "label_prefix"),
+            "displacement_limit", "check_every", "label_prefix", "reduce_bolts"),
     "water": ("unit_weight", "level", "points", "table"),
     "seismic": ("kh", "azimuth", "kv"),
 }
@@ -88,7 +88,7 @@ class Scene(Bodies):
         self._simulation = {}
         self._sections = {}  # kernel_params, domain, ... : dicts
         self._entries = {"material": [], "interaction": [], "joint": [], "shape": [],
-                         "driver": [], "check": []}
+                         "driver": [], "check": [], "bolt": []}
         self._bodies = []  # ("particle" | "particle_grid" | "rock_mass", dict), in order
         self._particle_uids = {}  # uid of a single particle -> its dict
         self._next_uid = 1
@@ -406,6 +406,40 @@ class Scene(Bodies):
         self._changed()
         return self
 
+    def add_bolt(self, name, start, length, axial_stiffness, axial_yield, shear_stiffness=0.0,
+                 shear_yield=0.0, direction=None, trend=None, plunge=None, pretension=None,
+                 ultimate_elongation=None):
+        """Adds a [[bolt]] (docs/scene-format.md, "Rock bolts"): a bolt or cable from `start`
+        (x, y, z) over `length` along `direction` (a vector) or `trend` (degrees clockwise from
+        north = +y) and `plunge` (degrees below the horizontal); axial_stiffness [N/m] and
+        axial_yield [N], shear_stiffness [N/m] and shear_yield [N], an optional pretension [N]
+        (tension positive) and ultimate_elongation [m] (the plastic elongation at a joint at which
+        it breaks). Numbers in SI units or strings with a unit ("2 MN/m", "150 kN"). The blocks it
+        crosses are found when the simulation is built (polydem.InputError naming the bolt if it
+        crosses no joint)."""
+        where = "add_bolt(%r)" % (name,)
+        v.name(name, where + " name")
+        self._unique("bolt", name, where)
+        b = {"name": name, "start": v.vec3(start, where + ": start")}
+        if direction is not None:
+            b["direction"] = v.vec3(direction, where + ": direction")
+        for key, value in (("trend", trend), ("plunge", plunge), ("length", length),
+                           ("axial_stiffness", axial_stiffness), ("axial_yield", axial_yield),
+                           ("shear_stiffness", shear_stiffness), ("shear_yield", shear_yield),
+                           ("pretension", pretension),
+                           ("ultimate_elongation", ultimate_elongation)):
+            if value is not None:
+                b[key] = v.scalar(value, "%s: %s" % (where, key))
+        # Keys, units and ranges, as the reader checks them, in a scene of one probe particle.
+        material = {"name": "probe material", "density": 1.0, "kn": 1.0}
+        shape = {"name": "probe shape", "type": "cube", "edge": 1.0}
+        body = {"shape": shape["name"], "material": material["name"]}
+        self._probe([("material", material, True), ("shape", shape, True),
+                     ("particle", body, True), ("bolt", b, True)], where)
+        self._entries["bolt"].append(b)
+        self._changed()
+        return self
+
     def remove_check(self, name):
         """Removes the [[check]] `name` (the reader judges a check's kind and parameters only when
         the scene is built: this takes back one it refused)."""
@@ -438,6 +472,7 @@ class Scene(Bodies):
             sections += [(key, e, True) for e in self._entries[key]]
         sections += [(kind, b, True) for kind, b in self._bodies]
         sections += [("check", e, True) for e in self._entries["check"]]
+        sections += [("bolt", e, True) for e in self._entries["bolt"]]
         return "# Written by polydem.Scene (python_coupling/polydem/scene_builder.py)\n\n" + \
             _toml.document(sections)
 
@@ -522,4 +557,4 @@ def _message(error):
 
 
 _BUILT_VIEWS = ("particles", "num_particles", "materials", "shapes", "drivers", "rock_masses",
-                "checks", "monitor", "equilibrium", "file", "broadphase")
+                "checks", "monitor", "equilibrium", "file", "broadphase", "bolts")

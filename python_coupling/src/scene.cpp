@@ -138,6 +138,27 @@ py::object water(const Scene& s) {
   return d;
 }
 
+py::list bolts(const Scene& s) {
+  py::list out;
+  for (const auto& b : s.bolts) {
+    py::dict d;
+    d["name"] = b.name;
+    d["start"] = std::vector<double>{b.start.x(), b.start.y(), b.start.z()};
+    d["direction"] = std::vector<double>{b.direction.x(), b.direction.y(), b.direction.z()};
+    d["length"] = b.length;
+    d["axial_stiffness"] = b.axial_stiffness;
+    d["axial_yield"] = b.axial_yield;
+    d["shear_stiffness"] = b.shear_stiffness;
+    d["shear_yield"] = b.shear_yield;
+    d["pretension"] = b.pretension;
+    d["ultimate_elongation"] =
+        b.ultimate_elongation ? py::object(py::float_(*b.ultimate_elongation)) : py::none();
+    d["line"] = b.line;
+    out.append(d);
+  }
+  return out;
+}
+
 py::object seismic(const Scene& s) {
   if (!s.seismic.enabled) return py::none();
   py::dict d;
@@ -330,6 +351,11 @@ replaces the scene's whole stop condition: the other one is cleared.)")
                              "[water] as read, in SI units: a dict (unit_weight [N/m^3], points "
                              "(x, y of the plane's three points; empty: a level surface), times "
                              "[s], heights [m] per time), or None without water.")
+      .def_property_readonly("bolts", &bolts,
+                             "The [[bolt]]s as read, in SI units: a list of dicts (name, start, "
+                             "direction (unit), length [m], axial_stiffness [N/m], axial_yield "
+                             "[N], shear_stiffness [N/m], shear_yield [N], pretension [N], "
+                             "ultimate_elongation [m] or None, line).")
       .def_property_readonly("seismic", &seismic,
                              "[seismic] as read: a dict (kh, azimuth [deg clockwise from +y], kv "
                              "[positive upward], line), or None without an earthquake load.")
