@@ -34,6 +34,7 @@
 #include "polydem/setup/setup.h"
 #include "polydem/sim/contact_phase.h"
 #include "polydem/sim/force_operator.h"
+#include "polydem/sim/ground_motion.h"
 #include "polydem/sim/load_balance.h"
 #include "polydem/sim/memory_use.h"
 #include "polydem/sim/saved_state.h"
@@ -263,6 +264,7 @@ class Simulation {
   void callForceOperator(const std::string& name, const ForceOperator& op, const ForceStep& step);
   void startLeapfrogWith(const std::string& name, const ForceOperator& op);
   void integrate();
+  void moveWithGround();
   void checkParticlesInside(std::int64_t step) const;
   void communicate();
   void observe();
@@ -289,6 +291,7 @@ class Simulation {
   // (sim/pair_law.h PairJoints); empty for a scene without joints.
   std::vector<std::int32_t> plane_joint_;
   std::vector<dynamics::LawCoefficients> joint_law_main_, joint_law_equilibrium_;
+  std::optional<GroundMotion> ground_;  // [seismic] record: moves the fixed particles
   std::unique_ptr<contact::Kernel> kernel_;
   std::unique_ptr<broadphase::BroadPhase> broadphase_;
   std::unique_ptr<domain::BlockForest> forest_;
