@@ -57,7 +57,7 @@ int runCommand(int argc, char** argv) {
         "  --picture         after the run, plot series.csv to DIR/series.png and render frames\n"
         "                    of the snapshots to DIR/frames.png\n"
         "                    (also [output] picture = true; needs /usr/bin/python3, matplotlib)\n"
-        "  --picture-field F the frames' colours: speed (default), displacement or joint\n"
+        "  --picture-field F the frames' colours: speed (default), displacement, pressure or joint\n"
         "                    (each face by its [[joint]], with a legend); implies --picture\n"
         "  --picture-azimuth A  view the frames from azimuth A [deg, matplotlib's: 0 from +x,\n"
         "                    90 from +y] (default: from the slope's face); implies --picture\n"
