@@ -25,8 +25,8 @@ struct RecordRow {
   std::vector<double> values;
 };
 
-/// The path of a record file the scene names, relative to the scene file's folder (a scene parsed from a
-/// string, "<...>", resolves against the working directory).
+/// The path of a record file the scene names, relative to the scene file's folder (a scene
+/// parsed from a string, "<...>", resolves against the working directory).
 std::string recordPath(const Section& s, const std::string& name) {
   const std::filesystem::path given(name);
   const std::string& scene_file = s.context().file();
