@@ -82,6 +82,15 @@ io::Scene resumedScene(const FosRun& run, const std::string& dir) {
 }
 
 // The scene with the command line's settings over its [fos] and [simulation].
+// A factor of safety is a static measure: an acceleration record would shake every trial.
+void refuseRecord(const io::Scene& scene) {
+  if (scene.seismic.record_time.empty()) return;
+  throw InputError(scene.file, scene.seismic.line,
+                   "[seismic] record: polydem fos finds a static factor of safety and cannot run "
+                   "with an acceleration record; give the pseudo-static kh (and kv) instead, or "
+                   "run the record with polydem run");
+}
+
 io::Scene sceneFromCommandLine(Args& args) {
   const auto resolution = args.value("resolution");
   const auto f_min = args.value("f-min");
@@ -90,6 +99,7 @@ io::Scene sceneFromCommandLine(Args& args) {
   const auto kernel = args.value("kernel");
   const auto contact_model = args.value("contact-model");
   io::Scene scene = io::readScene(args.positional()[0]);
+  refuseRecord(scene);
   io::FosSpec& f = scene.fos;
   if (resolution) f.resolution = args.number("resolution", 0.0);
   if (f_min) f.f_min = args.number("f-min", 0.0);

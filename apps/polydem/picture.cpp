@@ -85,7 +85,7 @@ std::string runPlotScript(const char* name, const std::string& out_dir, const st
 }  // namespace
 
 const std::vector<std::string>& pictureFields() {
-  static const std::vector<std::string> fields = {"speed", "displacement", "joint"};
+  static const std::vector<std::string> fields = {"speed", "displacement", "pressure", "joint"};
   return fields;
 }
 

@@ -86,6 +86,8 @@ void putParticleField(File& file, std::vector<Dataset>& open, const SnapshotFiel
         info);
   } else if (name == "joint") {  // the face's own value, not its particle's
     put(file, open, dataset, faces, cols, b.face_joint, info);
+  } else if (name == "pressure") {  // the face's own value too
+    put(file, open, dataset, faces, cols, b.face_pressure, info);
   } else if (name == "fixed") {
     put(file, open, dataset, faces, cols,
         perFace<std::uint8_t>(
@@ -177,7 +179,8 @@ PolyhedraBatch byUid(const PolyhedraBatch& b) {
       for (std::int64_t i = f > 0 ? b.face_end[f - 1] : 0; i < b.face_end[f]; ++i) {
         face.push_back(static_cast<int>(b.connectivity[i] - first_point));
       }
-      out.addFace(face, b.face_joint[static_cast<std::size_t>(f)]);
+      out.addFace(face, b.face_joint[static_cast<std::size_t>(f)],
+                  b.face_pressure[static_cast<std::size_t>(f)]);
     }
   }
   return out;

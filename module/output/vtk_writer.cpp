@@ -23,7 +23,7 @@ void PolyhedraBatch::addParticle(const ParticleFields& fields,
   particle_face_end.push_back(static_cast<std::int64_t>(face_end.size()));
 }
 
-void PolyhedraBatch::addFace(std::span<const int> vertices, std::int32_t joint) {
+void PolyhedraBatch::addFace(std::span<const int> vertices, std::int32_t joint, double pressure) {
   if (particles.empty()) throw Error("PolyhedraBatch::addFace: no particle added yet");
   const std::int64_t first = point_end.size() > 1 ? point_end[point_end.size() - 2] : 0;
   const std::int64_t count = point_end.back() - first;
@@ -40,6 +40,7 @@ void PolyhedraBatch::addFace(std::span<const int> vertices, std::int32_t joint) 
   }
   face_end.push_back(static_cast<std::int64_t>(connectivity.size()));
   face_joint.push_back(joint);
+  face_pressure.push_back(pressure);
   particle_face_end.back() = static_cast<std::int64_t>(face_end.size());
 }
 
@@ -57,6 +58,7 @@ void PolyhedraBatch::clear() {
   face_end.clear();
   particle_face_end.clear();
   face_joint.clear();
+  face_pressure.clear();
 }
 
 namespace {
@@ -99,7 +101,7 @@ void validate(const PolyhedraBatch& b) {
       (n == 0 && (!b.points.empty() || !b.face_end.empty())) ||
       (!b.face_end.empty() &&
        b.face_end.back() != static_cast<std::int64_t>(b.connectivity.size())) ||
-      b.face_joint.size() != b.face_end.size()) {
+      b.face_joint.size() != b.face_end.size() || b.face_pressure.size() != b.face_end.size()) {
     throw Error("snapshot: inconsistent PolyhedraBatch (fill it with addParticle/addFace)");
   }
   const auto points = static_cast<std::int64_t>(b.points.size());
@@ -140,6 +142,7 @@ Piece particlePiece(const PolyhedraBatch& b, int rank) {
         b, [](P p) { return std::array<std::uint8_t, 1>{static_cast<std::uint8_t>(p.fixed)}; });
   }));
   cell.arrays.push_back(array<std::int32_t>("joint", 1, cells, [&b] { return b.face_joint; }));
+  cell.arrays.push_back(array<double>("pressure", 1, cells, [&b] { return b.face_pressure; }));
   piece.sections.push_back(std::move(cell));
   piece.sections.push_back({"Points", "", {array<double>("Points", 3, b.points.size(), [&b] {
                               return flatten(b.points);

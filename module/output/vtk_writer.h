@@ -62,13 +62,15 @@ struct PolyhedraBatch {
   /// for a face on no joint (a rock mass's free surface, a plane that names no joint, a
   /// [[particle]]'s faces).
   std::vector<std::int32_t> face_joint;
+  /// Per face: the mean water pressure on it (Pa, sim/water.h faceWaterPressures), 0 without.
+  std::vector<double> face_pressure;
 
   /// Adds a particle with its vertices in world coordinates; its faces follow with addFace().
   void addParticle(const ParticleFields& fields, std::span<const Vec3> world_vertices);
   /// Adds a face of the last added particle: indices into that particle's vertices, counter-
-  /// clockwise seen from outside, made by joint `joint` (-1: none). Throws polydem::Error on an
-  /// index out of range or < 3 vertices.
-  void addFace(std::span<const int> vertices, std::int32_t joint = -1);
+  /// clockwise seen from outside, made by joint `joint` (-1: none), with the water pressure
+  /// `pressure` (Pa) on it. Throws polydem::Error on an index out of range or < 3 vertices.
+  void addFace(std::span<const int> vertices, std::int32_t joint = -1, double pressure = 0.0);
   /// A particle with all its faces (each a vector of vertex indices).
   void addParticle(const ParticleFields& fields, std::span<const Vec3> world_vertices,
                    const std::vector<std::vector<int>>& faces);

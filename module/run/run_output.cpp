@@ -7,6 +7,7 @@
 #include "polydem/dynamics/integrator.h"
 #include "polydem/output/output_file.h"
 #include "polydem/run/contact_sums.h"
+#include "polydem/sim/water.h"
 
 namespace polydem::sim {
 
@@ -118,6 +119,24 @@ void RunOutput::writeSeries(Simulation& sim, const Tracker& tracker,
   io::throwIfAnyRankFailed(error, comm_);
 }
 
+// The water pressure on each face of particle i (sim/water.h), at the pose the snapshot shows and
+// the time the water force of the step took; zeros without water and on fixed bodies.
+void RunOutput::facePressures(const Simulation& sim, std::size_t i, const Mat3& rotation,
+                              std::vector<double>& out) {
+  const auto& p = sim.particles()[i];
+  const auto& shape = sim.shapes()[p.shape];
+  const auto& faces = shape.polyhedron.faces();
+  const auto& water = sim.scene().water;
+  if (!water.enabled || !p.isFree()) {
+    out.assign(faces.size(), 0.0);
+    return;
+  }
+  normals_.clear();
+  for (const auto& face : faces) normals_.push_back(rotation * face.normal);
+  const double time = sim.stage() == Stage::kEquilibrium ? 0.0 : sim.time();
+  faceWaterPressures(water, time, shape, vertices_, normals_, p.position, out);
+}
+
 void RunOutput::writeSnapshot(const Simulation& sim) {
   if (!snapshots_ && !xdmf_) return;
   last_snapshot_ = labelOf(sim);
@@ -150,8 +169,10 @@ void RunOutput::writeSnapshot(const Simulation& sim) {
       fields.displacement = p.position - initial_positions_[p.uid];
     }
     batch_.addParticle(fields, vertices_);
+    facePressures(sim, i, r, pressures_);
     for (int f = 0; f < static_cast<int>(shape.faces().size()); ++f) {
-      batch_.addFace(shape.faces()[static_cast<std::size_t>(f)].vertices, faceJoint(sim, body, f));
+      const auto k = static_cast<std::size_t>(f);
+      batch_.addFace(shape.faces()[k].vertices, faceJoint(sim, body, f), pressures_[k]);
     }
   }
   contacts_.contacts.clear();

@@ -38,6 +38,8 @@ class RunOutput {
   void close();
 
  private:
+  void facePressures(const Simulation& sim, std::size_t i, const Mat3& rotation,
+                     std::vector<double>& out);
   /// Stage and step of a written row or snapshot.
   struct Written {
     int stage = -1;
@@ -59,6 +61,8 @@ class RunOutput {
   io::PolyhedraBatch batch_;
   io::ContactBatch contacts_;
   std::vector<Vec3> vertices_;
+  std::vector<Vec3> normals_;
+  std::vector<double> pressures_;  // per face of one particle: water pressure (Pa)
 };
 
 }  // namespace polydem::sim

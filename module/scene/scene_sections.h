@@ -51,6 +51,9 @@ void readWater(const Context& ctx, const toml::table& root, Scene& scene);
 
 /// [seismic] (scene_seismic.cpp); needs [simulation] gravity.
 void readSeismic(const Context& ctx, const toml::table& root, Scene& scene);
+/// The acceleration record of [seismic] (scene_ground_record.cpp) into `seismic`, in m/s^2;
+/// false when `s` names none.
+bool readGroundRecord(const Section& s, const Scene& scene, SeismicSpec& seismic);
 
 /// [[bolt]] (scene_bolts.cpp); the blocks they cross are found by the simulation.
 void readBolts(const Context& ctx, const toml::table& root, Scene& scene);

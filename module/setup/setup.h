@@ -237,6 +237,12 @@ struct SeismicSpec {
   double kh = 0.0;       // horizontal coefficient, a fraction of g, in [0, 1]
   double azimuth = 0.0;  // degrees clockwise from +y: where the horizontal load pushes
   double kv = 0.0;       // vertical coefficient, a fraction of g, positive upward, in [-1, 1]
+  /// record: the ground acceleration (m/s^2, world frame: x east, y north, z up) at increasing
+  /// times (s of simulation time), linear between samples and zero outside them. Every fixed
+  /// particle moves with the ground it integrates to (sim/ground_motion.h). Empty: no record.
+  std::vector<double> record_time;
+  std::vector<Vec3> record_acceleration;
+  std::string record_file;  // as the scene names it, for messages
   int line = 0;
 };
 

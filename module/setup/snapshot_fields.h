@@ -37,6 +37,9 @@ inline const std::vector<SnapshotField> kParticleFields = {
     {"joint", 1, FieldType::kInt32, "",
      "per face: index into the scene's [[joint]] list of the joint whose plane made the face; -1: "
      "on no joint"},
+    {"pressure", 1, FieldType::kFloat64, "Pa",
+     "per face: the mean water pressure on it ([water]: the hydrostatic pressure integrated over "
+     "the wetted part, divided by the face's area); 0 on faces without water"},
 };
 
 /// Per-contact fields, written once per contact point (point data).
@@ -55,8 +58,8 @@ inline const std::vector<SnapshotField> kContactFields = {
 
 /// Fields written when the scene does not choose: all of them but position (the faces show it).
 inline const std::vector<std::string> kDefaultParticleFields = {
-    "uid",          "rank",          "material", "fixed", "speed", "velocity", "angular_velocity",
-    "displacement", "contact_count", "force",    "joint"};
+    "uid",          "rank",          "material", "fixed", "speed",   "velocity", "angular_velocity",
+    "displacement", "contact_count", "force",    "joint", "pressure"};
 inline const std::vector<std::string> kDefaultContactFields = {
     "uid_a", "uid_b", "rank", "normal", "normal_force", "shear_force", "force", "joint"};
 

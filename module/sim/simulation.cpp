@@ -252,6 +252,7 @@ std::vector<std::string> Simulation::forceOperatorNames() const {
 
 void Simulation::integrate() {
   leapfrog_fresh_ = false;
+  if (ground_ && stage_ == Stage::kMain) moveWithGround();
   for (std::size_t i = 0; i < storage_.localCount(); ++i) {
     auto& p = storage_[i];
     if (p.isFree()) {
@@ -261,6 +262,19 @@ void Simulation::integrate() {
     } else if (p.isDriven() && stage_ == Stage::kMain) {
       dynamics::advanceDriven(p, scene_.drivers[p.driver], time(), dt());
     }
+  }
+}
+
+// The fixed particles move with the ground of the [seismic] record (sim/ground_motion.h): by its
+// exact displacement over the step, with its velocity at the half step, every rank alike.
+void Simulation::moveWithGround() {
+  const Vec3 shift = ground_->displacement(time() + dt()) - ground_->displacement(time());
+  const Vec3 velocity = ground_->velocity(time() + 0.5 * dt());
+  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
+    auto& p = storage_[i];
+    if (!p.isFixed()) continue;
+    p.position += shift;
+    p.velocity = velocity;
   }
 }
 

@@ -35,6 +35,7 @@
 #include "polydem/sim/bolts.h"
 #include "polydem/sim/contact_phase.h"
 #include "polydem/sim/force_operator.h"
+#include "polydem/sim/ground_motion.h"
 #include "polydem/sim/load_balance.h"
 #include "polydem/sim/memory_use.h"
 #include "polydem/sim/saved_state.h"
@@ -269,6 +270,7 @@ class Simulation {
   void callForceOperator(const std::string& name, const ForceOperator& op, const ForceStep& step);
   void startLeapfrogWith(const std::string& name, const ForceOperator& op);
   void integrate();
+  void moveWithGround();
   void checkParticlesInside(std::int64_t step) const;
   void communicate();
   void observe();
@@ -296,6 +298,7 @@ class Simulation {
   std::vector<std::int32_t> plane_joint_;
   std::vector<dynamics::LawCoefficients> joint_law_main_, joint_law_equilibrium_;
   Bolts bolts_;  // replicated on every rank (sim/bolts.h)
+  std::optional<GroundMotion> ground_;  // [seismic] record: moves the fixed particles
   std::unique_ptr<contact::Kernel> kernel_;
   std::unique_ptr<broadphase::BroadPhase> broadphase_;
   std::unique_ptr<domain::BlockForest> forest_;

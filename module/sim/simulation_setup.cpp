@@ -25,7 +25,9 @@ Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm, Unbuilt)
       ranks_(mpi::size(comm)),
       exchange_(comm),
       loop_(comm),
-      parked_loop_(comm) {}
+      parked_loop_(comm) {
+  ground_ = groundMotion(scene_);
+}
 
 Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm)
     : Simulation(scene, comm, Unbuilt{}) {

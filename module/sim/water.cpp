@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <array>
 
-#include "polydem/geometry/face_pressure.h"
-
 namespace polydem::sim {
 
 namespace {
@@ -53,6 +51,31 @@ PhreaticSurface phreaticSurface(const setup::WaterSpec& water, double time) {
   return s;
 }
 
+geometry::LinearPressure hydrostaticPressure(const PhreaticSurface& surface, double unit_weight,
+                                             const Vec3& c) {
+  geometry::LinearPressure pressure;
+  pressure.origin = c;
+  pressure.value = unit_weight * (surface.at(c.x(), c.y()) - c.z());
+  pressure.gradient = unit_weight * Vec3(surface.slope_x, surface.slope_y, -1.0);
+  return pressure;
+}
+
+void faceWaterPressures(const setup::WaterSpec& water, double time,
+                        const geometry::BodyShape& shape, std::span<const Vec3> vertices,
+                        std::span<const Vec3> normals, const Vec3& centroid,
+                        std::vector<double>& out) {
+  const auto& faces = shape.polyhedron.faces();
+  out.assign(faces.size(), 0.0);
+  if (shape.face_plane.empty()) return;
+  const auto pressure =
+      hydrostaticPressure(phreaticSurface(water, time), water.unit_weight, centroid);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (shape.face_plane[f] < 0) continue;
+    const auto r = geometry::pressureResultant(vertices, faces[f].vertices, normals[f], pressure);
+    out[f] = r.load / faces[f].area;
+  }
+}
+
 void addWaterForces(const setup::WaterSpec& water, double time, const particles::ShapeTable& shapes,
                     const particles::ParticleStorage& particles,
                     std::span<dynamics::ForceAccumulator> forces) {
@@ -62,12 +85,8 @@ void addWaterForces(const setup::WaterSpec& water, double time, const particles:
     const auto& p = particles[i];
     const geometry::BodyShape& shape = shapes[p.shape];
     if (!p.isFree() || shape.face_plane.empty()) continue;
-    // p(x) = gamma_w (z_surface(x, y) - z), about the block's centroid c.
-    geometry::LinearPressure pressure;
-    pressure.origin = particles.placedPosition(i);
-    const Vec3& c = pressure.origin;
-    pressure.value = gw * (surface.at(c.x(), c.y()) - c.z());
-    pressure.gradient = gw * Vec3(surface.slope_x, surface.slope_y, -1.0);
+    // p(x) = gamma_w (z_surface(x, y) - z), about the block's centroid.
+    const auto pressure = hydrostaticPressure(surface, gw, particles.placedPosition(i));
     const auto vertices = particles.worldVertices(i);
     const auto normals = particles.worldFaceNormals(i);
     const auto& faces = shape.polyhedron.faces();

@@ -13,8 +13,10 @@
 #pragma once
 
 #include <span>
+#include <vector>
 
 #include "polydem/dynamics/monitors.h"
+#include "polydem/geometry/face_pressure.h"
 #include "polydem/particles/particle_storage.h"
 #include "polydem/setup/setup.h"
 
@@ -31,6 +33,21 @@ struct PhreaticSurface {
 /// The surface of `water` at `time`: the table's rows interpolated linearly, the first or last
 /// row held outside them.
 PhreaticSurface phreaticSurface(const setup::WaterSpec& water, double time);
+
+/// The hydrostatic pressure below `surface`, p(x) = unit_weight (z_surface(x, y) - z), written
+/// about the point c.
+geometry::LinearPressure hydrostaticPressure(const PhreaticSurface& surface, double unit_weight,
+                                             const Vec3& c);
+
+/// The mean water pressure on each face of a free block (Pa) into `out` (one per face): the
+/// pressure integrated over the wetted part of the face divided by the face's area, so the
+/// hydrostatic value at the face's centroid for a face wholly below the surface; 0 on faces on no
+/// joint plane and on dry faces. `vertices`, `normals`: the block's world vertices and face
+/// normals; `centroid`: its centroid. What the snapshots show (field `pressure`).
+void faceWaterPressures(const setup::WaterSpec& water, double time,
+                        const geometry::BodyShape& shape, std::span<const Vec3> vertices,
+                        std::span<const Vec3> normals, const Vec3& centroid,
+                        std::vector<double>& out);
 
 /// Adds the water force and its moment about the centroid on every joint face of this rank's
 /// free particles (entries [0, forces.size()) of `particles`, whose derived data is current).

@@ -7,6 +7,7 @@ free blocks are coloured by one field (--field):
 
     speed         |velocity| [m/s], one colour scale for all frames (the default)
     displacement  |displacement since the start| [m], one colour scale for all frames
+    pressure      the water pressure on each face [Pa] (snapshot field `pressure`, [water])
     joint         each face by the [[joint]] whose plane made it (the snapshot field `joint`),
                   with a legend of the joint names; faces on no joint (the mass's outer
                   surface) faint, so that the joint faces inside show through
@@ -20,7 +21,7 @@ Agg backend (Poly3DCollection) from Debian's /usr/bin/python3 with numpy and h5p
 needed.
 
     /usr/bin/python3 python_coupling/plots/render_frames.py RUN_DIR [--frames 4] [--out f.png]
-                     [--field speed|displacement|joint] [--elevation 22] [--azimuth DEG]
+                     [--field speed|displacement|pressure|joint] [--elevation 22] [--azimuth DEG]
 
 Writes RUN_DIR/frames.png by default and prints its path. `polydem run ... --picture` and
 `[output] picture = true` call this after the run; scripts/main-job always does. Snapshots
@@ -42,7 +43,7 @@ from matplotlib.patches import Patch  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 
-FIELDS = ("speed", "displacement", "joint")
+FIELDS = ("speed", "displacement", "pressure", "joint")
 DEFAULT_AZIMUTH = -70.0  # deg, when the scene shows no slope face
 FACE_OFFSET = -30.0  # deg: the camera stands this far to the left of the face's direction
 
@@ -74,6 +75,10 @@ class Frame:
                     raise KeyError("%s has no field 'displacement' (add it to [output] fields)"
                                    % path)
                 self.value = np.linalg.norm(h["faces/displacement"][:], axis=1)
+            elif field == "pressure":
+                if "faces/pressure" not in h:
+                    raise KeyError("%s has no field 'pressure' (add it to [output] fields)" % path)
+                self.value = h["faces/pressure"][:]
             elif field == "joint" and self.joint is None:
                 raise KeyError("%s has no field 'joint' (add it to [output] fields)" % path)
         self.polygons = []
@@ -188,7 +193,7 @@ def render(run_dir, count=4, out=None, elevation=22.0, azimuth=None, field="spee
     lo, hi = view_box(frames)
     if azimuth is None:
         azimuth = face_azimuth(frames[0], lo, hi)
-    unit = {"speed": "m/s", "displacement": "m"}.get(field)
+    unit = {"speed": "m/s", "displacement": "m", "pressure": "Pa"}.get(field)
     if unit:
         vmax = max(float(f.value[~f.fixed].max()) if (~f.fixed).any() else 0.0 for f in frames)
         norm = colors.Normalize(0.0, vmax if vmax > 0 else 1.0)

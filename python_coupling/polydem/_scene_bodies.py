@@ -13,8 +13,9 @@ class Bodies:
         """Adds a [[particle]] and returns its uid. `position` [m] is the centroid of a built-in
         shape (a `vertices` shape moves from where its vertices are); `orientation` a quaternion
         (w, x, y, z) or `rotation` as in scene files ({"axis": .., "angle": deg}, ...);
-        velocity [m/s], angular_velocity [rad/s]; `fixed` bodies never move; `driver` names a
-        prescribed motion; `label` (unique) names the particle for checks and monitors."""
+        velocity [m/s], angular_velocity [rad/s]; `fixed` bodies move only with the ground of a
+        [seismic] record; `driver` names a prescribed motion; `label` (unique) names the
+        particle for checks and monitors."""
         p = self._particle(dict(shape=shape, material=material, position=position,
                                 orientation=orientation, velocity=velocity,
                                 angular_velocity=angular_velocity, fixed=fixed, driver=driver,

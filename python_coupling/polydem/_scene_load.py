@@ -2,6 +2,7 @@
 Python. The values are kept as the file writes them (strings with units included); the scene
 reader checks them when the scene is built, as it checks the file.
 """
+import os
 import re
 import tomllib
 
@@ -14,6 +15,18 @@ def body_order(text):
     """The kinds of the [[particle]], [[particle_grid]] and [[rock_mass]] headers of `text`, in
     file order: the order that gives the bodies their uids, which tomllib's lists lose."""
     return [m.group(1) for m in map(_BODY_HEADER.match, text.splitlines()) if m]
+
+
+def _resolve_records(scene, name):
+    """A [seismic] record named relative to the scene file (as the reader resolves it) becomes
+    an absolute path, so that the loaded scene finds it wherever it is written or built."""
+    seismic = scene._sections.get("seismic")
+    if not isinstance(seismic, dict) or name.startswith("<"):
+        return
+    folder = os.path.dirname(os.path.abspath(name))
+    for key in ("record", "record_x", "record_y", "record_z"):
+        if isinstance(seismic.get(key), str) and not os.path.isabs(seismic[key]):
+            seismic[key] = os.path.join(folder, seismic[key])
 
 
 def fill(scene, text, name):
@@ -41,6 +54,7 @@ def fill(scene, text, name):
         else:
             scene._sections[key] = value  # the reader judges it when the scene is built
     scene._bodies = [(kind, dict(lists[kind].pop(0))) for kind in order]
+    _resolve_records(scene, name)
     # uids: one per particle, count[0] count[1] count[2] per grid, and a rock mass's blocks,
     # which only cutting it tells (the built scene's rock_masses, in file order).
     built = scene.build()

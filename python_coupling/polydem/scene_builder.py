@@ -27,8 +27,10 @@ _SECTION_KEYS = {
             "settle_time", "force_ratio", "speed_decay", "local_damping", "speed_limit",
             "displacement_limit", "check_every", "label_prefix", "reduce_bolts"),
     "water": ("unit_weight", "level", "points", "table"),
-    "seismic": ("kh", "azimuth", "kv"),
+    "seismic": ("kh", "azimuth", "kv", "record", "record_x", "record_y", "record_z", "time_step",
+                "units", "scale"),
 }
+_RECORD_KEYS = ("record", "record_x", "record_y", "record_z")
 _CONTACT_KEYS = ("kn", "ks", "friction_angle", "cohesion", "normal_damping", "penalty", "jkn",
                  "jks")
 _SHAPE_TYPES = ("box", "vertices", "prism", "triangular_prism", "pyramid", "tetrahedron", "cube",
@@ -138,6 +140,10 @@ class Scene(Bodies):
                                                                        ", ".join(known)))
             if value is None:
                 table.pop(key, None)
+            elif section == "seismic" and key in _RECORD_KEYS:
+                # A record file given from Python is where the working directory says; the
+                # absolute path keeps it found wherever the scene is saved or built.
+                table[key] = os.path.abspath(os.fspath(value))
             else:
                 table[key] = _entry_value(key, value, "[%s] %s" % (section, key))
         self._sections[section] = table

@@ -165,6 +165,11 @@ py::object seismic(const Scene& s) {
   d["kh"] = s.seismic.kh;
   d["azimuth"] = s.seismic.azimuth;
   d["kv"] = s.seismic.kv;
+  // The acceleration record in m/s^2 (units and scale applied), empty without one.
+  d["record_file"] = s.seismic.record_file;
+  d["record_time"] = py::array_t<double>(static_cast<py::ssize_t>(s.seismic.record_time.size()),
+                                         s.seismic.record_time.data());
+  d["record_acceleration"] = pointsArray(s.seismic.record_acceleration);
   d["line"] = s.seismic.line;
   return d;
 }
@@ -358,7 +363,9 @@ replaces the scene's whole stop condition: the other one is cleared.)")
                              "ultimate_elongation [m] or None, line).")
       .def_property_readonly("seismic", &seismic,
                              "[seismic] as read: a dict (kh, azimuth [deg clockwise from +y], kv "
-                             "[positive upward], line), or None without an earthquake load.")
+                             "[positive upward], record_file, record_time [s], "
+                             "record_acceleration [m/s^2, (n, 3)], line), or None without an "
+                             "earthquake load.")
       .def(
           "copy", [](const Scene& s) { return Scene(s); },
           "An independent copy (to override kernel or stop time without changing this one).")

@@ -79,7 +79,7 @@ class Body:
 
 
 def write_snapshot(path, bodies, step=0, joint_names=(), fields=("fixed", "joint",
-                                                                 "displacement")):
+                                                                 "displacement", "pressure")):
     points, topology, face_count, velocity = [], [], [], []
     fixed, joint, displacement = [], [], []
     for b in bodies:
@@ -107,6 +107,8 @@ def write_snapshot(path, bodies, step=0, joint_names=(), fields=("fixed", "joint
             h["faces/joint"] = np.array(joint, np.int32)
         if "displacement" in fields:
             h["faces/displacement"] = np.array(displacement, float)
+        if "pressure" in fields:  # a water pressure rising face by face
+            h["faces/pressure"] = 1000.0 * np.arange(len(fixed), dtype=float)
 
 
 def run_dir(work, name, bodies_of_step, steps=(0, 10), **kw):
@@ -197,7 +199,7 @@ def check_fields(rf, work):
     except ValueError as e:
         expect("velocity" in str(e) and "joint" in str(e), "unknown field message: %s" % e)
     bare = run_dir(work, "bare", bodies, fields=("fixed",))
-    for field in ("displacement", "joint"):
+    for field in ("displacement", "pressure", "joint"):
         try:
             rf.render(bare, 2, os.path.join(work, "y.png"), field=field)
             expect(False, "a missing field '%s' was accepted" % field)

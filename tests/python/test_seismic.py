@@ -75,5 +75,39 @@ class Seismic(unittest.TestCase):
         np.testing.assert_allclose(v, expected * (sim.time - dt / 2), rtol=1e-12)
 
 
+class Record(unittest.TestCase):
+    """[seismic] record from Python: Scene.load makes the record's path absolute, the built scene
+    holds the samples in m/s^2, and a fixed body moves with the ground the record integrates to."""
+
+    def test_loaded_scene_keeps_its_record(self):
+        s = polydem.Scene.load(os.path.join(SCENES, "E-NEWMARK.toml"))
+        self.assertEqual(s.seismic["record"], os.path.join(SCENES, "E-NEWMARK.csv"))
+        built = polydem.Scene.from_toml(s.to_toml()).build().seismic
+        rows = np.loadtxt(os.path.join(SCENES, "E-NEWMARK.csv"), delimiter=",", skiprows=5)
+        np.testing.assert_array_equal(built["record_time"], rows[:, 0])
+        np.testing.assert_allclose(built["record_acceleration"], G * rows[:, 1:4], rtol=1e-15)
+
+    def test_fixed_body_moves_with_the_ground(self):
+        import tempfile
+        a = np.array([0.0, 2.0, -0.5])  # m/s^2, constant from t = 0 to 1 s
+        dt, n = 1e-3, 40
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "constant.csv")
+            with open(path, "w") as f:
+                f.write("time,ax,ay,az\n0,%r,%r,%r\n1,%r,%r,%r\n" % (tuple(a) * 2))
+            s = falling_block(dt, n)
+            s.add_particle("cube", "rock", position=(0, 0, 0), fixed=True, label="ground")
+            s.set_seismic(record=path, scale=1.0)
+            self.assertEqual(s.build().seismic["record_file"], path)
+            sim = polydem.Simulation(s.build())
+        sim.run()
+        p = sim.particles()
+        ground = list(p["uid"]).index(2)
+        t = sim.time
+        # u = a t^2 / 2 exactly for a constant acceleration; the velocity is taken at t - dt/2.
+        np.testing.assert_allclose(p["position"][ground], a * t * t / 2, rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(p["velocity"][ground], a * (t - dt / 2), rtol=1e-12)
+
+
 if __name__ == "__main__":
     unittest.main()
