@@ -18,11 +18,12 @@
 //     farthest (its toe) at the start: how far the front travelled, horizontally;
 //   - largest block travel: the longest centroid displacement of a free block;
 //   - the thickness map on a horizontal grid of square cells (cell kCellFraction of the failed
-//     mass's median block size unless given): at each cell's centre, the top of the failed
-//     blocks' vertical extent minus the top of the ground (the fixed bodies and the free blocks
-//     that did not move) there, from each convex block's face planes; cells with a thickness
-//     above kThinFraction of the cell size form the deposit: its area, its length along the
-//     direction of travel and width across it, and its volume (sum of thickness x cell area).
+//     mass's median block size unless given; grid lines on multiples of it): at a point, the top
+//     of the failed blocks' vertical extent minus the top of the ground (the fixed bodies and the
+//     free blocks that did not move) under it, from each convex block's face planes; a cell's
+//     thickness is the mean over 4 x 4 points of it, so that the map integrates to the failed
+//     volume. Cells thicker than kThinFraction of the cell size form the deposit: its area, its
+//     length along the direction of travel and width across it, and its volume.
 // Restartable: a checkpoint (DIR/runout.h5, replaced atomically) every checkpoint_every steps and
 // on SIGTERM/SIGUSR1 stores the state and the run-on's counters; continuing from it gives the
 // same bits as a run-on that never stopped, on any rank count.
