@@ -1,10 +1,11 @@
 """polydem runout on A-RUNOUT-BLOCK (a block sliding down an incline onto a flat floor): the runout
 of its front against the energy answer the scene's header derives, computed here from the scene's
 own inputs (within 5 % of the block's size), the thickness map integrated against the block's
-volume (within 2 %), a continuation from its checkpoint that ends in the same bits, and
+volume (within 2 %), a continuation from its checkpoint and a run on 2 ranks that end in the same
+bits, and
 polydem fos --runout (the failed trial run on at the scene's friction) against the same answer.
 
-    runout_block_test.py POLYDEM SCENE WORKDIR
+    runout_block_test.py POLYDEM SCENE WORKDIR [MPIEXEC]
 """
 import csv
 import json
@@ -84,6 +85,16 @@ def main():
            f"continued run ends at step {c['steps']} hash {c['state_hash']}, "
            f"the whole run at {r['steps']} {r['state_hash']}")
     expect(c["runout_distance"] == r["runout_distance"], "continued run: another runout")
+    # On 2 ranks: the same bits.
+    if len(sys.argv) > 4:
+        mpiexec = [sys.argv[4], "--oversubscribe"] + (["--allow-run-as-root"] if os.getuid() == 0 else [])
+        run(mpiexec + ["-n", "2", polydem, "runout", scene_path, "--out", "two", "--cell",
+                       str(b / 20), "--quiet"], workdir)
+        with open(os.path.join(workdir, "two", "runout.json")) as f:
+            two = json.load(f)
+        expect(two["state_hash"] == r["state_hash"] and two["runout_distance"] == got,
+               f"2 ranks: hash {two['state_hash']}, runout {two['runout_distance']}; "
+               f"1 rank: {r['state_hash']}, {got}")
     # polydem fos --runout: the mechanism's failing state (a creep of a few mm at F just above
     # the critical one) run on at the scene's friction, into fos.json and runout/.
     run([polydem, "fos", scene_path, "--out", "fos", "--runout", "--quiet"], workdir)
