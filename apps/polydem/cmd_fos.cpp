@@ -19,6 +19,8 @@
 #include "polydem/run/fos.h"
 #include "polydem/run/fos_mechanism.h"
 #include "polydem/scene/scene_reader.h"
+#include "polydem/sim/simulation.h"
+#include "runout_files.h"
 
 namespace polydem::app {
 
@@ -44,6 +46,9 @@ void usage() {
       "  --kernel NAME         another contact kernel\n"
       "  --contact-model M     sub-contacts (default) or point (the scene's otherwise)\n"
       "  --resume DIR          continue the search a signal stopped (DIR/fos.json)\n"
+      "  --runout              run the mechanism's failing state on at the scene's own strengths\n"
+      "                        and damping until at rest: DIR/runout/ (polydem runout --help)\n"
+      "  --runout-time T       the run-on's time cap, s (default: the scene's end_time)\n"
       "  --quiet               only the result, warnings and errors\n"
       "writes DIR/fos.json (factor_of_safety, each reduced joint's and pair's critical strength,\n"
       "the governing one, the mechanism, bracket, criterion, every trial's F, outcome,\n"
@@ -152,9 +157,9 @@ void printMechanism(const sim::FosMechanism& m) {
 }
 
 // The mechanism of the smallest failed trial, when the search found one (collective).
-std::optional<sim::FosMechanism> mechanismOf(const io::Scene& scene,
-                                             const sim::FosCriterion& criterion,
-                                             const sim::FosResult& result, const std::string& out) {
+std::optional<sim::FosMechanism> mechanismOf(
+    const io::Scene& scene, const sim::FosCriterion& criterion, const sim::FosResult& result,
+    const std::string& out, const std::function<void(sim::Simulation&)>& then = nullptr) {
   if (!result.complete || !result.failed) return std::nullopt;
   const auto failed = std::find_if(result.trials.begin(), result.trials.end(),
                                    [&](const auto& t) { return t.factor == *result.failed; });
@@ -164,7 +169,7 @@ std::optional<sim::FosMechanism> mechanismOf(const io::Scene& scene,
   const log::Level level = log::level();
   log::setLevel(std::min(level, log::Level::kWarning));  // no run chatter from the trial
   sim::FosMechanism m =
-      sim::runFosMechanism(scene, *failed, criterion, out + "/mechanism", MPI_COMM_WORLD);
+      sim::runFosMechanism(scene, *failed, criterion, out + "/mechanism", MPI_COMM_WORLD, then);
   log::setLevel(level);
   if (!m.same_bits) {
     log::warning(cat("mechanism: the rerun of the trial at F = ", num(m.factor),
@@ -184,6 +189,8 @@ int fosCommand(int argc, char** argv) {
   }
   const long long per_trial = args.integer("ranks-per-trial", 1, 1);
   const bool quiet = args.flag("quiet");
+  const bool runout = args.flag("runout");
+  const RunoutOptions runout_options = runoutOptions(args, "runout-");
   std::string out;
   io::Scene scene;
   std::optional<FosRun> prior;
@@ -206,6 +213,8 @@ int fosCommand(int argc, char** argv) {
   }
   if (quiet) log::setLevel(log::Level::kWarning);
   const sim::FosCriterion criterion = sim::fosCriterion(scene);
+  std::optional<sim::RunoutSettings> runout_settings;
+  if (runout) runout_settings = runoutSettings(scene, runout_options, out + "/runout");
   // One search per folder, as for polydem run: a second one into DIR is refused on every rank.
   const io::OutputLock lock(out, MPI_COMM_WORLD);
   const int groups = ranks / static_cast<int>(per_trial);
@@ -229,7 +238,17 @@ int fosCommand(int argc, char** argv) {
                             per_trial != 1 ? cat(" --ranks-per-trial ", per_trial) : "");
   // Rank 0 writes the files; a failure (a full disk) is agreed, so that every rank ends with
   // the same message and status 1 instead of one rank aborting the others.
-  const std::optional<sim::FosMechanism> mechanism = mechanismOf(scene, criterion, result, out);
+  std::optional<sim::RunoutResult> run_on;
+  std::function<void(sim::Simulation&)> then;
+  if (runout_settings) {
+    then = [&](sim::Simulation& failing) {
+      log::info(
+          cat("runout: the failing state on at the scene's strengths, into ", out, "/runout"));
+      run_on = runOutFrom(failing, scene, *runout_settings);
+    };
+  }
+  const std::optional<sim::FosMechanism> mechanism =
+      mechanismOf(scene, criterion, result, out, then);
   std::string error;
   if (mpi::rank() == 0) {
     printResult(scene, result);
@@ -244,6 +263,7 @@ int fosCommand(int argc, char** argv) {
     try {
       writeFosFiles(out, scene, criterion, result, resume_command,
                     mechanism ? &*mechanism : nullptr, picture);
+      if (run_on) addRunout(out, *run_on, mpi::size());
     } catch (const Error& e) {
       error = e.what();
     }

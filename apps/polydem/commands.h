@@ -68,6 +68,7 @@ int benchCommand(int argc, char** argv);
 int kernelsCommand(int argc, char** argv);
 /// `polydem fos SCENE --out DIR`: factor of safety by strength reduction.
 int fosCommand(int argc, char** argv);
+int runoutCommand(int argc, char** argv);
 /// `polydem checkpoint info FILE`: verify a checkpoint and print its summary.
 int checkpointCommand(int argc, char** argv);
 /// `polydem bench checkpoint`: checkpoint write/read bandwidth beside raw parallel HDF5.

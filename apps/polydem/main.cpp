@@ -26,6 +26,8 @@ void usage() {
       "  run --restart FILE --out DIR   continue a run from a checkpoint (any rank count)\n"
       "  fos SCENE --out DIR      factor of safety by strength reduction (trials side by side\n"
       "                           over the ranks)\n"
+      "  runout SCENE --out DIR   run a scene until at rest: runout distance, deposit and its\n"
+      "                           thickness map\n"
       "  checkpoint info FILE     verify a checkpoint and print its summary\n"
       "  contact --kernel NAME    resolve contacts of vertex lists given as JSON lines\n"
       "  report contact-types     the contact-type table of every kernel (BENCHMARKS.md C)\n"
@@ -48,6 +50,7 @@ int dispatch(int argc, char** argv) {
   try {
     if (command == "run") return polydem::app::runCommand(sub_argc, sub_argv);
     if (command == "fos") return polydem::app::fosCommand(sub_argc, sub_argv);
+    if (command == "runout") return polydem::app::runoutCommand(sub_argc, sub_argv);
     if (command == "contact") return polydem::app::contactCommand(sub_argc, sub_argv);
     if (command == "checkpoint") return polydem::app::checkpointCommand(sub_argc, sub_argv);
     if (command == "report") return polydem::app::reportCommand(sub_argc, sub_argv);
@@ -103,11 +106,12 @@ int main(int argc, char** argv) {
   // a few thousand blocks. A fixed threshold maps every block above 4 MB on its own and returns
   // it when freed. A warm step allocates nothing, so this costs no step time.
   mallopt(M_MMAP_THRESHOLD, 4 << 20);
-  // `run` turns SIGTERM and SIGUSR1 into a checkpoint at the end of the step, `fos` these and
-  // SIGINT into fos.json with the trials so far. The handlers go in before MPI starts and before
-  // any file is read, so that no moment of the start-up is left in which a signal would end the
-  // job with nothing written.
+  // `run` and `runout` turn SIGTERM and SIGUSR1 into a checkpoint at the end of the step, `fos`
+  // these and SIGINT into fos.json with the trials so far. The handlers go in before MPI starts and
+  // before any file is read, so that no moment of the start-up is left in which a signal would end
+  // the job with nothing written.
   if (argc >= 2 && std::strcmp(argv[1], "run") == 0) polydem::sim::installStopSignals();
+  if (argc >= 2 && std::strcmp(argv[1], "runout") == 0) polydem::sim::installStopSignals();
   if (argc >= 2 && std::strcmp(argv[1], "fos") == 0) polydem::sim::installStopSignals(true);
   polydem::mpi::Environment env(argc, argv);
   const int status = dispatch(argc, argv);

@@ -99,4 +99,8 @@ std::string plotSeries(const std::string& out_dir) {
   return runPlotScript("plot_series.py", out_dir, out_dir + "/series.png");
 }
 
+std::string plotThickness(const std::string& out_dir) {
+  return runPlotScript("plot_thickness.py", out_dir, out_dir + "/thickness.png");
+}
+
 }  // namespace polydem::app

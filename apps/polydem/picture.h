@@ -29,4 +29,8 @@ std::string renderPicture(const std::string& out_dir, const PictureOptions& opti
 /// or "" after a warning saying why there is none. Call on one rank.
 std::string plotSeries(const std::string& out_dir);
 
+/// Runs plot_thickness.py on `out_dir` (its thickness.csv, as `polydem runout` writes it) and
+/// waits for it; returns the PNG written (thickness.png), or "" after a warning. One rank.
+std::string plotThickness(const std::string& out_dir);
+
 }  // namespace polydem::app

@@ -328,8 +328,8 @@ std::string blocksCsv(const FosMechanism& m) {
 class MechanismObserver : public FosTrialObserver {
  public:
   MechanismObserver(const io::Scene& scene, const FosCriterion& c, const FosTrial& failed,
-                    FosMechanism& m)
-      : scene_(scene), criterion_(c), failed_(failed), m_(m) {}
+                    FosMechanism& m, const std::function<void(Simulation&)>& then)
+      : scene_(scene), criterion_(c), failed_(failed), m_(m), then_(then) {}
 
   void started(Simulation& sim) override {
     t0_ = sim.time();
@@ -377,6 +377,7 @@ class MechanismObserver : public FosTrialObserver {
     const std::vector<Pose> now = gatherPoses(sim);
     const std::vector<ContactRow> contacts = gatherContacts(sim);
     MechanismMeter(scene_, at_decision, now, contacts).measure(m_);
+    if (then_) then_(sim);
   }
 
  private:
@@ -390,6 +391,7 @@ class MechanismObserver : public FosTrialObserver {
   const FosCriterion& criterion_;
   const FosTrial& failed_;
   FosMechanism& m_;
+  const std::function<void(Simulation&)>& then_;
   Tracker tracker_;
   std::unique_ptr<RunOutput> output_;
   double t0_ = 0.0, next_snapshot_ = 0.0;
@@ -398,13 +400,14 @@ class MechanismObserver : public FosTrialObserver {
 }  // namespace
 
 FosMechanism runFosMechanism(const io::Scene& scene, const FosTrial& failed,
-                             const FosCriterion& criterion, const std::string& dir, MPI_Comm comm) {
+                             const FosCriterion& criterion, const std::string& dir, MPI_Comm comm,
+                             const std::function<void(Simulation&)>& then) {
   FosMechanism m;
   m.factor = failed.factor;
   m.dir = dir;
   io::Scene shown = scene;
   shown.output.snapshot_format = "xdmf";  // what the picture and ParaView read
-  MechanismObserver observer(shown, criterion, failed, m);
+  MechanismObserver observer(shown, criterion, failed, m, then);
   const FosTrial t = runFosTrial(shown, failed.factor, criterion, comm, &observer);
   if (t.outcome == "interrupted") {
     m.stopped_by = "interrupted";

@@ -28,6 +28,7 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -93,8 +94,10 @@ struct FosMechanism {
 
 /// Runs the failed trial `failed` of the search again on `comm` (collective) with snapshots,
 /// series.csv and blocks.csv in `dir`, on past its decision (see above), and measures its
-/// mechanism. Every rank returns the whole result.
+/// mechanism. Every rank returns the whole result. `then`, if given, gets the simulation at the
+/// end of the run-on (collective): `polydem fos --runout` runs the failure on from there.
 FosMechanism runFosMechanism(const io::Scene& scene, const FosTrial& failed,
-                             const FosCriterion& criterion, const std::string& dir, MPI_Comm comm);
+                             const FosCriterion& criterion, const std::string& dir, MPI_Comm comm,
+                             const std::function<void(Simulation&)>& then = nullptr);
 
 }  // namespace polydem::sim
