@@ -84,9 +84,10 @@ class Kernel {
   /// Resolves the pair (a, b). `state` may be null (no warm start, nothing remembered).
   virtual Contact collide(const Body& a, const Body& b, PairState* state) const = 0;
   /// The same for a caller that replaces the point of face and edge contacts by sub-contacts
-  /// (contact/face_contact.h): a kernel may skip work that only places the point on such contacts
-  /// (the IPM kernels return their base kernel's answer, whose point is right for the contacts
-  /// that keep one point: a vertex on a face, crossing edges). Normal and depth are collide()'s.
+  /// (contact/face/face_contact.h): a kernel may skip work that only places the point on such
+  /// contacts (the IPM kernels return their base kernel's answer, whose point is right for the
+  /// contacts that keep one point: a vertex on a face, crossing edges). Normal and depth are
+  /// collide()'s.
   virtual Contact collideForSubContacts(const Body& a, const Body& b, PairState* state) const {
     return collide(a, b, state);
   }
@@ -95,7 +96,7 @@ class Kernel {
 /// Parameters some kernels take; every kernel ignores the ones it does not use.
 struct KernelParams {
   double lp_rounding = 0.05;  // LP potential blocks: rounding radius r, fraction of inradius
-  // gjk-epa, gjk-epa-ipm: the exact separating-axis test for small shapes (contact/sat.h);
+  // gjk-epa, gjk-epa-ipm: the exact separating-axis test for small shapes (contact/sat/sat.h);
   // false keeps GJK + EPA for every pair (e.g. to continue, to the same bits, a run written by a
   // polydem without the separating-axis test).
   bool separating_axes = true;

@@ -2,9 +2,9 @@
 //
 // It holds the tangential (shear) force, the previous contact normal (to rotate the shear force
 // onto the new contact plane, Zhao eqs. 33-34) and the kernel's warm start (previous common plane
-// or separating axis). With the sub-contact model (contact/face_contact.h) every sub-contact of a
-// pair has a shear spring of its own, kept in a second table keyed by (pair, features). Both live
-// outside the kernels so that they can migrate with particles and be written to checkpoints.
+// or separating axis). With the sub-contact model (contact/face/face_contact.h) every sub-contact
+// of a pair has a shear spring of its own, kept in a second table keyed by (pair, features). Both
+// live outside the kernels so that they can migrate with particles and be written to checkpoints.
 //
 // Storage is two tables sorted by key; a pair's sub-contacts are contiguous in the second, and each
 // pair keeps the end of its block there, so a pair's sub-contacts are found by its index, without

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "polydem/contact/face_contact.h"
+#include "polydem/contact/face/face_contact.h"
 
 namespace polydem::contact::reference {
 
