@@ -1,4 +1,4 @@
-#include "polydem/checkpoint/checkpoint_checksum.h"
+#include "polydem/hdf5/checksum.h"
 
 #include <bit>
 

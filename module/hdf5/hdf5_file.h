@@ -1,7 +1,7 @@
-// A thin collective layer over parallel HDF5 for checkpoints (internal to io/): RAII handles,
+// A thin collective layer over parallel HDF5 for checkpoints and snapshots: RAII handles,
 // HDF5 errors turned into CheckpointErrors that name the file and the dataset, datasets moved as
 // per-rank hyperslabs in collective rounds with a rank-count independent checksum
-// (io/checkpoint_checksum.h), and replicated tables written from rank 0 in one batch.
+// (hdf5/checksum.h), and replicated tables written from rank 0 in one batch.
 //
 // Errors and agreement. Metadata operations (groups, datasets, attributes) are collective calls
 // made with the same arguments on every rank, and with collective metadata reads every rank sees
@@ -28,9 +28,9 @@
 #include <string>
 #include <vector>
 
-#include "polydem/checkpoint/checkpoint.h"
-#include "polydem/checkpoint/checkpoint_digest.h"
-#include "polydem/checkpoint/disk_space.h"
+#include "polydem/hdf5/disk_space.h"
+#include "polydem/hdf5/file_digest.h"
+#include "polydem/hdf5/file_options.h"
 
 namespace polydem::io::h5 {
 
@@ -244,7 +244,7 @@ class File {
 
   /// Datasets read so far, with their verified checksums.
   const std::vector<CheckpointDatasetInfo>& datasets() const { return datasets_; }
-  /// The whole-file digest (io/checkpoint_digest.h) of the file as it is now (collective).
+  /// The whole-file digest (hdf5/file_digest.h) of the file as it is now (collective).
   FileDigest digest() const;
 
  private:

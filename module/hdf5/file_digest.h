@@ -3,7 +3,7 @@
 // after it was written (an attribute edited, a dataset replaced by one from another checkpoint
 // with its own valid checksum, a dataset added or removed) is refused as a whole. It is generic:
 // it walks the file, so datasets and attributes added to the layout later are covered without
-// code of their own. Internal to io/.
+// code of their own.
 //
 // The walk visits the root group, then depth first each group's links in ascending bytewise
 // order of their names, a group's own record before its members. It appends to a byte string:

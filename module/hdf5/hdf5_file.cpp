@@ -1,15 +1,15 @@
 // The file, its attributes, errors, agreement and checksums; datasets are in hdf5_dataset.cpp.
-#include "polydem/checkpoint/hdf5_file.h"
+#include "polydem/hdf5/hdf5_file.h"
 
 #include <algorithm>
 #include <cstring>
 
-#include "polydem/checkpoint/checkpoint_checksum.h"
-#include "polydem/checkpoint/hdf5_types.h"
 #include "polydem/core/error.h"
 #include "polydem/core/file_kind.h"
 #include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
+#include "polydem/hdf5/checksum.h"
+#include "polydem/hdf5/hdf5_types.h"
 
 namespace polydem::io::h5 {
 

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cstring>
 
-#include "polydem/checkpoint/checkpoint_checksum.h"
-#include "polydem/checkpoint/hdf5_file.h"
-#include "polydem/checkpoint/hdf5_types.h"
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
+#include "polydem/hdf5/checksum.h"
+#include "polydem/hdf5/hdf5_file.h"
+#include "polydem/hdf5/hdf5_types.h"
 
 namespace polydem::io::h5 {
 

@@ -1,5 +1,6 @@
 // Element types of checkpoint datasets: the native memory type and the explicit little-endian
-// file type of each (internal to io/; used by hdf5_file.cpp and hdf5_dataset.cpp).
+// file type of each (used by hdf5_file.cpp,
+// hdf5_dataset.cpp and the checkpoint benchmark).
 #pragma once
 
 #include <hdf5.h>
@@ -7,8 +8,8 @@
 #include <cstdint>
 #include <string>
 
-#include "polydem/checkpoint/hdf5_file.h"
 #include "polydem/core/error.h"
+#include "polydem/hdf5/hdf5_file.h"
 
 namespace polydem::io::h5 {
 

@@ -1,4 +1,4 @@
-// Disk space taken for a file before parallel HDF5 writes into it (internal to io/).
+// Disk space taken for a file before parallel HDF5 writes into it (used by hdf5_file.cpp).
 //
 // Parallel HDF5 cannot end a file cleanly once a write fails on some ranks only: a full disk
 // makes one rank's part of a collective metadata flush fail, that rank leaves the flush early,

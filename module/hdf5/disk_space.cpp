@@ -1,4 +1,4 @@
-#include "polydem/checkpoint/disk_space.h"
+#include "polydem/hdf5/disk_space.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

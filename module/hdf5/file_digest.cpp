@@ -1,11 +1,11 @@
-#include "polydem/checkpoint/checkpoint_digest.h"
+#include "polydem/hdf5/file_digest.h"
 
 #include <algorithm>
 
-#include "polydem/checkpoint/checkpoint_checksum.h"
-#include "polydem/checkpoint/hdf5_file.h"
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
+#include "polydem/hdf5/checksum.h"
+#include "polydem/hdf5/hdf5_file.h"
 
 namespace polydem::io {
 
@@ -156,7 +156,7 @@ class Walker {
     const bool fixed_string = cls == H5T_STRING && type_name != "v";
     if (count <= 0 || !(cls == H5T_INTEGER || cls == H5T_FLOAT || fixed_string)) return;
     // Numbers in native order (the file's little-endian types are the native ones on the
-    // machines polydem supports, io/checkpoint_checksum.cpp); strings as stored.
+    // machines polydem supports, hdf5/checksum.cpp); strings as stored.
     Handle mem(fixed_string ? H5Tcopy(type.get()) : H5Tget_native_type(type.get(), H5T_DIR_ASCEND),
                H5Tclose);
     std::string bytes(static_cast<std::size_t>(count) * H5Tget_size(mem.get()), '\0');
