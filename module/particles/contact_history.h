@@ -20,9 +20,9 @@
 #include <utility>
 #include <vector>
 
-#include "polydem/contact/contact.h"
 #include "polydem/core/byte_buffer.h"
 #include "polydem/core/types.h"
+#include "polydem/particles/pair_state.h"
 
 namespace polydem::particles {
 
@@ -40,7 +40,7 @@ inline PairKey makeKey(Uid a, Uid b) {
 struct PairHistory {
   Vec3 shear_force = Vec3::Zero();  // tangential force on the lower-uid particle, world frame
   Vec3 normal = Vec3::Zero();       // contact normal of the last step (zero: none yet)
-  contact::PairState kernel;        // kernel warm start
+  PairState kernel;                 // kernel warm start
   std::uint32_t touching = 0;       // 1 if the pair was in contact at the last step
 };
 
