@@ -1,4 +1,4 @@
-// The library's sub-contact builder against the builder before issue 15's cheaper one
+// The library's sub-contact builder against the straightforward reference builder
 // (face_contact_reference.h, kept verbatim): on many face pairs of boxes and sheared
 // parallelepipeds, the same kind, the same sub-contacts (feature keys) in the same order, and
 // weights, gaps, points, normals and area equal up to round-off. Tolerance: 1e-12 relative to the
