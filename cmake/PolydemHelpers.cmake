@@ -21,6 +21,41 @@ if(NOT EXISTS ${POLYDEM_BUILD_INCLUDE_DIR}/polydem)
 endif()
 set_property(GLOBAL PROPERTY POLYDEM_MODULES "")
 
+# Precompiled headers (-DPOLYDEM_PCH=ON): Eigen's Core and Geometry (through core/types.h in almost
+# every file) and the standard headers most files include are parsed once, into one header that
+# every module's library reuses, instead of once per file. A precompiled header is the same text
+# compiled ahead, so the object code is the same with or without it. Off by default until a whole
+# build with it has been checked against the reference state hashes. ccache caches a compile that
+# uses one only when told (CCACHE_SLOPPINESS=pch_defines,time_macros).
+set(POLYDEM_PCH_HEADERS <algorithm> <array> <cmath> <cstdint> <functional> <limits> <map> <memory>
+                        <optional> <span> <string> <string_view> <utility> <vector> <Eigen/Core>
+                        <Eigen/Geometry>)
+option(POLYDEM_PCH "Precompiled headers for the modules and the polydem program" OFF)
+if(POLYDEM_PCH)
+  # The header the modules reuse, compiled with a module's flags (position-independent code).
+  # (file(CONFIGURE) rewrites it only when its text changes: a reconfigure rebuilds nothing.)
+  file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/polydem_pch.cpp
+       CONTENT "// Compiles the modules' precompiled header.\n")
+  add_library(polydem_pch STATIC ${PROJECT_BINARY_DIR}/polydem_pch.cpp)
+  target_link_libraries(polydem_pch PRIVATE Eigen3::Eigen)
+  set_target_properties(polydem_pch PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  target_precompile_headers(polydem_pch PRIVATE ${POLYDEM_PCH_HEADERS})
+endif()
+
+# Lets `target` compile with the precompiled header: a module library reuses the modules' one
+# (same flags), another target (an executable) gets its own.
+function(polydem_use_pch target)
+  if(NOT POLYDEM_PCH)
+    return()
+  endif()
+  get_target_property(pic ${target} POSITION_INDEPENDENT_CODE)
+  if(pic)
+    target_precompile_headers(${target} REUSE_FROM polydem_pch)
+  else()
+    target_precompile_headers(${target} PRIVATE ${POLYDEM_PCH_HEADERS})
+  endif()
+endfunction()
+
 function(polydem_add_module)
   cmake_parse_arguments(M "" "NAME" "SOURCES;DEPENDS" ${ARGN})
   set(target polydem_${M_NAME})
@@ -30,6 +65,7 @@ function(polydem_add_module)
                                                 $<INSTALL_INTERFACE:include>)
     target_link_libraries(${target} PUBLIC ${M_DEPENDS})
     set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+    polydem_use_pch(${target})
   else()
     add_library(${target} INTERFACE)
     target_include_directories(${target} INTERFACE $<BUILD_INTERFACE:${POLYDEM_BUILD_INCLUDE_DIR}>

@@ -2,7 +2,7 @@
 """The verdicts scripts/validation-rock-slopes expects from the full-length runs of the rock-slope
 scenes: every check passes except the known failures listed here, each with its reason (docs/validation.md
 says the same). A verdict that differs either way is reported and gives exit status 1, so that a
-fix (issue 10: sub-contacts) shows up and this list and docs/validation.md get updated.
+fix shows up and this list and docs/validation.md get updated.
 
     scripts/rock_slopes_expected.py results/rock-slopes --kernels K... --scenes S...
 """

@@ -19,10 +19,10 @@
 
 #include "commands.h"
 #include "polydem/checkpoint/checkpoint.h"
-#include "polydem/checkpoint/hdf5_types.h"
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
+#include "polydem/hdf5/hdf5_types.h"
 
 namespace polydem::app {
 

@@ -10,8 +10,12 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "commands.h"
 #include "polydem/core/mpi_env.h"
@@ -228,93 +232,97 @@ void printTable(const std::vector<Row>& rows, const std::vector<std::string>& se
   }
 }
 
-}  // namespace
+void printHelp() {
+  std::printf(
+      "usage: polydem bench kernels [--pairs N] [--seconds S] [--passes P] [--kernels a,b]\n"
+      "                             [--sets a,b] [--cold] [--json FILE]\n"
+      "  Contact resolutions per second on one core for each kernel (default: every registered\n"
+      "  one, %s and %s) on N pre-generated overlapping pairs (default 1000)\n"
+      "  of each set: face-face cube pairs, randomly oriented cube pairs, random polyhedra of\n"
+      "  8-40 vertices (--sets: some of face-face, random-cubes, random-polyhedra).\n"
+      "  A figure is the median of P round-robin passes (default 7) over S\n"
+      "  seconds (default 1) of this thread's CPU time per row. Ratios are against %s,\n"
+      "  which always runs. Each kernel is measured warm (every pair keeps its PairState across\n"
+      "  passes, as in a static scene step after step) and cold (no state: a pair's first\n"
+      "  contact), side by side; --warm or --cold measures one of them only. libccd keeps no\n"
+      "  state. --json writes one record per kernel, set and state mode.\n",
+      kCcdGjkEpa, kCcdMpr, kCcdGjkEpa);
+}
 
-int benchKernels(int argc, char** argv) {
-  Args args(argc, argv, {"help", "cold", "warm"});
-  if (args.flag("help")) {
-    std::printf(
-        "usage: polydem bench kernels [--pairs N] [--seconds S] [--passes P] [--kernels a,b]\n"
-        "                             [--sets a,b] [--cold] [--json FILE]\n"
-        "  Contact resolutions per second on one core for each kernel (default: every registered\n"
-        "  one, %s and %s) on N pre-generated overlapping pairs (default 1000)\n"
-        "  of each set: face-face cube pairs, randomly oriented cube pairs, random polyhedra of\n"
-        "  8-40 vertices (--sets: some of face-face, random-cubes, random-polyhedra).\n"
-        "  A figure is the median of P round-robin passes (default 7) over S\n"
-        "  seconds (default 1) of this thread's CPU time per row. Ratios are against %s,\n"
-        "  which always runs. Each kernel is measured warm (every pair keeps its PairState across\n"
-        "  passes, as in a static scene step after step) and cold (no state: a pair's first\n"
-        "  contact), side by side; --warm or --cold measures one of them only. libccd keeps no\n"
-        "  state. --json writes one record per kernel, set and state mode.\n",
-        kCcdGjkEpa, kCcdMpr, kCcdGjkEpa);
-    return 0;
-  }
-  const int pairs = static_cast<int>(args.integer("pairs", 1000, 1));
-  const double seconds = args.number("seconds", 1.0);
-  const int passes = static_cast<int>(args.integer("passes", 7, 1));
-  const bool only_cold = args.flag("cold"), only_warm = args.flag("warm");
-  if (only_cold && only_warm) throw UsageError("--warm and --cold exclude each other");
+struct Options {
+  int pairs = 1000;
+  double seconds = 1.0;
+  int passes = 7;
+  bool only_cold = false, only_warm = false;
   std::vector<bool> modes;  // cold?
-  if (!only_cold) modes.push_back(false);
-  if (!only_warm) modes.push_back(true);
-  const auto json_path = args.value("json");
+  std::optional<std::string> json_path;
+  std::vector<std::string> names;      // kernels, then the libccd peers
+  std::vector<std::string> set_names;  // pair sets
+};
+
+// The comma-separated list of --`option`, each one of `known` (else a UsageError naming the
+// unknown `what`), or `known` itself when the option is not given.
+std::vector<std::string> chosenNames(Args& args, const char* option, const char* what,
+                                     const std::vector<std::string>& known) {
+  const auto chosen = args.value(option);
+  if (!chosen) return known;
+  const auto wanted = split(*chosen, ',');
+  for (const auto& w : wanted) {
+    if (std::find(known.begin(), known.end(), w) == known.end()) {
+      throw UsageError(
+          cat("--", option, ": unknown ", what, " '", w, "'; known: ", join(known, ", ")));
+    }
+  }
+  return wanted;
+}
+
+Options parseOptions(Args& args) {
+  Options o;
+  o.pairs = static_cast<int>(args.integer("pairs", 1000, 1));
+  o.seconds = args.number("seconds", 1.0);
+  o.passes = static_cast<int>(args.integer("passes", 7, 1));
+  o.only_cold = args.flag("cold");
+  o.only_warm = args.flag("warm");
+  if (o.only_cold && o.only_warm) throw UsageError("--warm and --cold exclude each other");
+  if (!o.only_cold) o.modes.push_back(false);
+  if (!o.only_warm) o.modes.push_back(true);
+  o.json_path = args.value("json");
   std::vector<std::string> names = contact::kernelNames();
   names.push_back(kCcdGjkEpa);
   names.push_back(kCcdMpr);
-  if (const auto chosen = args.value("kernels")) {
-    const auto wanted = split(*chosen, ',');
-    for (const auto& w : wanted) {
-      if (std::find(names.begin(), names.end(), w) == names.end()) {
-        throw UsageError(cat("--kernels: unknown kernel '", w, "'; known: ", join(names, ", ")));
-      }
-    }
-    names = wanted;
-    // The ratios' peer is always measured in the same run.
-    if (std::find(names.begin(), names.end(), kCcdGjkEpa) == names.end()) {
-      names.push_back(kCcdGjkEpa);
-    }
+  o.names = chosenNames(args, "kernels", "kernel", names);
+  // The ratios' peer is always measured in the same run.
+  if (std::find(o.names.begin(), o.names.end(), kCcdGjkEpa) == o.names.end()) {
+    o.names.push_back(kCcdGjkEpa);
   }
-  std::vector<std::string> set_names = {"face-face", "random-cubes", "random-polyhedra"};
-  if (const auto chosen = args.value("sets")) {
-    const auto wanted = split(*chosen, ',');
-    for (const auto& w : wanted) {
-      if (std::find(set_names.begin(), set_names.end(), w) == set_names.end()) {
-        throw UsageError(cat("--sets: unknown set '", w, "'; known: ", join(set_names, ", ")));
-      }
-    }
-    set_names = wanted;
-  }
+  o.set_names = chosenNames(args, "sets", "set", {"face-face", "random-cubes", "random-polyhedra"});
   args.rejectUnknown();
-  if (!(seconds > 0.0)) throw UsageError("--seconds must be > 0");
-  if (mpi::rank() != 0) return 0;  // one core: rank 0 measures, other ranks have nothing to do
+  if (!(o.seconds > 0.0)) throw UsageError("--seconds must be > 0");
+  return o;
+}
 
-  std::printf("P-KERNELS: %d pairs per set, median of %d passes of ~%.2g s thread CPU time, %s\n",
-              pairs, passes, seconds / passes,
-              modes.size() == 2 ? "warm and cold pair states"
-              : only_cold       ? "cold"
-                                : "warm");
-  std::printf(
-      "libccd 2.1: epa/mpr/dist tolerance %g (absolute; bodies of unit size), %lu "
-      "iterations at most\n",
-      kCcdTolerance, kCcdMaxIterations);
-  // Fixed seeds per set: the same pairs whichever sets are chosen.
-  const std::vector<PairSet> sets = [&] {
-    std::vector<PairSet> s;
-    for (const auto& name : set_names) {
-      if (name == "face-face") s.push_back(faceFacePairs(pairs, 101));
-      if (name == "random-cubes") s.push_back(randomCubePairs(pairs, 202));
-      if (name == "random-polyhedra") s.push_back(randomPolyhedronPairs(pairs, 303));
-    }
-    return s;
-  }();
+// The pair sets, each from its fixed seed: the same pairs whichever sets are chosen.
+std::vector<PairSet> makeSets(const std::vector<std::string>& set_names, int pairs) {
+  std::vector<PairSet> sets;
+  for (const auto& name : set_names) {
+    if (name == "face-face") sets.push_back(faceFacePairs(pairs, 101));
+    if (name == "random-cubes") sets.push_back(randomCubePairs(pairs, 202));
+    if (name == "random-polyhedra") sets.push_back(randomPolyhedronPairs(pairs, 303));
+  }
+  return sets;
+}
 
-  std::vector<std::unique_ptr<contact::Kernel>> kernels;
+// One checked Measurement per kernel, state mode and set (libccd: no state mode); `kernels`
+// keeps the kernels the resolvers call.
+std::vector<Measurement> prepareMeasurements(
+    const Options& o, const std::vector<PairSet>& sets,
+    std::vector<std::unique_ptr<contact::Kernel>>& kernels) {
   std::vector<Measurement> all;
-  for (const auto& name : names) {
+  for (const auto& name : o.names) {
     if (name != kCcdGjkEpa && name != kCcdMpr) kernels.push_back(contact::makeKernel(name));
     const contact::Kernel* kernel =
         (name != kCcdGjkEpa && name != kCcdMpr) ? kernels.back().get() : nullptr;
-    for (const bool cold : kernel ? modes : std::vector<bool>{false}) {
+    for (const bool cold : kernel ? o.modes : std::vector<bool>{false}) {
       for (const PairSet& set : sets) {
         Measurement m;
         m.row.name = name;
@@ -329,30 +337,56 @@ int benchKernels(int argc, char** argv) {
       }
     }
   }
-  measureAll(all, seconds, passes);
+  return all;
+}
+
+void writeJson(const std::vector<Row>& rows, const std::string& path) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Row& r : rows) {
+    nlohmann::json j = {
+        {"kernel", r.name}, {"set", r.set}, {"states", r.states}, {"per_second", r.per_second}};
+    j["point_error"] = std::isnan(r.point_error) ? nlohmann::json() : nlohmann::json(r.point_error);
+    j["point_error_max"] =
+        std::isnan(r.point_error_max) ? nlohmann::json() : nlohmann::json(r.point_error_max);
+    j["missed"] = r.missed;
+    out.push_back(j);
+  }
+  std::ofstream(path) << out.dump(2) << "\n";
+  std::printf("written: %s\n", path.c_str());
+}
+
+}  // namespace
+
+int benchKernels(int argc, char** argv) {
+  Args args(argc, argv, {"help", "cold", "warm"});
+  if (args.flag("help")) {
+    printHelp();
+    return 0;
+  }
+  const Options o = parseOptions(args);
+  if (mpi::rank() != 0) return 0;  // one core: rank 0 measures, other ranks have nothing to do
+
+  std::printf("P-KERNELS: %d pairs per set, median of %d passes of ~%.2g s thread CPU time, %s\n",
+              o.pairs, o.passes, o.seconds / o.passes,
+              o.modes.size() == 2 ? "warm and cold pair states"
+              : o.only_cold       ? "cold"
+                                  : "warm");
+  std::printf(
+      "libccd 2.1: epa/mpr/dist tolerance %g (absolute; bodies of unit size), %lu "
+      "iterations at most\n",
+      kCcdTolerance, kCcdMaxIterations);
+  const std::vector<PairSet> sets = makeSets(o.set_names, o.pairs);
+  std::vector<std::unique_ptr<contact::Kernel>> kernels;
+  std::vector<Measurement> all = prepareMeasurements(o, sets, kernels);
+  measureAll(all, o.seconds, o.passes);
   std::vector<Row> rows;
   for (const Measurement& m : all) rows.push_back(m.row);
-  printTable(rows, set_names);
+  printTable(rows, o.set_names);
   std::printf(
       "(ratios: throughput / %s on the same set; warm: pair states kept across passes, cold: "
       "none; 'miss': overlapping pairs reported apart)\n",
       kCcdGjkEpa);
-
-  if (json_path) {
-    nlohmann::json out = nlohmann::json::array();
-    for (const Row& r : rows) {
-      nlohmann::json j = {
-          {"kernel", r.name}, {"set", r.set}, {"states", r.states}, {"per_second", r.per_second}};
-      j["point_error"] =
-          std::isnan(r.point_error) ? nlohmann::json() : nlohmann::json(r.point_error);
-      j["point_error_max"] =
-          std::isnan(r.point_error_max) ? nlohmann::json() : nlohmann::json(r.point_error_max);
-      j["missed"] = r.missed;
-      out.push_back(j);
-    }
-    std::ofstream(*json_path) << out.dump(2) << "\n";
-    std::printf("written: %s\n", json_path->c_str());
-  }
+  if (o.json_path) writeJson(rows, *o.json_path);
   return sink == 12345.678 ? 1 : 0;
 }
 

@@ -1,5 +1,5 @@
 // polydem fos SCENE --out DIR: the factor of safety of a scene by strength reduction
-// (sim/fos.h), its trials spread over groups of the launched ranks.
+// (run/fos.h), its trials spread over groups of the launched ranks.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>

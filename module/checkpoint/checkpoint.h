@@ -11,7 +11,7 @@
 // Reading is collective: every rank reads the replicated parts and a contiguous share of the
 // particles and pair histories (rank r of P gets slice r); the caller then moves particles to their
 // owners (ParticleExchange::migrate) and pair histories to the owners of their particles
-// (comm/history_routing.h). The whole-file digest (io/checkpoint_digest.h) is verified first, then
+// (comm/history_routing.h). The whole-file digest (hdf5/file_digest.h) is verified first, then
 // every dataset's checksum, shape and type, and that the file holds no dataset the reader does not
 // read; every problem is a CheckpointError naming the file and the dataset.
 #pragma once
@@ -26,6 +26,7 @@
 
 #include "polydem/core/exact_sum.h"
 #include "polydem/core/types.h"
+#include "polydem/hdf5/file_options.h"
 #include "polydem/particles/contact_history.h"
 #include "polydem/particles/material.h"
 #include "polydem/particles/particle.h"
@@ -36,7 +37,7 @@
 namespace polydem::io {
 
 /// Version of the file layout. Version 2 added sub-contacts (/subcontacts) and the joint
-/// stiffnesses (jkn/jks columns), version 3 the whole-file digest (io/checkpoint_digest.h),
+/// stiffnesses (jkn/jks columns), version 3 the whole-file digest (hdf5/file_digest.h),
 /// version 4 the faces' joint planes (/shapes/face_plane), version 5 the joint laws' history per
 /// sub-contact (/subcontacts/law_state), version 6 the bolts' state (/bolts).
 /// readCheckpoint() reads versions 1 to 6 and refuses others: a version 1 file continues with the
@@ -59,21 +60,6 @@ using sim::shapeMismatch;
 using sim::shapeRecords;
 using sim::toString;
 
-/// Tuning of the parallel I/O.
-struct CheckpointIoOptions {
-  /// Bytes of a table (all its columns) one rank moves per collective round: the particle and
-  /// pair tables are packed from their structs (and hashed) into buffers of this size, block by
-  /// cache-sized block, then written with one collective transfer per column; reading mirrors
-  /// it. Larger rounds mean fewer collective calls and more memory; every rank takes part in
-  /// every round (with no rows once it has none left).
-  std::size_t round_bytes = std::size_t{32} << 20;
-  /// What the file is, for messages ("checkpoint FILE: ..."); the snapshots reuse this layer.
-  std::string kind = "checkpoint";
-  /// Flush to disk (MPI_File_sync) before closing: a checkpoint must survive a crash; a snapshot
-  /// need not, and the sync is most of the cost of writing a small one.
-  bool sync_on_close = true;
-};
-
 /// Writes `data` to `path` (collective; see the top of this file). Throws CheckpointError on every
 /// rank if any rank fails (invalid data, I/O error, rename); `path` is then left as it was.
 /// `path` must be new, an empty file or a polydem checkpoint (checkpointTarget).
@@ -90,13 +76,6 @@ std::filesystem::path checkpointTarget(const std::filesystem::path& path, MPI_Co
 /// Reads and verifies `path` (collective; see the top of this file).
 CheckpointData readCheckpoint(const std::filesystem::path& path, MPI_Comm comm,
                               const CheckpointIoOptions& options = {});
-
-/// One dataset of a checkpoint as verified by the reader.
-struct CheckpointDatasetInfo {
-  std::string name;                 // e.g. "/particles/position"
-  std::vector<std::uint64_t> dims;  // e.g. {N, 3}; {} for a scalar string
-  std::uint64_t checksum = 0;       // stored and recomputed (they agree, or the read failed)
-};
 
 /// What `polydem checkpoint info` prints; the same on every rank.
 struct CheckpointSummary {

@@ -1,5 +1,5 @@
 // The datasets of a checkpoint file, their units and descriptions: one table that the writer,
-// the reader and docs/checkpoint.md follow (internal to io/).
+// the reader and docs/checkpoint.md follow (internal to checkpoint).
 #pragma once
 
 #include <cstddef>

@@ -5,15 +5,15 @@
 #include <cstring>
 
 #include "polydem/checkpoint/checkpoint.h"
-#include "polydem/checkpoint/checkpoint_checksum.h"
-#include "polydem/checkpoint/checkpoint_digest.h"
 #include "polydem/checkpoint/checkpoint_layout.h"
 #include "polydem/checkpoint/checkpoint_read_all.h"
-#include "polydem/checkpoint/hdf5_file.h"
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
+#include "polydem/hdf5/checksum.h"
+#include "polydem/hdf5/file_digest.h"
+#include "polydem/hdf5/hdf5_file.h"
 
 namespace polydem::io {
 
@@ -147,7 +147,7 @@ class Reader {
   }
 
   /// The digest first: an edited or mixed file is refused as such, before any of its values is
-  /// looked at (io/checkpoint_digest.h).
+  /// looked at (hdf5/file_digest.h).
   /// Files older than the digest (versions 1 and 2) are read on their per-dataset checksums alone;
   /// d_.digest stays 0 and the restart says so.
   void verifyDigest() {

@@ -1,5 +1,5 @@
 // readCheckpoint with the list of verified datasets, for verifyCheckpoint, and the check of step
-// and time the writer and the reader share (internal to io/).
+// and time the writer and the reader share (internal to checkpoint).
 #pragma once
 
 #include <filesystem>

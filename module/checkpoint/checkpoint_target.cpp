@@ -10,10 +10,10 @@
 
 #include "polydem/checkpoint/checkpoint.h"
 #include "polydem/checkpoint/checkpoint_layout.h"
-#include "polydem/checkpoint/hdf5_file.h"
 #include "polydem/core/file_kind.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
+#include "polydem/hdf5/hdf5_file.h"
 
 namespace polydem::io {
 

@@ -11,11 +11,11 @@
 #include "polydem/checkpoint/checkpoint_layout.h"
 #include "polydem/checkpoint/checkpoint_read_all.h"
 #include "polydem/checkpoint/checkpoint_writer.h"
-#include "polydem/checkpoint/hdf5_file.h"
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 #include "polydem/core/test_pause.h"
+#include "polydem/hdf5/hdf5_file.h"
 
 namespace polydem::io {
 

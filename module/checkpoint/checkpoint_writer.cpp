@@ -1,15 +1,15 @@
 // The contents of a checkpoint file: attributes, replicated tables (one batch from rank 0), and
-// the particle and pair tables streamed in collective rounds (internal to io/, called by
+// the particle and pair tables streamed in collective rounds (internal to checkpoint, called by
 // writeCheckpoint in checkpoint_write.cpp).
 #include "polydem/checkpoint/checkpoint_writer.h"
 
 #include <algorithm>
 
-#include "polydem/checkpoint/checkpoint_checksum.h"
-#include "polydem/checkpoint/checkpoint_digest.h"
 #include "polydem/checkpoint/checkpoint_layout.h"
 #include "polydem/core/byte_buffer.h"
 #include "polydem/core/mpi_env.h"
+#include "polydem/hdf5/checksum.h"
+#include "polydem/hdf5/file_digest.h"
 
 namespace polydem::io {
 
@@ -123,7 +123,7 @@ class Writer {
     writeParticles();
     writeContacts();
     writeSubContacts();
-    // Last: the digest covers everything written above (io/checkpoint_digest.h).
+    // Last: the digest covers everything written above (hdf5/file_digest.h).
     f_.writeAttribute<std::uint64_t>("/", kDigestAttribute, f_.digest().digest);
   }
 

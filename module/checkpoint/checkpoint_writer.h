@@ -1,9 +1,9 @@
-// Writes everything a checkpoint holds into an open file (internal to io/; writeCheckpoint in
-// checkpoint_write.cpp handles validation, the temporary file and the rename). Collective.
+// Writes everything a checkpoint holds into an open file (internal to checkpoint; writeCheckpoint
+// in checkpoint_write.cpp handles validation, the temporary file and the rename). Collective.
 #pragma once
 
 #include "polydem/checkpoint/checkpoint.h"
-#include "polydem/checkpoint/hdf5_file.h"
+#include "polydem/hdf5/hdf5_file.h"
 
 namespace polydem::io {
 

@@ -70,33 +70,49 @@ Unpacked unpackRecord(RecvBuffer& in, HistoryRecords& into) {
   return {k, false, into.keys.size() - 1};
 }
 
-}  // namespace
+// Uids of replicated particles, sorted for lookup.
+class ReplicatedSet {
+ public:
+  explicit ReplicatedSet(std::span<const Uid> uids) : uids_(uids.begin(), uids.end()) {
+    std::sort(uids_.begin(), uids_.end());
+  }
+  bool contains(Uid u) const { return std::binary_search(uids_.begin(), uids_.end(), u); }
 
-particles::ContactHistory routeHistories(const HistoryRecords& records, std::span<const Uid> owned,
-                                         std::span<const Uid> replicated, MPI_Comm comm,
-                                         HistoryRoutingStats* stats) {
+ private:
+  std::vector<Uid> uids_;
+};
+
+// Particles without exactly one owner, counted on this rank; the last one seen as the example.
+struct Problems {
+  std::int64_t count = 0;
+  Uid example = 0;
+  void add(Uid uid) {
+    ++count;
+    example = uid;
+  }
+};
+
+void requireMatchingSizes(const HistoryRecords& records) {
   if (records.keys.size() != records.entries.size() ||
       records.sub_keys.size() != records.sub_entries.size()) {
     throw Error(cat("routeHistories: ", records.keys.size(), " keys but ", records.entries.size(),
                     " histories, ", records.sub_keys.size(), " sub-contact keys but ",
                     records.sub_entries.size(), " sub-contact histories"));
   }
-  const int rank = mpi::rank(comm), ranks = mpi::size(comm);
-  std::vector<Uid> everywhere(replicated.begin(), replicated.end());
-  std::sort(everywhere.begin(), everywhere.end());
-  auto isReplicated = [&](Uid u) {
-    return std::binary_search(everywhere.begin(), everywhere.end(), u);
-  };
-  HistoryRoutingStats local_stats;
+}
 
-  // Round 1: owners and histories meet at the directories.
+// Round 1, sending: every owned uid registers its owner at its directory; every record goes to
+// the directories of its non-replicated members, or to every rank if both are replicated.
+std::map<int, SendBuffer> registrations(const HistoryRecords& records, std::span<const Uid> owned,
+                                        const ReplicatedSet& replicated, int rank, int ranks,
+                                        HistoryRoutingStats& stats) {
   std::map<int, SendBuffer> outgoing;
   for (Uid u : owned) {
     outgoing[directoryOf(u, ranks)] << kOwner << u << static_cast<std::int32_t>(rank);
-    ++local_stats.registered;
+    ++stats.registered;
   }
   auto send = [&](const PairKey& k, bool sub, std::size_t i) {
-    if (isReplicated(k.lo) && isReplicated(k.hi)) {
+    if (replicated.contains(k.lo) && replicated.contains(k.hi)) {
       for (int r = 0; r < ranks; ++r) {
         outgoing[r] << kEveryone;
         packRecord(outgoing[r], records, sub, i);
@@ -104,7 +120,7 @@ particles::ContactHistory routeHistories(const HistoryRecords& records, std::spa
       return;
     }
     for (Uid member : {k.lo, k.hi}) {
-      if (isReplicated(member)) continue;
+      if (replicated.contains(member)) continue;
       SendBuffer& out = outgoing[directoryOf(member, ranks)];
       out << kHistory << member;
       packRecord(out, records, sub, i);
@@ -112,12 +128,20 @@ particles::ContactHistory routeHistories(const HistoryRecords& records, std::spa
   };
   for (std::size_t i = 0; i < records.keys.size(); ++i) send(records.keys[i], false, i);
   for (std::size_t i = 0; i < records.sub_keys.size(); ++i) send(records.sub_keys[i].pair, true, i);
+  return outgoing;
+}
 
+// Round 1, receiving: what this rank's directory learnt. Records of two replicated particles go
+// straight to `kept`; the others wait in `arrived` for their member's owner.
+struct Directory {
   std::unordered_map<Uid, int> owner_of;
-  HistoryRecords arrived, kept;
+  HistoryRecords arrived;
   std::vector<std::pair<Uid, Unpacked>> waiting;  // (member, record in `arrived`)
-  std::int64_t problems = 0;
-  Uid example = 0;
+};
+
+Directory receiveRegistrations(const std::map<int, SendBuffer>& outgoing, MPI_Comm comm,
+                               HistoryRecords& kept, Problems& problems) {
+  Directory directory;
   for (const auto& m : sparseExchange(outgoing, comm, kRegisterTag)) {
     RecvBuffer in(m.bytes.data(), m.bytes.size());
     while (!in.atEnd()) {
@@ -127,44 +151,66 @@ particles::ContactHistory routeHistories(const HistoryRecords& records, std::spa
         Uid u = 0;
         std::int32_t owner = 0;
         in >> u >> owner;
-        if (!owner_of.emplace(u, owner).second) {
-          ++problems;  // owned by two ranks
-          example = u;
-        }
+        if (!directory.owner_of.emplace(u, owner).second) problems.add(u);  // two owners
       } else if (type == kHistory) {
         Uid member = 0;
         in >> member;
-        waiting.push_back({member, unpackRecord(in, arrived)});
+        directory.waiting.push_back({member, unpackRecord(in, directory.arrived)});
       } else {
         unpackRecord(in, kept);
       }
     }
   }
+  return directory;
+}
 
-  // Round 2: each directory forwards to the owners.
-  outgoing.clear();
-  for (const auto& [member, record] : waiting) {
-    const auto it = owner_of.find(member);
-    if (it == owner_of.end()) {
-      ++problems;  // a pair with a particle nobody owns
-      example = member;
+// Round 2: the directory forwards each waiting record to its member's owner, which keeps it.
+void forwardToOwners(const Directory& directory, MPI_Comm comm, HistoryRecords& kept,
+                     Problems& problems, HistoryRoutingStats& stats) {
+  std::map<int, SendBuffer> outgoing;
+  for (const auto& [member, record] : directory.waiting) {
+    const auto it = directory.owner_of.find(member);
+    if (it == directory.owner_of.end()) {
+      problems.add(member);  // a pair with a particle nobody owns
       continue;
     }
-    packRecord(outgoing[it->second], arrived, record.sub, record.index);
-    local_stats.forwarded += !record.sub;
+    packRecord(outgoing[it->second], directory.arrived, record.sub, record.index);
+    stats.forwarded += !record.sub;
   }
   for (const auto& m : sparseExchange(outgoing, comm, kDeliverTag)) {
     RecvBuffer in(m.bytes.data(), m.bytes.size());
     while (!in.atEnd()) unpackRecord(in, kept);
   }
-  const std::int64_t total_problems = mpi::allreduceSum(problems, comm);
-  if (total_problems > 0) {
-    Uid first = problems > 0 ? example : ~Uid{0};
-    MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_UINT64_T, MPI_MIN, comm);
-    throw Error(cat("routeHistories: ", total_problems,
-                    " pair histories or uids without exactly one owner (e.g. particle uid ", first,
-                    ")"));
-  }
+}
+
+// Collective: if any rank found a problem, every rank throws, naming the smallest example uid.
+void agreeOnProblems(const Problems& problems, MPI_Comm comm) {
+  const std::int64_t total = mpi::allreduceSum(problems.count, comm);
+  if (total == 0) return;
+  Uid first = problems.count > 0 ? problems.example : ~Uid{0};
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_UINT64_T, MPI_MIN, comm);
+  throw Error(cat("routeHistories: ", total,
+                  " pair histories or uids without exactly one owner (e.g. particle uid ", first,
+                  ")"));
+}
+
+}  // namespace
+
+// Two rounds through directories (rank uid % P answers for uid): owners and records meet at the
+// directories, which forward each record to the owners of its particles.
+particles::ContactHistory routeHistories(const HistoryRecords& records, std::span<const Uid> owned,
+                                         std::span<const Uid> replicated, MPI_Comm comm,
+                                         HistoryRoutingStats* stats) {
+  requireMatchingSizes(records);
+  const int rank = mpi::rank(comm), ranks = mpi::size(comm);
+  const ReplicatedSet everywhere(replicated);
+  HistoryRoutingStats local_stats;
+  Problems problems;
+  HistoryRecords kept;
+  const Directory directory = receiveRegistrations(
+      registrations(records, owned, everywhere, rank, ranks, local_stats), comm, kept, problems);
+  forwardToOwners(directory, comm, kept, problems, local_stats);
+  agreeOnProblems(problems, comm);
   // Copies of one record (from its two directories) are the same: merge keeps one.
   particles::ContactHistory out;
   out.merge(kept);

@@ -4,8 +4,8 @@
 // from B into A, the direction in which A must move to separate; `depth` >= 0 is the penetration;
 // `point` is the single contact point, in the middle of the overlap (half way between the two
 // surfaces). Kernels are stateless functors: all per-pair memory (warm starts, previous planes)
-// lives in a PairState owned by the contact history, so that it can migrate with particles and be
-// written to checkpoints.
+// lives in a PairState (particles/pair_state.h) owned by the contact history, so that it can
+// migrate with particles and be written to checkpoints.
 #pragma once
 
 #include <memory>
@@ -16,6 +16,7 @@
 
 #include "polydem/core/types.h"
 #include "polydem/geometry/convex_polyhedron.h"
+#include "polydem/particles/pair_state.h"
 
 namespace polydem::contact {
 
@@ -45,13 +46,8 @@ struct Body {
 Body placeBody(const geometry::ConvexPolyhedron& shape, const Vec3& position, const Mat3& rotation,
                std::vector<Vec3>& storage);
 
-/// Per-pair memory kept between steps. Plain data, so it can be sent and checkpointed as bytes.
-struct PairState {
-  Vec3 warm_direction = Vec3::Zero();  // GJK: last separating axis; FCP: last common-plane normal
-  Vec3 warm_point = Vec3::Zero();      // FCP: a point on the last common plane
-  std::uint32_t warm_valid = 0;        // 1 if the warm start may be used
-  std::uint32_t reserved = 0;
-};
+/// The kernel's per-pair memory (warm start) is stored with the pair's history, in particles.
+using particles::PairState;
 
 /// How the force of a contact is to be computed by the contact law.
 enum class ForceModel : std::uint8_t {
@@ -84,9 +80,10 @@ class Kernel {
   /// Resolves the pair (a, b). `state` may be null (no warm start, nothing remembered).
   virtual Contact collide(const Body& a, const Body& b, PairState* state) const = 0;
   /// The same for a caller that replaces the point of face and edge contacts by sub-contacts
-  /// (contact/face_contact.h): a kernel may skip work that only places the point on such contacts
-  /// (the IPM kernels return their base kernel's answer, whose point is right for the contacts
-  /// that keep one point: a vertex on a face, crossing edges). Normal and depth are collide()'s.
+  /// (contact/face/face_contact.h): a kernel may skip work that only places the point on such
+  /// contacts (the IPM kernels return their base kernel's answer, whose point is right for the
+  /// contacts that keep one point: a vertex on a face, crossing edges). Normal and depth are
+  /// collide()'s.
   virtual Contact collideForSubContacts(const Body& a, const Body& b, PairState* state) const {
     return collide(a, b, state);
   }
@@ -95,7 +92,7 @@ class Kernel {
 /// Parameters some kernels take; every kernel ignores the ones it does not use.
 struct KernelParams {
   double lp_rounding = 0.05;  // LP potential blocks: rounding radius r, fraction of inradius
-  // gjk-epa, gjk-epa-ipm: the exact separating-axis test for small shapes (contact/sat.h);
+  // gjk-epa, gjk-epa-ipm: the exact separating-axis test for small shapes (contact/sat/sat.h);
   // false keeps GJK + EPA for every pair (e.g. to continue, to the same bits, a run written by a
   // polydem without the separating-axis test).
   bool separating_axes = true;

@@ -21,7 +21,7 @@
 #include <cmath>
 #include <span>
 
-#include "polydem/contact/face_contact.h"
+#include "polydem/contact/face/face_contact.h"
 #include "polydem/dynamics/joint_law.h"
 #include "polydem/particles/contact_history.h"
 

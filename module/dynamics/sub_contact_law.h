@@ -1,6 +1,6 @@
-// The contact law of a pair split into sub-contacts (contact/face_contact.h): every sub-contact
-// has a normal spring acting in compression only, a shear spring with its own history and its own
-// Coulomb limit, each carrying its weight's share of the pair's stiffness, as in 3DEC's
+// The contact law of a pair split into sub-contacts (contact/face/face_contact.h): every
+// sub-contact has a normal spring acting in compression only, a shear spring with its own history
+// and its own Coulomb limit, each carrying its weight's share of the pair's stiffness, as in 3DEC's
 // sub-contacts (Cundall 1988; Hart et al. 1988).
 //
 // For sub-contact i with weight w_i, gap g_i (> 0: penetrating), normal n_i and relative velocity
@@ -41,7 +41,7 @@
 #include <span>
 #include <vector>
 
-#include "polydem/contact/face_contact.h"
+#include "polydem/contact/face/face_contact.h"
 #include "polydem/dynamics/contact_law.h"
 #include "polydem/particles/contact_history.h"
 

@@ -4,7 +4,7 @@
 // found by Newton's method with a backtracking line search (Boyd & Vandenberghe, Convex
 // Optimization, 2004: section 8.5.3 for the analytic centre, algorithms 9.2 and 9.5 for the
 // line search and Newton's method). Boon et al. (2012) take it as the contact point of two
-// potential blocks (module/contact/lp.h).
+// potential blocks (module/contact/potential/lp.h).
 //
 // The barrier is self-concordant and Newton's method is affine invariant: the iteration count
 // and the stopping test (on the Newton decrement lambda, which has no unit) do not depend on the

@@ -1,6 +1,6 @@
 // The frame of a rectangular box (a parallelepiped whose edges are orthogonal within round-off),
 // found once per shape (ConvexPolyhedron::box()) so that the separating-axis test of two boxes
-// can take its 15 axes from the two rotations (contact/sat_obb.cpp) instead of their vertices.
+// can take its 15 axes from the two rotations (contact/sat/sat_obb.cpp) instead of their vertices.
 #pragma once
 
 #include <array>

@@ -68,7 +68,7 @@ class ConvexPolyhedron {
   const std::vector<std::vector<int>>& vertexNeighbours() const { return vertex_neighbours_; }
   /// The faces whose normals differ in direction up to sign, and the edges likewise (the first of
   /// each parallel family, parallel meaning within kParallelAxes rad): the axes a separating-axis
-  /// test of two polyhedra needs (contact/sat.h). Indices, so they hold in any placed frame.
+  /// test of two polyhedra needs (contact/sat/sat.h). Indices, so they hold in any placed frame.
   const std::vector<int>& axisFaces() const { return axis_faces_; }
   const std::vector<int>& axisEdges() const { return axis_edges_; }
   static constexpr double kParallelAxes = 1e-10;

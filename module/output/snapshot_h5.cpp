@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <utility>
 
-#include "polydem/checkpoint/hdf5_file.h"
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
+#include "polydem/hdf5/hdf5_file.h"
 #include "polydem/output/output_file.h"
 #include "polydem/setup/snapshot_fields.h"
 

@@ -1,5 +1,5 @@
 // Parallel snapshots: one HDF5 file per snapshot, written collectively by all ranks through the
-// checkpoints' MPI-IO layer (checkpoint/hdf5_file.h), plus two XDMF collections
+// checkpoints' MPI-IO layer (hdf5/hdf5_file.h), plus two XDMF collections
 // (output/xdmf_writer.h) that ParaView opens. A run on P ranks writes 1 file per snapshot instead
 // of the VTK output's 2 (1 + P). Layout of DIR:
 //

@@ -1,6 +1,6 @@
 // The VTK XML PolyData format as SnapshotWriter writes it: a piece (.vtp) described as sections of
 // named arrays, written as ASCII or as base64 "appended" data, and the parallel header (.pvtp) that
-// declares the same arrays and lists the pieces. Internal to io/ (vtk_writer.cpp uses it).
+// declares the same arrays and lists the pieces. Internal to output (vtk_writer.cpp uses it).
 //
 // Appended base64 (VTK file format, "appended" data with encoding="base64", header_type UInt64):
 // after the '_' that opens <AppendedData>, each array is one base64 block encoding an 8-byte

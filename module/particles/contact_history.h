@@ -2,9 +2,9 @@
 //
 // It holds the tangential (shear) force, the previous contact normal (to rotate the shear force
 // onto the new contact plane, Zhao eqs. 33-34) and the kernel's warm start (previous common plane
-// or separating axis). With the sub-contact model (contact/face_contact.h) every sub-contact of a
-// pair has a shear spring of its own, kept in a second table keyed by (pair, features). Both live
-// outside the kernels so that they can migrate with particles and be written to checkpoints.
+// or separating axis). With the sub-contact model (contact/face/face_contact.h) every sub-contact
+// of a pair has a shear spring of its own, kept in a second table keyed by (pair, features). Both
+// live outside the kernels so that they can migrate with particles and be written to checkpoints.
 //
 // Storage is two tables sorted by key; a pair's sub-contacts are contiguous in the second, and each
 // pair keeps the end of its block there, so a pair's sub-contacts are found by its index, without
@@ -20,9 +20,9 @@
 #include <utility>
 #include <vector>
 
-#include "polydem/contact/contact.h"
 #include "polydem/core/byte_buffer.h"
 #include "polydem/core/types.h"
+#include "polydem/particles/pair_state.h"
 
 namespace polydem::particles {
 
@@ -40,7 +40,7 @@ inline PairKey makeKey(Uid a, Uid b) {
 struct PairHistory {
   Vec3 shear_force = Vec3::Zero();  // tangential force on the lower-uid particle, world frame
   Vec3 normal = Vec3::Zero();       // contact normal of the last step (zero: none yet)
-  contact::PairState kernel;        // kernel warm start
+  PairState kernel;                 // kernel warm start
   std::uint32_t touching = 0;       // 1 if the pair was in contact at the last step
 };
 

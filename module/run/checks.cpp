@@ -22,8 +22,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // --- parameters of a check --------------------------------------------------------------------
 
-// The scene reader has checked every parameter against its kind's declaration (io/check_kinds.h):
-// a kind reads only what it declares, so that the declarations stay the whole truth.
+// The scene reader has checked every parameter against its kind's declaration
+// (scene/check_kinds.h): a kind reads only what it declares, so that the declarations stay the
+// whole truth.
 class Params {
  public:
   Params(const io::Scene& scene, const io::CheckSpec& spec) : scene_(scene), spec_(spec) {}
@@ -82,7 +83,7 @@ class Params {
     const io::CheckKind* kind = io::findCheckKind(spec_.kind);
     if (!kind || !io::findCheckParam(*kind, key)) {
       throw Error(cat("check kind '", spec_.kind, "' reads '", key,
-                      "', which io/check_kinds.cpp does not declare"));
+                      "', which scene/check_kinds.cpp does not declare"));
     }
   }
 

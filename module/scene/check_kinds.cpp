@@ -103,7 +103,7 @@ std::vector<CheckKind> makeKinds() {
        Q::kDimensionless,
        "largest contact force between free particles across `axis`, over their mean weight",
        {direction("axis", false, "the force component along it is left out (default: gravity)")}},
-      // The rock-slope kinds (sim/motion_checks.h).
+      // The rock-slope kinds (run/motion_checks.h).
       {"free_motion",
        Q::kLength,
        "a statistic of the free blocks' motion, in its quantity's unit (m, m/s or rad/s); "

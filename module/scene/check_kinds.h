@@ -1,7 +1,7 @@
 // The kinds of [[check]] and what each takes: the unit of its value (for `expected` and
 // `tolerance`) and its parameters with their types and valid ranges. The scene reader accepts
 // exactly these keys (a misspelt one is an error at its line, never a silent default) and checks
-// every value where it reads it; sim/checks.cpp computes the kinds and reads only declared
+// every value where it reads it; run/checks.cpp computes the kinds and reads only declared
 // parameters. The table is in check_kinds.cpp; docs/scene-format.md lists it.
 #pragma once
 

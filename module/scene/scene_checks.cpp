@@ -1,5 +1,5 @@
 // [[check]]: the expected results of a scene. Every kind declares its parameters, their types
-// and ranges (io/check_kinds.h); a key the kind does not declare, a missing required one, a
+// and ranges (check_kinds.h); a key the kind does not declare, a missing required one, a
 // value out of range or a label no particle has is an error at its line.
 #include <algorithm>
 #include <cmath>

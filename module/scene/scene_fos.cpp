@@ -1,4 +1,4 @@
-// [fos]: the settings of `polydem fos` (strength reduction, sim/fos.h) in a scene file.
+// [fos]: the settings of `polydem fos` (strength reduction, run/fos.h) in a scene file.
 #include <limits>
 
 #include "polydem/core/strings.h"

@@ -15,7 +15,7 @@ void readShapes(const Context& ctx, const toml::table& root, Scene& scene);
 /// [[particle]], [[particle_grid]] and [[rock_mass]], in file order; needs shapes, materials and
 /// drivers.
 void readParticles(const Context& ctx, const toml::table& root, Scene& scene);
-/// [[check]], each against its kind's declared parameters (io/check_kinds.h); needs particles.
+/// [[check]], each against its kind's declared parameters (check_kinds.h); needs particles.
 void readChecks(const Context& ctx, const toml::table& root, Scene& scene);
 
 /// Refuses, at `key` of `s`, a scene of `particles` particles that cannot fit in the memory

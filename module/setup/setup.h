@@ -275,13 +275,13 @@ struct Setup {
   contact::KernelParams kernel_params;
   std::string broadphase = "multilevel";
   // How a penalty kernel's contact becomes forces: "sub-contacts" (a spring at every corner of a
-  // face overlap, contact/face_contact.h; the default) or "point" (the whole force at the
+  // face overlap, contact/face/face_contact.h; the default) or "point" (the whole force at the
   // kernel's point, the model of the thesis's comparisons). Potential kernels integrate over the
   // overlap and ignore it.
   std::string contact_model = "sub-contacts";
   // Where a contact's force acts: "kernel" (the kernel's point) or "overlap-centroid" (the
   // centroid of the overlap volume, the centre of pressure of a linear bed;
-  // contact/overlap_point.h)
+  // contact/point/overlap_point.h)
   std::string contact_point = "kernel";
   double dt = 0.0;
   std::optional<double> end_time;

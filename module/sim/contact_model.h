@@ -5,7 +5,7 @@
 #pragma once
 
 #include "polydem/contact/contact.h"
-#include "polydem/contact/overlap_point.h"
+#include "polydem/contact/point/overlap_point.h"
 #include "polydem/dynamics/contact_models.h"
 
 namespace polydem::sim {

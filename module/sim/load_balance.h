@@ -27,8 +27,8 @@ struct LoadModel {
   double particle = 0.5;         // an owned free particle: derived data, broad phase, integration
   double evaluated_pair = 0.25;  // a pair through the kernel (separated: an early exit)
   double touching_pair = 1.75;   // the extra of a touching pair (the kernel's contact work)
-  // The extra of each loaded sub-contact (contact/face_contact.h): its corner geometry, law and
-  // history. Measured with `polydem bench contact-model` on the dense pack of 8,000 cubes: the
+  // The extra of each loaded sub-contact (contact/face/face_contact.h): its corner geometry, law
+  // and history. Measured with `polydem bench contact-model` on the dense pack of 8,000 cubes: the
   // sub-contact model's contact phase costs 34.6 ms more than the point model's for 303,920
   // sub-contacts, 0.11 us each, against 1.35 us per touching gjk-epa-ipm pair (1.75 here).
   double subcontact = 0.140625;  // 9/64

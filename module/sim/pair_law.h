@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "polydem/contact/face_contact.h"
+#include "polydem/contact/face/face_contact.h"
 #include "polydem/dynamics/contact_law.h"
 #include "polydem/dynamics/sub_contact_law.h"
 #include "polydem/particles/contact_history.h"

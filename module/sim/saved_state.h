@@ -70,7 +70,7 @@ struct CheckpointData {
   // --- replicated: the same on every rank (written from rank 0's copy)
   // ----------------------------
   int format_version = 0;    // as read (checkpoint.h: kCheckpointFormatVersion); writing ignores it
-  std::uint64_t digest = 0;  // as read and verified (checkpoint/checkpoint_digest.h); 0 before
+  std::uint64_t digest = 0;  // as read and verified (hdf5/file_digest.h); 0 before
                              // version 3; ignored on write
   std::string code_version;  // polydem version of the writer
   int writer_ranks = 0;      // as read: the number of ranks that wrote the file (ignored on write)

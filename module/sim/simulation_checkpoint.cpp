@@ -1,5 +1,6 @@
-// A Simulation to and from a checkpoint (io/checkpoint.h): capture between two steps, and a
-// restore on any number of ranks that continues with the same bits as a run that never stopped.
+// A Simulation to and from its saved state (saved_state.h; checkpoint/checkpoint.h stores it):
+// capture between two steps, and a restore on any number of ranks that continues with the same bits
+// as a run that never stopped.
 //
 // What a step reads besides the scene: particle poses and leapfrog velocities (stored as they
 // are, at t - dt/2, so the leapfrog is not restarted), the pair histories (shear force, normal,

@@ -22,7 +22,7 @@ including their NUL padding) is
 
 where mix64 is the SplitMix64 finaliser. The whole-file digest (version 3) is the same sum over
 the bytes of a walk of every group, dataset, link and attribute (docs/checkpoint.md, "Digest";
-module/checkpoint/checkpoint_digest.h). Both are computed here independently of the C++ code.
+module/hdf5/file_digest.h). Both are computed here independently of the C++ code.
 """
 
 import argparse
@@ -134,7 +134,7 @@ def dataset_checksum(ds):
 
 
 def type_name(tid):
-    """The digest's name of an HDF5 type: f8, i4, u1, s12, v... (checkpoint_digest.h)."""
+    """The digest's name of an HDF5 type: f8, i4, u1, s12, v... (module/hdf5/file_digest.h)."""
     cls = tid.get_class()
     order = "be" if cls in (h5py.h5t.INTEGER, h5py.h5t.FLOAT) and \
         tid.get_order() == h5py.h5t.ORDER_BE else ""

@@ -1,5 +1,5 @@
 #!/bin/bash
-# `polydem bench checkpoint --dir DIR` deletes only what it wrote (issue 13, item 1): files that
+# `polydem bench checkpoint --dir DIR` deletes only what it wrote: files that
 # were in DIR before (even ones named like the benchmark's own), the working directory with
 # `--dir .`, and a DIR it did not create all survive; a DIR it created is removed again.
 # usage: bench_checkpoint_dir_test.sh POLYDEM MPIEXEC WORKDIR

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Fixed-seed fuzz test of the scene reader and the start of a run (issue 13).
+"""Fixed-seed fuzz test of the scene reader and the start of a run.
 
 Mutates the scene files given (deleted, duplicated or swapped lines, numbers replaced by extreme
 values, strings and units changed, keys misspelt, arrays shortened, tables duplicated, files cut

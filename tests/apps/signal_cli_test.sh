@@ -1,5 +1,5 @@
 #!/bin/bash
-# Stopping a run with a signal (docs/checkpoint.md, "Stopping on a signal"; issue 13, items 2-3):
+# Stopping a run with a signal (docs/checkpoint.md, "Stopping on a signal"):
 # SIGTERM and SIGUSR1, sent to mpirun, to every rank, or to the launch wrapper
 # scripts/polydem-mpirun, during the start-up (before any file is read), while a checkpoint is
 # being written, and after the last step: every time exit status 0, a complete checkpoint that

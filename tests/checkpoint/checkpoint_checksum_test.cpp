@@ -1,6 +1,6 @@
 // The dataset checksum: slices combine into the checksum of the whole whatever the split, and a
 // change of any single element always changes it.
-#include "polydem/checkpoint/checkpoint_checksum.h"
+#include "polydem/hdf5/checksum.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Edited and mixed checkpoints (issue 13, item 4): every change made to a file after polydem wrote
+// Edited and mixed checkpoints: every change made to a file after polydem wrote
 // it (an attribute of /run, a dataset copied in from another checkpoint of the same run with its
 // own valid checksum, a dataset rewritten together with its checksum, anything added or deleted)
 // is refused by the whole-file digest on every rank, by readCheckpoint and verifyCheckpoint
@@ -13,10 +13,10 @@
 #include "checkpoint_edit_util.h"
 #include "checkpoint_test_data.h"
 #include "polydem/checkpoint/checkpoint.h"
-#include "polydem/checkpoint/checkpoint_checksum.h"
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
+#include "polydem/hdf5/checksum.h"
 
 namespace polydem::io {
 namespace {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "polydem/checkpoint/checkpoint_digest.h"
+#include "polydem/hdf5/file_digest.h"
 
 namespace polydem::io::testing {
 

@@ -13,9 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "checkpoint_test_data.h"
-#include "polydem/checkpoint/checkpoint_checksum.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/state_hash.h"
+#include "polydem/hdf5/checksum.h"
 
 namespace polydem::io {
 namespace {
@@ -284,7 +284,7 @@ TEST_F(CheckpointRoundTrip, SummaryCountsAndEnergy) {
 }
 
 // Writes sample.h5 and what the C++ reader says about it (expected.json) for the Python check
-// (tests/io/checkpoint_summary_test.py); only when POLYDEM_CHECKPOINT_SAMPLE_DIR is set.
+// (tests/checkpoint/checkpoint_summary_test.py); only when POLYDEM_CHECKPOINT_SAMPLE_DIR is set.
 TEST(CheckpointSample, WriteForPython) {
   const char* dir = std::getenv("POLYDEM_CHECKPOINT_SAMPLE_DIR");
   if (!dir) GTEST_SKIP() << "POLYDEM_CHECKPOINT_SAMPLE_DIR is not set";

@@ -4,7 +4,7 @@
 // changes of unit; shape independence (Zhao figs. 3-4, 10); the work along closed paths (the
 // force is conservative); random pairs against the brute-force boundary integral; degenerate
 // inputs and the inner domain.
-#include "polydem/contact/distance_potential.h"
+#include "polydem/contact/potential/distance_potential.h"
 
 #include <gtest/gtest.h>
 

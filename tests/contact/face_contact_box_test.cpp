@@ -20,7 +20,7 @@
 
 #include "box_face_pairs.h"
 #include "contact_test_util.h"
-#include "polydem/contact/face_contact.h"
+#include "polydem/contact/face/face_contact.h"
 #include "polydem/contact/support.h"
 #include "polydem/geometry/shapes.h"
 

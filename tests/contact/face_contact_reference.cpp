@@ -1,4 +1,4 @@
-// The sub-contact builder before issue 15's cheaper builder, verbatim (face_contact_reference.h).
+// The reference sub-contact builder, verbatim (face_contact_reference.h).
 #include "face_contact_reference.h"
 
 #include <algorithm>

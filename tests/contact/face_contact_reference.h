@@ -1,12 +1,13 @@
-// The sub-contact builder as it was before issue 15's cheaper builder (face_contact.cpp,
-// labelled_clip.cpp at 52dd9b9), kept verbatim for tests only: the library's builder must give
-// the same sub-contacts up to round-off (face_contact_reference_test.cpp). Not maintained beyond
-// that comparison: the library's documentation is the model's.
+// A reference sub-contact builder: the straightforward general algorithm (face_contact.cpp,
+// labelled_clip.cpp at commit 52dd9b9, without the library's shortcuts), kept verbatim for tests
+// only: the library's builder must give the same sub-contacts up to round-off
+// (face_contact_reference_test.cpp). Not maintained beyond that comparison: the library's
+// documentation is the model's.
 #pragma once
 
 #include <vector>
 
-#include "polydem/contact/face_contact.h"
+#include "polydem/contact/face/face_contact.h"
 
 namespace polydem::contact::reference {
 

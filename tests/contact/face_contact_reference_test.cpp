@@ -1,4 +1,4 @@
-// The library's sub-contact builder against the builder before issue 15's cheaper one
+// The library's sub-contact builder against the straightforward reference builder
 // (face_contact_reference.h, kept verbatim): on many face pairs of boxes and sheared
 // parallelepipeds, the same kind, the same sub-contacts (feature keys) in the same order, and
 // weights, gaps, points, normals and area equal up to round-off. Tolerance: 1e-12 relative to the
@@ -15,7 +15,7 @@
 #include "box_face_pairs.h"
 #include "contact_test_util.h"
 #include "face_contact_reference.h"
-#include "polydem/contact/face_contact.h"
+#include "polydem/contact/face/face_contact.h"
 #include "polydem/contact/support.h"
 #include "polydem/geometry/shapes.h"
 

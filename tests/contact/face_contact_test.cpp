@@ -1,8 +1,8 @@
-// Face-contact geometry (contact/face_contact.h): which corners a face contact is split into, their
-// labels, gaps, points and weights, against answers worked out by hand for boxes; then the same
-// answers under rigid motions and changes of unit, and the exactness of the corner forces as the
-// gradient of the spring energy.
-#include "polydem/contact/face_contact.h"
+// Face-contact geometry (contact/face/face_contact.h): which corners a face contact is split into,
+// their labels, gaps, points and weights, against answers worked out by hand for boxes; then the
+// same answers under rigid motions and changes of unit, and the exactness of the corner forces as
+// the gradient of the spring energy.
+#include "polydem/contact/face/face_contact.h"
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 
 #include "contact_test_util.h"
 #include "polydem/contact/contact.h"
-#include "polydem/contact/fcp.h"
+#include "polydem/contact/fcp/fcp.h"
 
 namespace polydem::contact::testing {
 

@@ -8,7 +8,7 @@
 
 #include "contact_test_util.h"
 #include "fcp_reference.h"
-#include "polydem/contact/fcp.h"
+#include "polydem/contact/fcp/fcp.h"
 #include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {

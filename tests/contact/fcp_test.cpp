@@ -9,7 +9,7 @@
 
 #include "contact_test_util.h"
 #include "polydem/contact/contact_cases.h"
-#include "polydem/contact/fcp.h"
+#include "polydem/contact/fcp/fcp.h"
 #include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {

@@ -2,14 +2,14 @@
 // against what Zhao section 2.2 says it gets wrong: its stiffness depends on the element's shape
 // (figs. 3-4), and the potential vanishes on the internal faces of the split (valleys), which
 // moves the point of action on face contacts (C-FF) and pushes sideways on ridges (Zhao 5.1).
-#include "polydem/contact/fdem.h"
+#include "polydem/contact/potential/fdem.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
 #include "polydem/contact/contact_cases.h"
-#include "polydem/contact/distance_potential.h"
+#include "polydem/contact/potential/distance_potential.h"
 #include "polydem/geometry/shapes.h"
 #include "potential_test_util.h"
 

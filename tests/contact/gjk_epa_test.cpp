@@ -8,7 +8,7 @@
 
 #include "contact_test_util.h"
 #include "polydem/contact/contact_cases.h"
-#include "polydem/contact/gjk_epa.h"
+#include "polydem/contact/gjk/gjk_epa.h"
 #include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {

@@ -1,4 +1,4 @@
-// The Intersection Polygon Method (contact/ipm.h, Keissar section 2.3) against an independent
+// The Intersection Polygon Method (contact/point/ipm.h, Keissar section 2.3) against an independent
 // computation: the polygon where a plane cuts A and B is the set of plane points satisfying every
 // face inequality of both; here its corners are enumerated by brute force (every pair of face
 // traces intersected, the points inside all kept) and ordered by angle.
@@ -10,8 +10,8 @@
 #include <random>
 
 #include "contact_test_util.h"
-#include "polydem/contact/gjk_epa.h"
-#include "polydem/contact/ipm.h"
+#include "polydem/contact/gjk/gjk_epa.h"
+#include "polydem/contact/point/ipm.h"
 #include "polydem/geometry/plane_section.h"
 #include "polydem/geometry/shapes.h"
 
@@ -251,7 +251,7 @@ TEST(Ipm, KernelFallsBackToEpaWhereThePlaneMissesTheOverlap) {
   EXPECT_EQ(ipm.status, Status::kDegenerate);
   EXPECT_EQ(ipm.point, epa.point);
   EXPECT_EQ(ipm.depth, epa.depth);
-  // With the separating-axis test (contact/sat.h): the exact normal and depth, and its point on
+  // With the separating-axis test (contact/sat/sat.h): the exact normal and depth, and its point on
   // the plane half way through the overlap (z = 1.15). Its lateral position is that of the
   // vertex-face contact the winning axis stands for: A's top face ties with B's, A's axes come
   // first, so B's first highest vertex (-2, -2, 2) is taken, outside A; EPA's point was inside.

@@ -16,7 +16,7 @@
 #include "common/allocation_counter.h"
 #include "contact/lp_test_util.h"
 #include "polydem/contact/contact_cases.h"
-#include "polydem/contact/lp.h"
+#include "polydem/contact/potential/lp.h"
 #include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {

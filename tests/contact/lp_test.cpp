@@ -14,7 +14,7 @@
 // By the benchmark's criteria (normal 1e-6 rad, point 1e-6, depth 1e-3) LP is then right on VV
 // and EEx and wrong in the point on VE, VF (z), EEp, EF and FF (sideways): those are printed
 // beside the thesis's LP values, not asserted against the analytical answer.
-#include "polydem/contact/lp.h"
+#include "polydem/contact/potential/lp.h"
 
 #include <gtest/gtest.h>
 

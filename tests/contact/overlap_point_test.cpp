@@ -1,7 +1,7 @@
-// The overlap-centroid contact point (contact/overlap_point.h): volume and centroid of A ∩ B
+// The overlap-centroid contact point (contact/point/overlap_point.h): volume and centroid of A ∩ B
 // against boxes whose intersection is known, and the centre of pressure of a tilted block on a
 // plane against the linear-bed answer, at scales 1e-3, 1 and 1e3.
-#include "polydem/contact/overlap_point.h"
+#include "polydem/contact/point/overlap_point.h"
 
 #include <gtest/gtest.h>
 

@@ -7,9 +7,9 @@
 #include <random>
 
 #include "common/allocation_counter.h"
-#include "polydem/contact/distance_potential.h"
-#include "polydem/contact/fdem.h"
-#include "polydem/contact/potential_overlap.h"
+#include "polydem/contact/potential/distance_potential.h"
+#include "polydem/contact/potential/fdem.h"
+#include "polydem/contact/potential/potential_overlap.h"
 #include "polydem/geometry/shapes.h"
 #include "potential_test_util.h"
 

@@ -1,4 +1,4 @@
-// The separating-axis test (contact/sat.h) against EPA and against the brute-force SAT of the
+// The separating-axis test (contact/sat/sat.h) against EPA and against the brute-force SAT of the
 // test helpers on random pairs of small shapes; the warm axis; and gjk-epa-ipm, which uses it.
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 
 #include "contact_test_util.h"
 #include "polydem/contact/contact_cases.h"
-#include "polydem/contact/gjk_epa.h"
-#include "polydem/contact/sat.h"
-#include "polydem/contact/sat_detail.h"
+#include "polydem/contact/gjk/gjk_epa.h"
+#include "polydem/contact/sat/sat.h"
+#include "polydem/contact/sat/sat_detail.h"
 #include "polydem/geometry/shapes.h"
 
 namespace polydem::contact {

@@ -373,7 +373,7 @@ TEST(VtkWriterParallel, EveryRankWritesItsPieceAndRankZeroListsThemAll) {
   MPI_Barrier(MPI_COMM_WORLD);
 }
 
-// Writes a small run for tests/io/check_vtk_files.py (an independent check with Python's XML
+// Writes a small run for tests/output/check_vtk_files.py (an independent check with Python's XML
 // and base64 modules) when POLYDEM_VTK_SAMPLE_DIR is set; skipped otherwise.
 TEST(VtkSample, WritesASampleRunForTheExternalCheck) {
   const char* target = std::getenv("POLYDEM_VTK_SAMPLE_DIR");

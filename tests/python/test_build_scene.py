@@ -1,4 +1,4 @@
-"""Scenes built entirely in Python (polydem.Scene), without a scene file (issue 14, item 5):
+"""Scenes built entirely in Python (polydem.Scene), without a scene file:
 physics against analytical answers, checkpoint and restart with the bits of an uninterrupted run,
 the same run as `polydem run` of the scene written as TOML, and bad arguments that raise.
 

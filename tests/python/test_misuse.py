@@ -1,5 +1,5 @@
-"""Misuse of the Python API raises an exception instead of crashing or hanging the interpreter
-(issue 13, item 8): every property getter of every class called on None (Simulation.time.fget,
+"""Misuse of the Python API raises an exception instead of crashing or hanging the interpreter:
+every property getter of every class called on None (Simulation.time.fget,
 ConvexPolyhedron.volume.fget, ...), unbound methods called with None, and a run of a scene whose
 stop conditions were cleared from Python. Each case runs in a child interpreter, so that a
 segfault or an endless loop is a failure of that case, not of the whole test.

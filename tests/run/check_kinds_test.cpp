@@ -1,5 +1,5 @@
-// Every [[check]] kind of io/check_kinds.h is one sim/checks.cpp computes, and the simulation
-// reads only the parameters the kind declares (issue 13, item 6): a scene with each kind, all its
+// Every [[check]] kind of scene/check_kinds.h is one run/checks.cpp computes, and the simulation
+// reads only the parameters the kind declares: a scene with each kind, all its
 // parameters given, builds its checks.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Factor of safety by strength reduction (sim/fos.h) against the analytical answers: a block on
+// Factor of safety by strength reduction (run/fos.h) against the analytical answers: a block on
 // an incline, F = tan(phi) / tan(theta), and Hoek and Bray's symmetric wedge,
 // F = tan(phi) / (tan(psi) sin(xi / 2)), each within 2 %; plus the strength reduction itself.
 //

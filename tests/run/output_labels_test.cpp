@@ -1,8 +1,8 @@
-// Output is labelled with the step it holds (issue 13, item 7): a cube in free fall, written to
+// Output is labelled with the step it holds: a cube in free fall, written to
 // series.csv after every step, is at z0 - g t^2 / 2 at each row's time t = step x dt (the leapfrog
 // is exact for a constant force), its leapfrog velocity is -g (t - dt/2), the last row is written
-// once, and the snapshots are numbered by the steps they hold. Before the fix each row held the
-// state one step later than its label (an error of g t dt in z).
+// once, and the snapshots are numbered by the steps they hold. A row holding the state one step
+// later than its label would be off by g t dt in z.
 #include <gtest/gtest.h>
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-// Values the reader used to accept and the run then mishandled (issue 13, item 8): a quaternion
+// Values that are valid TOML but no valid scene, or that overflow: a quaternion
 // or axis whose norm overflows, subnormal numbers, quantities that overflow in their stored unit,
 // and particle grids too large for the memory of the machine, each an error at its line (or, for
 // the rotations, read correctly).

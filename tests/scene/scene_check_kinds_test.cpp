@@ -1,4 +1,4 @@
-// [[check]] against its kind's declared parameters (io/check_kinds.h; issue 13, item 6): a
+// [[check]] against its kind's declared parameters (scene/check_kinds.h): a
 // misspelt or undeclared key, a missing required one, a value out of its range or of the wrong
 // unit, an unknown label, all are errors at the line of the key (marked "# <-"), never a
 // silent default.

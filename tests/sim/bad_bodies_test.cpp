@@ -1,4 +1,4 @@
-// Bodies a run cannot integrate and scenes it cannot hold (issue 13, item 8): a sliver whose
+// Bodies a run cannot integrate and scenes it cannot hold: a sliver whose
 // smallest principal moment is rounding noise, a mass that underflows, and particles placed on
 // top of each other whose candidate pairs would not fit in memory, each an error naming the scene
 // file and the particle's line instead of a time-step error, NaN positions or std::bad_alloc.

@@ -1,4 +1,4 @@
-// The default decomposition balances the work (issue 12): on a dense pack of cubes in its box
+// The default decomposition balances the work: on a dense pack of cubes in its box
 // (P-PILE) and on the same pack on a floor twice as wide (where blocks cut from the domain box
 // alone leave the pile in a few blocks), every rank's kernel calls are within 10 % of the mean
 // on 2, 8 and 16 ranks. Counts only, never a time: they hold on oversubscribed ranks.

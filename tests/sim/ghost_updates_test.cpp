@@ -1,4 +1,4 @@
-// Exchanging only what changed (issue 12): in a dense pack, whose ghosts stay ghosts on the same
+// Exchanging only what changed: in a dense pack, whose ghosts stay ghosts on the same
 // ranks step after step, the exchange sends a kept ghost's changing state (104 bytes) instead of
 // its whole record (134 bytes), and the run ends in the same bits as with whole records every
 // step. Counts only, never a time: it holds on oversubscribed ranks.

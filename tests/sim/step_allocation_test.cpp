@@ -1,5 +1,5 @@
-// Once warm, a step of a dense pack on one rank allocates nothing (DEVELOPING.md, "Hot paths";
-// issue 15 item 2): the broad phase, the contact phase, the kernels' scratch, the sub-contact
+// Once warm, a step of a dense pack on one rank allocates nothing (DEVELOPING.md, "Hot paths"):
+// the broad phase, the contact phase, the kernels' scratch, the sub-contact
 // builder and law, the histories and the exchange reuse their buffers. Warm: 20 steps, after which
 // the buffers that grow to the largest polygon seen have grown. Counted with the replaced global
 // operator new. (On several ranks the exchange allocates the messages it receives.)
