@@ -1,11 +1,13 @@
 #!/bin/bash
-# A wet slope shaken by an acceleration record restarts bit-exact on another rank count
-# (wet_shaken_slope.toml: water in the joints, the fixed rock moved by a record, free blocks):
+# A bolted, wet slope shaken by an acceleration record restarts bit-exact on another rank count
+# (wet_shaken_slope.toml: water in the joints, the fixed rock moved by a record, free blocks held
+# by a bolt):
 #  1. the uninterrupted run ends with the same state hash on 1 and 2 ranks;
 #  2. written on 2 ranks with a checkpoint at step 200 (the ground still moving), restarted on 1
 #     and on 3 ranks, it ends with that hash: the ground's motion is a function of the time alone
 #     and the fixed blocks' positions and velocities are in the checkpoint (sim/ground_motion.h);
-#  3. without its [seismic] record the run ends with another hash (the record acts).
+#  3. without its [seismic] record, or without its bolt, the run ends with another hash (each
+#     acts).
 # usage: wet_shaken_restart_test.sh POLYDEM MPIEXEC SCENE WORKDIR
 set -u
 polydem=$(realpath "$1"); mpiexec="$2 --oversubscribe"; scene=$(realpath "$3"); work=$4
@@ -30,11 +32,17 @@ for n in 1 3; do
   [ "$(hash_of "r$n")" = "$ref" ] || fail "2-rank checkpoint restarted on $n ranks: $(hash_of "r$n")"
 done
 
-# The same slope without the record.
-sed '/^\[seismic\]/,$d' "$scene" > still.toml
+# The same slope without the record, and without the bolt (each section runs to a blank line).
+sed '/^\[seismic\]/,/^$/d' "$scene" > still.toml
+sed '/^\[\[bolt\]\]/,/^$/d' "$scene" > unbolted.toml
+cp "$(dirname "$scene")/wet_shaken_record.csv" .  # the record, beside the copies that use it
 run 1 run still.toml --out still || fail "run without the record"
 echo "without the record: $(hash_of still)"
 [ -n "$(hash_of still)" ] && [ "$(hash_of still)" != "$ref" ] || fail "the record changed nothing"
+grep -q '^\[\[bolt\]\]' "$scene" || fail "the scene has no bolt"
+run 1 run unbolted.toml --out unbolted || fail "run without the bolt"
+echo "without the bolt: $(hash_of unbolted)"
+[ -n "$(hash_of unbolted)" ] && [ "$(hash_of unbolted)" != "$ref" ] || fail "the bolt changed nothing"
 
 [ $failures = 0 ] && echo "the wet shaken slope restarts bit-exact"
 exit $((failures > 0))
