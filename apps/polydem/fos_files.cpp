@@ -35,6 +35,9 @@ json criterionJson(const sim::FosCriterion& c) {
           {"settle_time", c.window},
           {"force_ratio", c.force_ratio},
           {"speed_decay", c.speed_decay},
+          {"moved_fraction", c.moved_fraction},
+          {"growth_fraction", c.growth_fraction},
+          {"rest_fraction", c.rest_fraction},
           {"local_damping", c.local_damping},
           {"local_damping_from",
            c.damping_from_scene ? "[fos] local_damping" : "default: 3DEC's static solution"},
@@ -47,12 +50,14 @@ json criterionJson(const sim::FosCriterion& c) {
 json trialJson(const sim::FosTrial& t) {
   json history = json::array();
   for (const auto& s : t.history) {
-    history.push_back({s.time, s.mean_displacement, s.mean_speed, s.max_speed, s.force_ratio});
+    history.push_back(
+        {s.time, s.mean_displacement, s.mean_speed, s.max_speed, s.force_ratio, s.max_move});
   }
   return {{"factor", t.factor},
           {"outcome", t.outcome},
           {"displacement", t.mean_displacement},
           {"max_displacement", t.max_displacement},
+          {"max_reach_fraction", t.max_move},
           {"mean_speed", t.mean_speed},
           {"max_speed", t.max_speed},
           {"force_ratio", t.force_ratio},
@@ -207,6 +212,11 @@ json fosJson(const io::Scene& scene, const sim::FosCriterion& c, const sim::FosR
             {"ranks", r.ranks},
             {"groups", r.groups},
             {"rounds_complete", r.rounds_complete},
+            {"settled_state",
+             {{"used", r.settle_used},
+              {"steps", r.settle_steps},
+              {"reached", r.settle_reached},
+              {"wall_seconds", r.settle_wall_seconds}}},
             {"note", r.note},
             {"trials", trials}};
   return j;
@@ -218,6 +228,7 @@ sim::FosTrial trialFromJson(const json& j) {
   t.outcome = j.at("outcome").get<std::string>();
   t.mean_displacement = j.at("displacement").get<double>();
   t.max_displacement = j.at("max_displacement").get<double>();
+  t.max_move = j.value("max_reach_fraction", 0.0);
   t.mean_speed = j.at("mean_speed").get<double>();
   t.max_speed = j.at("max_speed").get<double>();
   t.force_ratio = j.at("force_ratio").get<double>();
@@ -230,20 +241,22 @@ sim::FosTrial trialFromJson(const json& j) {
   t.wall_seconds = j.at("wall_seconds").get<double>();
   for (const json& s : j.at("history")) {
     t.history.push_back({s.at(0).get<double>(), s.at(1).get<double>(), s.at(2).get<double>(),
-                         s.at(3).get<double>(), s.at(4).get<double>()});
+                         s.at(3).get<double>(), s.at(4).get<double>(),
+                         s.size() > 5 ? s.at(5).get<double>() : 0.0});
   }
   return t;
 }
 
 std::string trialsCsv(const sim::FosResult& r) {
   std::ostringstream out;
-  out << "trial,factor,outcome,time,mean_displacement,mean_speed,max_speed,force_ratio\n";
+  out << "trial,factor,outcome,time,mean_displacement,mean_speed,max_speed,force_ratio,"
+         "max_reach_fraction\n";
   for (std::size_t i = 0; i < r.trials.size(); ++i) {
     const auto& t = r.trials[i];
     for (const auto& s : t.history) {
       out << i << ',' << num(t.factor) << ',' << t.outcome << ',' << num(s.time) << ','
           << num(s.mean_displacement) << ',' << num(s.mean_speed) << ',' << num(s.max_speed) << ','
-          << num(s.force_ratio) << '\n';
+          << num(s.force_ratio) << ',' << num(s.max_move) << '\n';
     }
   }
   return out.str();

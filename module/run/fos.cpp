@@ -1,5 +1,6 @@
-// Strength reduction and the search for F over groups of ranks (run/fos.h); the criterion is in
-// fos_criterion.cpp, a trial in fos_trial.cpp.
+// Strength reduction and the search for F over groups of ranks (run/fos.h): every group settles
+// the slope once and starts each of its trials from that state; the criterion is in
+// fos_criterion.cpp, the settling and a trial in fos_trial.cpp.
 #include "polydem/run/fos.h"
 
 #include <algorithm>
@@ -39,12 +40,13 @@ int outcomeCode(const std::string& outcome) {
 void pack(const FosTrial& t, std::vector<double>& out) {
   double hash = 0.0;
   std::memcpy(&hash, &t.state_hash, sizeof hash);
-  out.insert(out.end(),
-             {t.factor, double(outcomeCode(t.outcome)), t.mean_displacement, t.max_displacement,
-              t.mean_speed, t.max_speed, t.force_ratio, t.time, double(t.steps), double(t.extended),
-              hash, t.wall_seconds, double(t.group), double(t.round), double(t.history.size())});
+  out.insert(out.end(), {t.factor, double(outcomeCode(t.outcome)), t.mean_displacement,
+                         t.max_displacement, t.mean_speed, t.max_speed, t.force_ratio, t.time,
+                         double(t.steps), double(t.extended), hash, t.wall_seconds, double(t.group),
+                         double(t.round), t.max_move, double(t.history.size())});
   for (const FosSample& s : t.history) {
-    out.insert(out.end(), {s.time, s.mean_displacement, s.mean_speed, s.max_speed, s.force_ratio});
+    out.insert(out.end(),
+               {s.time, s.mean_displacement, s.mean_speed, s.max_speed, s.force_ratio, s.max_move});
   }
 }
 
@@ -64,10 +66,11 @@ FosTrial unpack(const double*& in) {
   t.wall_seconds = in[11];
   t.group = static_cast<int>(in[12]);
   t.round = static_cast<int>(in[13]);
-  const auto n = static_cast<std::size_t>(in[14]);
-  in += 15;
-  for (std::size_t i = 0; i < n; ++i, in += 5) {
-    t.history.push_back({in[0], in[1], in[2], in[3], in[4]});
+  t.max_move = in[14];
+  const auto n = static_cast<std::size_t>(in[15]);
+  in += 16;
+  for (std::size_t i = 0; i < n; ++i, in += 6) {
+    t.history.push_back({in[0], in[1], in[2], in[3], in[4], in[5]});
   }
   return t;
 }
@@ -180,12 +183,14 @@ int receivedSignal(MPI_Comm comm) {
 void logTrial(const FosTrial& t) {
   std::string how;
   if (t.stable()) {
-    how =
-        cat("came to rest at t = ", num(t.time), " s after moving ", num(t.mean_displacement),
-            " m (mean; largest ", num(t.max_displacement), " m), force ratio ", num(t.force_ratio));
+    how = cat("came to rest at t = ", num(t.time), " s after moving ", num(t.mean_displacement),
+              " m from the settled state (mean; largest ", num(t.max_displacement),
+              " m; largest reach ", num(t.max_move), " of the block's size), force ratio ",
+              num(t.force_ratio));
   } else {
     how = cat("at t = ", num(t.time), " s, mean displacement ", num(t.mean_displacement),
-              " m, mean speed ", num(t.mean_speed), " m/s, force ratio ", num(t.force_ratio));
+              " m (largest reach ", num(t.max_move), " of the block's size), mean speed ",
+              num(t.mean_speed), " m/s, force ratio ", num(t.force_ratio));
   }
   log::info(cat("  F = ", num(t.factor), ": ", t.outcome, t.extended ? " (extended)" : "", " ", how,
                 " (", num(t.wall_seconds), " s wall, group ", t.group, ")"));
@@ -266,6 +271,31 @@ FosResult findFactorOfSafety(const io::Scene& scene, const FosCriterion& criteri
   }
   bracket(r.trials, r);
   const log::Level level = log::level();
+  // The settled state every trial of this group starts from: one settling per group, side by
+  // side, the same bits in each (only when a trial is still to run).
+  std::optional<FosStart> start;
+  const auto settle = [&] {
+    log::setLevel(std::min(level, log::Level::kWarning));
+    start = settleForFos(scene, criterion, group_comm);
+    log::setLevel(level);
+    r.settle_steps = start->steps;
+    r.settle_reached = start->reached && !start->moved;
+    r.settle_used = !start->moved;
+    r.settle_wall_seconds = mpi::allreduceMax(start->wall_seconds, comm);
+    if (start->moved) {
+      log::warning(
+          cat("the unreduced slope does not stand even at the settling stage's friction "
+              "(a block moved ",
+              num(criterion.moved_fraction),
+              " of its size while it settled): every trial starts from the scene as "
+              "placed"));
+    } else if (!start->interrupted) {
+      log::info(cat(
+          "settled the unreduced slope in ", r.settle_steps, " steps (",
+          r.settle_reached ? "at rest by the criterion" : "NOT at rest at the stage's step limit",
+          ", ", num(r.settle_wall_seconds), " s wall): every trial starts there"));
+    }
+  };
   const double f_min = scene.fos.f_min, f_max = scene.fos.f_max;
   for (std::vector<double> round = nextRound(r, f_min, f_max, groups); !round.empty();
        round = nextRound(r, f_min, f_max, groups)) {
@@ -274,13 +304,14 @@ FosResult findFactorOfSafety(const io::Scene& scene, const FosCriterion& criteri
       r.stop_signal = signalName(sig);
       break;
     }
+    if (!start) settle();  // collective over `comm`: every group settles in the first round
     std::optional<FosTrial> mine;
     if (group < static_cast<int>(round.size())) {
       if (const FosTrial* done = trialAt(cut_short, round[group])) {
         mine = *done;  // run before the signal: the same bits again
       } else {
         log::setLevel(std::min(level, log::Level::kWarning));  // no run chatter from the trials
-        mine = runFosTrial(scene, round[group], criterion, group_comm);
+        mine = runFosTrial(scene, *start, round[group], criterion, group_comm);
         log::setLevel(level);
       }
       mine->group = group;

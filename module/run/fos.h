@@ -1,24 +1,47 @@
 // Factor of safety by strength reduction, as geotechnical engineers define it (Dawson, Roth and
 // Drescher 1999; 3DEC's "solve fos"): the strength of the chosen interactions is divided by F,
 //   tan(phi_F) = tan(phi) / F,   c_F = c / F,
-// and F is the largest factor for which the slope still comes to rest. Each trial at F is a
-// static solution, as 3DEC runs one: local damping 0.8 on every block (unless [fos] sets its
-// own), whatever damping the scene's dynamic run uses, so that the answer does not depend on it.
-// A trial is judged every check_every steps (run/fos_trial.cpp):
-//   stable  the unbalanced-force ratio R (Keissar eq. 3.2) is below force_ratio and the watched
-//           blocks' largest speed has decayed below speed_decay x its peak in the trial;
-//   failed  over the last window (settle_time) their mean speed has not decayed and their mean
-//           displacement has grown: the displacement keeps growing;
-// neither by max_time: the trial runs on up to time_cap, and is reported undecided if it is
-// still neither then. Both tests are ratios, free of the scene's length scale. F is bisected
-// between f_min and f_max, only ever on decided trials, until the bracket is `resolution` wide.
+// and F is the largest factor for which the slope still stands where it is.
 //
-// Trials run side by side: the launched ranks are split into groups (MPI_Comm_split), each group
-// runs one trial, and since a run is the same bits on any rank count, each trial's result is the
-// same as if it ran alone. With G groups a round tries G factors that divide the bracket into
-// G + 1 equal parts. A stop signal (SIGTERM, SIGUSR1, SIGINT) ends the running trials after their
-// current step; the finished trials are kept, and a search continued from them (`prior`) tries
-// the same factors as one that never stopped.
+// Every trial starts from one settled state of the unreduced slope (settleForFos): the scene's
+// initial-equilibrium stage (Keissar section 3.3: local damping 0.8 and friction 89 deg until
+// the unbalanced-force ratio R, Keissar eq. 3.2, is below force_ratio), or its own
+// [equilibrium]. The gravity load is then carried elastically, so that a trial measures only the
+// motion the reduction causes. A slope that leaves its place while it settles (a block moves
+// moved_fraction of its size: a column that topples at any friction) does not stand at any
+// strength: its trials start from the scene as placed. A search settles once per group of ranks
+// (the same bits in every group, as a run is the same bits on any rank count) and keeps the state
+// in memory.
+//
+// Each trial at F is a static solution, as 3DEC runs one: local damping 0.8 on every block
+// (unless [fos] sets its own), whatever damping the scene's dynamic run uses, so that the answer
+// does not depend on it. A trial is judged every check_every steps (run/fos_trial.cpp) on the
+// watched blocks, each block's motion from the settled state measured by its reach |d| + theta R
+// (centroid displacement d, rotation angle theta, circumradius R) over its size V^(1/3):
+//   failed  some block's reach is above moved_fraction (1 %) of its size: the slope does not
+//           stand where it was, whether it is still moving or has jammed further on (a toppling
+//           set that rotates a few centimetres and locks has failed); or, after a window
+//           (settle_time), their mean speed has not decayed over the window and the largest
+//           relative reach grew in both halves of it, by more than growth_fraction (2e-5) of
+//           the block's size over the window: the displacement keeps growing at a rate that
+//           matters, not a creep of round-off and elastic noise;
+//   stable  after a window, every block within moved_fraction of its size: R is below
+//           force_ratio and the largest speed has decayed below speed_decay x its peak in the
+//           trial; or the blocks have stopped moving: over the window the largest relative reach
+//           grew by less than rest_fraction (1e-5), and no faster in the window's second half
+//           than in its first (motion from rest under a net force grows ever faster; what is
+//           left is round-off and elastic jitter, which can hold R above force_ratio);
+// neither by max_time: the trial runs on up to time_cap, and is reported undecided if it is
+// still neither then. Every test is a ratio, free of the scene's length scale and damping. F is
+// k-sected between f_min and f_max, only ever on decided trials, until the bracket is
+// `resolution` wide. A trial ends as soon as it is decided.
+//
+// Trials run side by side: the launched ranks are split into G groups (MPI_Comm_split), each
+// group runs one trial, and since a run is the same bits on any rank count, each trial's result
+// is the same as if it ran alone. A round tries G factors that divide the bracket into G + 1
+// equal parts (k-section; bisection for G = 1). A stop signal (SIGTERM, SIGUSR1, SIGINT) ends the
+// running trials after their current step; the finished trials are kept, and a search continued
+// from them (`prior`) tries the same factors as one that never stopped.
 #pragma once
 
 #include <mpi.h>
@@ -29,6 +52,7 @@
 #include <vector>
 
 #include "polydem/setup/setup.h"
+#include "polydem/sim/saved_state.h"
 
 namespace polydem::sim {
 
@@ -66,6 +90,9 @@ struct FosCriterion {
   double window = 0.0;              // s (settle_time): stable only after it; failure judged over it
   double force_ratio = 1e-5;        // stable: R (Keissar eq. 3.2) below it
   double speed_decay = 1e-3;        // stable: largest speed below it x its peak
+  double moved_fraction = 1e-2;     // failed: a block's reach above it x its size
+  double growth_fraction = 2e-5;    // failed: the largest relative reach grew by it in a window
+  double rest_fraction = 1e-5;      // stable: ... grew by less in a window, not accelerating
   double local_damping = 0.8;       // of every block during the trials
   bool damping_from_scene = false;  // [fos] local_damping set it
   std::optional<double> speed_limit;         // m/s: stable also needs the mean speed below it
@@ -89,6 +116,7 @@ struct FosSample {
   double mean_speed = 0.0;         // m/s
   double max_speed = 0.0;          // m/s
   double force_ratio = 0.0;        // R, Keissar eq. 3.2
+  double max_move = 0.0;           // the largest reach / size of a watched block
 };
 
 struct FosTrial {
@@ -96,7 +124,8 @@ struct FosTrial {
   std::string outcome;  // "stable", "failed", "undecided" (at time_cap) or "interrupted"
   double mean_displacement = 0.0, max_displacement = 0.0, mean_speed = 0.0;  // at the end
   double max_speed = 0.0, force_ratio = 0.0;                                 // at the end
-  double time = 0.0;  // s, simulated, when the trial was decided
+  double max_move = 0.0;  // at the end: the largest reach / size of a watched block
+  double time = 0.0;      // s, simulated, when the trial was decided
   std::int64_t steps = 0;
   bool extended = false;         // ran past max_time
   std::uint64_t state_hash = 0;  // of the whole state at the end (comm::StateHash::combined)
@@ -123,9 +152,33 @@ class FosTrialObserver {
   virtual void decided(Simulation& sim, const FosTrial& trial) = 0;
 };
 
-/// One trial of `scene` at `factor` on `comm` (collective). The result is the same bits on any
+/// The settled state of the unreduced slope every trial starts from (settleForFos).
+struct FosStart {
+  CheckpointData state;  // this rank's part, as Simulation::checkpoint() takes it
+  std::int64_t steps = 0;
+  bool reached = false;      // R fell below the stage's force ratio (else: its step cap)
+  bool interrupted = false;  // a stop signal ended it: no trial can start from it
+  bool moved = false;  // a block left the scene's place by moved_fraction of its size while it
+                       // settled: the slope does not stand, trials start from the scene as placed
+  double wall_seconds = 0.0;
+};
+
+/// Settles `scene` at its own strengths by its initial-equilibrium stage ([equilibrium] when the
+/// scene enables one; otherwise the stage's defaults, local damping 0.8 and friction 89 deg,
+/// until R < criterion.force_ratio, at most time_cap / dt steps), judged every check_every
+/// steps as a trial is: it ends when a trial would be stable (or R falls below the stage's
+/// threshold), velocities zeroed; `moved` when a trial would have failed. Collective over
+/// `comm`; the same bits on any rank count.
+FosStart settleForFos(const io::Scene& scene, const FosCriterion& criterion, MPI_Comm comm);
+
+/// One trial of `scene` at `factor` on `comm` (collective), from `start` (settleForFos of the
+/// same scene on a communicator of the same size as `comm`). The result is the same bits on any
 /// rank count, wall_seconds and group aside, with or without an observer. A stop signal
 /// received by a rank of `comm` ends it after the current step with outcome "interrupted".
+FosTrial runFosTrial(const io::Scene& scene, const FosStart& start, double factor,
+                     const FosCriterion& criterion, MPI_Comm comm,
+                     FosTrialObserver* observer = nullptr);
+/// The same, settling the scene first (the same bits as a trial of a search).
 FosTrial runFosTrial(const io::Scene& scene, double factor, const FosCriterion& criterion,
                      MPI_Comm comm, FosTrialObserver* observer = nullptr);
 
@@ -139,11 +192,15 @@ struct FosResult {
   double resolution = 0.0;
   int groups = 1, ranks = 1;
   std::string note;  // below / above the range, undecided trials, results not monotonic in F
+  std::int64_t settle_steps = 0;  // the settled state every trial started from (settleForFos)
+  bool settle_reached = false;
+  bool settle_used = true;  // false: the slope left its place while settling (FosStart::moved)
+  double settle_wall_seconds = 0.0;
   /// (stable + failed) / 2 when both are known and the bracket is resolved.
   std::optional<double> factor() const;
 };
 
-/// Bisects on F with the trials spread over `groups` groups of the ranks of `comm` (collective;
+/// k-sects F with the trials spread over `groups` groups of the ranks of `comm` (collective;
 /// every rank returns the whole result). `groups` must divide the rank count. `resolution`,
 /// `f_min`, `f_max` come from the scene's [fos]. `prior`: the result of a search of the same
 /// scene and settings that a signal stopped; its trials are taken as run, not run again.

@@ -107,12 +107,19 @@ std::string FosCriterion::describe() const {
   std::string s = cat(
       "static solution with local damping ", num(local_damping),
       damping_from_scene ? " ([fos] local_damping)" : " (3DEC's static value; [fos] local_damping)",
-      "; every ", check_every, " steps after ", num(window), " s: stable when the force ratio < ",
-      num(force_ratio), " and the largest speed < ", num(speed_decay), " x its peak");
+      " from the settled unreduced slope; every ", check_every,
+      " steps: failed when a block's reach (|d| + theta R) from the settled state passes ",
+      num(moved_fraction), " of its size V^(1/3)");
+  if (displacement_limit)
+    s += cat(" or the mean displacement passes ", num(*displacement_limit), " m");
+  s += cat(", or when over the last ", num(window),
+           " s the mean speed has not decayed while the largest reach grew by more than ",
+           num(growth_fraction), " of the block's size; after ", num(window),
+           " s stable when the force ratio < ", num(force_ratio), " and the largest speed < ",
+           num(speed_decay),
+           " x its peak, or when over the last window the largest reach grew by less than ",
+           num(rest_fraction), " of the block's size, no faster in its second half");
   if (speed_limit) s += cat(" and the mean speed < ", num(*speed_limit), " m/s");
-  s += cat(", failed when the mean speed has not decayed over the last ", num(window),
-           " s while the mean displacement grew");
-  if (displacement_limit) s += cat(" or the mean displacement > ", num(*displacement_limit), " m");
   s += cat("; undecided at ", num(max_time), " s: extended up to ", num(time_cap),
            " s, then reported undecided");
   return s;

@@ -1,8 +1,8 @@
 #!/bin/bash
 # polydem fos from the command line: --kernel and --contact-model reach the trials and fos.json
 # records them; the block on an incline (F = tan 40 deg / tan 30 deg = 1.4534) is found within
-# 2 % with sub-contacts and about 3 % low with the point model of gjk-epa-ipm (it creeps:
-# docs/dynamics.md); an unknown contact model is a usage error that writes nothing. Settings a
+# 2 % with sub-contacts and with the point model of gjk-epa-ipm (whose block rocks and creeps
+# by a millionth of its size, docs/dynamics.md, which the criterion does not call failure); an unknown contact model is a usage error that writes nothing. Settings a
 # trial cannot answer are refused with the file and line, exit status 1 and nothing written: an
 # interaction no contact uses (every trial would be stable: "above f_max"), a max_time of a few
 # steps (every trial undecided), a check_every beyond the trial (no time limit at all). A second
@@ -28,7 +28,7 @@ done
 f_sub=$(field sub-contacts/fos.json factor_of_safety)
 f_point=$(field point/fos.json factor_of_safety)
 within "$f_sub" $analytical 0.02 || fail "sub-contacts: F = $f_sub, analytical $analytical"
-within "$f_point" $analytical 0.02 && fail "point: F = $f_point within 2 % (a known failure fixed?)"
+within "$f_point" $analytical 0.02 || fail "point: F = $f_point, analytical $analytical"
 
 "$polydem" fos "$scene" --contact-model points --out bad > bad.log 2>&1
 status=$?

@@ -48,9 +48,6 @@ struct Case {
   const char* contact_model = "sub-contacts";
 };
 
-constexpr const char* kRocking =
-    "single-point contact at the face centre (IPM): no rotational stiffness, the block rocks and "
-    "creeps at friction angles up to 0.9 deg above the incline's (F about 3 % low)";
 constexpr const char* kFcpWedge =
     "fcp's plane on the two inclined walls: the wedge creeps even at F = 0.5";
 
@@ -83,8 +80,10 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"fos-wedge.toml", "gjk-epa-ipm", kWedge}, Case{"fos-wedge.toml", "fcp-ipm", kWedge},
         Case{"fos-wedge.toml", "lp", kWedge}, Case{"fos-wedge.toml", "distance-potential", kWedge},
         Case{"fos-wedge.toml", "fcp", kWedge},
-        Case{"fos-incline.toml", "gjk-epa-ipm", kIncline, kRocking, "point"},
-        Case{"fos-incline.toml", "fcp-ipm", kIncline, kRocking, "point"},
+        // Single-point contact at the face centre (IPM) has no rotational stiffness: the block
+        // rocks and creeps by a millionth of its size, which the criterion does not call failure.
+        Case{"fos-incline.toml", "gjk-epa-ipm", kIncline, nullptr, "point"},
+        Case{"fos-incline.toml", "fcp-ipm", kIncline, nullptr, "point"},
         Case{"fos-wedge.toml", "fcp", kWedge, kFcpWedge, "point"}),
     [](const ::testing::TestParamInfo<Case>& param_info) {
       std::string name = std::string(param_info.param.file) + "_" + param_info.param.kernel + "_" +
