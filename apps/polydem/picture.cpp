@@ -99,4 +99,8 @@ std::string plotSeries(const std::string& out_dir) {
   return runPlotScript("plot_series.py", out_dir, out_dir + "/series.png");
 }
 
+std::string plotRealizations(const std::string& out_dir) {
+  return runPlotScript("plot_realizations.py", out_dir, out_dir + "/realizations.png");
+}
+
 }  // namespace polydem::app

@@ -29,4 +29,8 @@ std::string renderPicture(const std::string& out_dir, const PictureOptions& opti
 /// or "" after a warning saying why there is none. Call on one rank.
 std::string plotSeries(const std::string& out_dir);
 
+/// Runs plot_realizations.py on `out_dir` (realizations.csv, realizations.json) and waits for it:
+/// DIR/realizations.png, the histogram and the CDF of F; "" after a warning when there is none.
+std::string plotRealizations(const std::string& out_dir);
+
 }  // namespace polydem::app
