@@ -42,7 +42,8 @@ def plot(run_dir, out=None):
         return "-" if v is None else format(v, ".3g")
 
     fig.suptitle(
-        f"{os.path.basename(summary['scene_path'])}: {summary['count']} realizations, "
+        f"{os.path.basename(summary['scene_path'])}: {summary['count']} realizations "
+        f"({summary['resolved']} with F resolved), "
         f"mean F {fmt(summary['mean_factor_of_safety'])}, sd {fmt(summary['sd_factor_of_safety'])}, "
         f"P(F < 1) = {fmt(summary['probability_of_failure'])} "
         f"+- {fmt(summary['probability_of_failure_se'])}", fontsize=10)
