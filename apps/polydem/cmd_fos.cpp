@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <string_view>
 
 #include "commands.h"
 #include "fos_files.h"
@@ -50,6 +51,8 @@ void usage() {
       "                        and damping until at rest: DIR/runout/ (polydem runout --help)\n"
       "  --runout-time T       the run-on's time cap, s (default: the scene's end_time)\n"
       "  --quiet               only the result, warnings and errors\n"
+      "  --realizations N      the probability of failure over N realizations of a scene with\n"
+      "                        [[random]] inputs (polydem fos --realizations --help)\n"
       "writes DIR/fos.json (factor_of_safety, each reduced joint's and pair's critical strength,\n"
       "the governing one, the mechanism, bracket, criterion, every trial's F, outcome,\n"
       "displacement and time), DIR/fos_trials.csv, DIR/fos.svg (mean displacement against time\n"
@@ -181,6 +184,11 @@ std::optional<sim::FosMechanism> mechanismOf(
 }  // namespace
 
 int fosCommand(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {  // a study of realizations (fos_realizations.cpp)
+    if (std::string_view(argv[i]).starts_with("--realizations")) {
+      return fosRealizationsCommand(argc, argv);
+    }
+  }
   Args args(argc, argv, {"help", "quiet"});
   const auto resume = args.value("resume");
   if (args.flag("help") || args.positional().size() != (resume ? 0u : 1u)) {

@@ -69,6 +69,8 @@ int kernelsCommand(int argc, char** argv);
 /// `polydem fos SCENE --out DIR`: factor of safety by strength reduction.
 int fosCommand(int argc, char** argv);
 int runoutCommand(int argc, char** argv);
+/// `polydem fos SCENE --realizations N --out DIR`: the probability of failure over realizations.
+int fosRealizationsCommand(int argc, char** argv);
 /// `polydem checkpoint info FILE`: verify a checkpoint and print its summary.
 int checkpointCommand(int argc, char** argv);
 /// `polydem bench checkpoint`: checkpoint write/read bandwidth beside raw parallel HDF5.

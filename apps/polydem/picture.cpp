@@ -103,4 +103,8 @@ std::string plotThickness(const std::string& out_dir) {
   return runPlotScript("plot_thickness.py", out_dir, out_dir + "/thickness.png");
 }
 
+std::string plotRealizations(const std::string& out_dir) {
+  return runPlotScript("plot_realizations.py", out_dir, out_dir + "/realizations.png");
+}
+
 }  // namespace polydem::app

@@ -32,5 +32,8 @@ std::string plotSeries(const std::string& out_dir);
 /// Runs plot_thickness.py on `out_dir` (its thickness.csv, as `polydem runout` writes it) and
 /// waits for it; returns the PNG written (thickness.png), or "" after a warning. One rank.
 std::string plotThickness(const std::string& out_dir);
+/// Runs plot_realizations.py on `out_dir` (realizations.csv, realizations.json) and waits for it:
+/// DIR/realizations.png, the histogram and the CDF of F; "" after a warning when there is none.
+std::string plotRealizations(const std::string& out_dir);
 
 }  // namespace polydem::app

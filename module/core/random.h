@@ -4,6 +4,8 @@
 // 2014).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace polydem {
@@ -41,6 +43,17 @@ class SplitMix64 {
 inline double uniformAt(std::uint64_t seed, std::int64_t index, std::uint64_t draw) {
   const std::uint64_t item = splitMix64(seed ^ splitMix64(static_cast<std::uint64_t>(index)));
   return unitInterval(splitMix64(item ^ splitMix64(draw + 0x632be59bd9b4e019ULL)));
+}
+
+/// The angle [rad] between a direction drawn from Fisher's distribution with concentration
+/// `kappa` and its mean direction, from a uniform `u` in [0, 1): the exact inversion of its
+/// cumulative distribution (Fisher 1953; Fisher, Lewis and Embleton 1987, eq. 3.39),
+///   cos(theta) = 1 + ln(1 - u (1 - exp(-2 kappa))) / kappa,
+/// written with log1p and expm1 so that it stays exact for large and small kappa. The azimuth
+/// about the mean is uniform and drawn apart.
+inline double fisherAngle(double kappa, double u) {
+  const double c = 1.0 + std::log1p(u * std::expm1(-2.0 * kappa)) / kappa;
+  return std::acos(std::clamp(c, -1.0, 1.0));
 }
 
 }  // namespace polydem

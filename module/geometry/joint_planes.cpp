@@ -22,18 +22,21 @@ double gapAfter(const JointSet& set, std::int64_t k) {
 }
 
 // The normal of plane k: the set's normal turned by up to orientation_jitter in a random
-// direction (angle ~ jitter sqrt(u): uniform over the small cap of directions).
+// direction (angle ~ jitter sqrt(u): uniform over the small cap of directions), or by an angle
+// drawn from Fisher's distribution (fisher_k).
 Vec3 jitteredNormal(const JointSet& set, const Vec3& n0, std::int64_t k) {
-  if (set.orientation_jitter == 0.0) return n0;
-  const double tilt =
-      degToRad(set.orientation_jitter) * std::sqrt(uniformAt(set.seed, k, kTiltAngle));
+  if (set.orientation_jitter == 0.0 && set.fisher_k == 0.0) return n0;
+  const double u = uniformAt(set.seed, k, kTiltAngle);
+  const double tilt = set.fisher_k > 0.0 ? fisherAngle(set.fisher_k, u)
+                                         : degToRad(set.orientation_jitter) * std::sqrt(u);
   const double azimuth = 2.0 * kPi * uniformAt(set.seed, k, kTiltAzimuth);
   const Vec3 a = n0.unitOrthogonal();
   const Vec3 b = n0.cross(a);
   const Vec3 axis = std::cos(azimuth) * a + std::sin(azimuth) * b;
   const Vec3 n = std::cos(tilt) * n0 + std::sin(tilt) * axis;
-  // Within 90 deg of the set's normal: "above" is the same side for every plane of the set.
-  return n.normalized();
+  // Within 90 deg of the set's normal: "above" is the same side for every plane of the set. A
+  // Fisher pole beyond 90 deg is the same plane as its opposite (joint poles are axial).
+  return (tilt > 0.5 * kPi ? -n : n).normalized();
 }
 
 void checkSet(const JointSet& set) {
@@ -48,6 +51,13 @@ void checkSet(const JointSet& set) {
   }
   if (!(set.orientation_jitter >= 0.0 && set.orientation_jitter < 90.0)) {
     bad("orientation jitter must be in [0, 90) deg");
+  }
+  if (!(set.fisher_k >= 0.0) || !std::isfinite(set.fisher_k)) {
+    bad("Fisher's concentration K must be >= 0");
+  }
+  if (set.fisher_k > 0.0 && set.orientation_jitter > 0.0) {
+    bad("orientation jitter and Fisher's concentration K are two scatters of the same normals: "
+        "give one");
   }
 }
 
@@ -122,8 +132,10 @@ std::vector<JointPlane> jointSetPlanes(const JointSet& set, const std::vector<Ve
                             " + offset along the normal, more than 1e7 spacings: planes are ",
                             "counted from plane 0, so put origin (or offset) near the region"));
   }
-  // Tilted planes reach up to (diameter) sin(jitter) further: the range is widened by that.
-  const double reach = e.diameter * std::sin(degToRad(set.orientation_jitter));
+  // Tilted planes reach up to (diameter) sin(jitter) further: the range is widened by that; a
+  // Fisher tilt has no bound below 90 deg, so by the whole diameter.
+  const double reach =
+      set.fisher_k > 0.0 ? e.diameter : e.diameter * std::sin(degToRad(set.orientation_jitter));
   const double lo = e.lo - reach, hi = e.hi + reach;
   // Jittered gaps average the spacing but may be as small as (1 - jitter) spacing: the count is
   // checked as the planes are made.

@@ -22,8 +22,11 @@ Vec3 normalFromDip(double dip_deg, double dip_direction_deg);
 /// direction); plane 0 passes through origin + offset * normal. Optional jitter from `seed`, the
 /// same on every machine: each gap between neighbouring planes is spacing * (1 + s u) with u
 /// uniform in [-1, 1) and s = spacing_jitter, and each plane's normal is turned by up to
-/// orientation_jitter degrees in a random direction. The draws of plane k depend on (seed, k)
-/// only, so a larger region gets more planes but the same ones where both have them.
+/// orientation_jitter degrees in a random direction, or (fisher_k > 0) turned to a pole drawn
+/// from Fisher's distribution of concentration fisher_k about the set's pole (the angle by the
+/// exact inversion of core/random.h fisherAngle, the azimuth uniform; a pole drawn below the
+/// horizontal is the same plane's other normal and is reversed). The draws of plane k depend on
+/// (seed, k) only, so a larger region gets more planes but the same ones where both have them.
 struct JointSet {
   std::string name;
   double dip = 0.0;            // degrees, [0, 90]
@@ -33,6 +36,7 @@ struct JointSet {
   Vec3 origin = Vec3::Zero();
   double spacing_jitter = 0.0;      // fraction of the spacing, [0, 1)
   double orientation_jitter = 0.0;  // degrees, [0, 90)
+  double fisher_k = 0.0;            // Fisher's concentration K; 0: no Fisher scatter
   std::uint64_t seed = 0;
 };
 

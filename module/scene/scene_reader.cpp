@@ -337,6 +337,9 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
                                                           std::to_string(e.source().begin.column) +
                                                           ": " + std::string(e.description()));
   }
+  // A study's random inputs (scene_random.h): a run takes the file's own values.
+  root.erase("random");
+  root.erase("realizations");
   static const std::vector<std::string_view> kSections = {
       "scene",     "simulation", "kernel_params", "material", "interaction",
       "joint",     "shape",      "driver",        "particle", "particle_grid",

@@ -108,7 +108,7 @@ void readOrientation(const Section& s, double& dip, double& dip_direction) {
 
 geometry::JointSet readJointSet(const Section& s) {
   s.allowOnly({"name", "dip", "dip_direction", "spacing", "offset", "origin", "spacing_jitter",
-               "orientation_jitter", "seed", "joint"});
+               "orientation_jitter", "fisher_k", "seed", "joint"});
   geometry::JointSet j;
   j.name = s.requiredString("name");
   readOrientation(s, j.dip, j.dip_direction);
@@ -117,6 +117,10 @@ geometry::JointSet readJointSet(const Section& s) {
   j.origin = s.vec3("origin", Quantity::kLength).value_or(j.origin);
   j.spacing_jitter = s.bounded("spacing_jitter", Quantity::kDimensionless, 0.0, 0.0, 1.0, false);
   j.orientation_jitter = s.bounded("orientation_jitter", Quantity::kAngle, 0.0, 0.0, 90.0, false);
+  j.fisher_k = s.number("fisher_k", Quantity::kDimensionless, 0.0, Range::kNonNegative);
+  if (j.fisher_k > 0.0 && j.orientation_jitter > 0.0) {
+    s.fail("fisher_k", "orientation_jitter is given too: they scatter the same normals, give one");
+  }
   j.seed = static_cast<std::uint64_t>(s.integer("seed", 0, Range::kNonNegative));
   return j;
 }

@@ -43,7 +43,9 @@ def fill(scene, text, name):
         raise ValueError("%s: give each [[particle]], [[particle_grid]] and [[rock_mass]] as a "
                          "[[...]] table of its own to load the scene into polydem.Scene" % name)
     for key, value in doc.items():
-        if key in _BODIES:
+        # [[random]] and [realizations] are a study's (`polydem fos --realizations`); a Scene is
+        # one scene, with the file's own values, as polydem's reader reads it.
+        if key in _BODIES or key in ("random", "realizations"):
             continue
         if key == "scene" and isinstance(value, dict):
             scene._scene = dict(value)
