@@ -76,7 +76,7 @@ std::string lammpsData(const io::Scene& scene, const PileBenchOptions& o, std::i
          << "0 1 2 3\n4 5 6 7\n0 1 5 4\n1 2 6 5\n2 3 7 6\n3 0 4 7\n"
          << 2.0 * kRounding << "\n";
   }
-  const double top = static_cast<double>(o.layers) * 2.0 + 2.0;
+  const double top = static_cast<double>(o.layers) * 2.0 + 2.0;  // above the lattice (pitch < 2 m)
   std::ostringstream out;
   out.precision(17);
   out << "polydem bench lammps: settled turned unit cubes\n"
@@ -238,7 +238,9 @@ int benchLammps(int argc, char** argv) {
     std::printf("LAMMPS not found (apt-get install lammps, or --lmp PATH): polydem only.\n\n");
   } else {
     const bool temporary = o.keep.empty();  // then a new directory of our own, safe to remove
-    const std::filesystem::path dir = benchDirectory(o.keep, "polydem-bench-lammps");
+    // Absolute: LAMMPS runs in it, and its screen output goes there.
+    const std::filesystem::path dir =
+        std::filesystem::absolute(benchDirectory(o.keep, "polydem-bench-lammps"));
     if (auto r = runLammps(scene, o, exe, dir)) results.push_back(*r);
     if (temporary) std::filesystem::remove_all(dir);
   }
