@@ -49,7 +49,7 @@ template <typename OldHistory>
   if (!filter_.accept(storage, shapes, c, setup.margin, frame)) return {};
   const auto& pa = storage[c.a];
   const auto& pb = storage[c.b];
-  // The pair's entry in the next table starts as last step's; the kernel (its warm start) and
+  // The pair's new entry starts as last step's; the kernel (its warm start) and
   // the law write into it in place.
   const auto last = old.find(c.key);
   particles::PairHistory& h = next.appendSorted(c.key, last.pair ? *last.pair : kNoHistory);
