@@ -106,7 +106,7 @@ int benchMemory(int argc, char** argv) {
   mon = sim.monitors();
   // The pairs and sub-contacts the history holds (a pair across a rank border on both ranks).
   std::int64_t counts[2] = {static_cast<std::int64_t>(sim.history().size()),
-                            static_cast<std::int64_t>(sim.history().subKeys().size())},
+                            static_cast<std::int64_t>(sim.history().subCount())},
                sums[2] = {0, 0};
   MPI_Allreduce(counts, sums, 2, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
   const struct mallinfo2 heap = mallinfo2();

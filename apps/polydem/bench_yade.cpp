@@ -11,8 +11,6 @@
 // A = 1 m^2) has the same stiffness in both with young = 2 kn / A; the distance potential's
 // penalty gives it with penalty = kn r / (2 A) (docs/kernels/distance-potential.md: kn_eff =
 // penalty A (1/r_A + 1/r_B), r = 0.5 m).
-#include <stdlib.h>  // mkdtemp
-
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -22,8 +20,8 @@
 #include <random>
 #include <sstream>
 
+#include "bench_pile.h"
 #include "commands.h"
-#include "generators/pile_scene.h"
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
@@ -36,137 +34,16 @@ namespace polydem::app {
 
 namespace {
 
-struct Options {
-  std::int64_t particles = 1000;
-  std::int64_t layers = 10;
-  std::int64_t settle = 150000;  // most equilibrium steps (1,000 cubes: about settled)
-  std::int64_t steps = 100;      // timed steps
-  std::int64_t warmup = 10;
-  std::vector<std::string> kernels = {"gjk-epa-ipm", "distance-potential"};
-  std::vector<std::string> models = io::kContactModels;  // contact models (penalty kernels)
-  std::string yade;                                      // executable; empty: "yade" on the PATH
-  std::string keep;  // directory for the Yade script and its output
-  std::uint64_t seed = 1;
-};
-
-constexpr double kDensity = 2650.0;  // kg/m^3
-constexpr double kKn = 1e8;          // N/m
-constexpr double kKs = 5e7;          // N/m
-constexpr double kFriction = 30.0;   // degrees
-constexpr double kDamping = 0.1;     // local (non-viscous) damping, both codes
-constexpr double kDt = 1e-4;         // s
-constexpr double kFaceArea = 1.0;    // m^2, a unit cube's face
-constexpr double kInradius = 0.5;    // m, a unit cube's
-
-// Turned unit cubes on a lattice whose pitch keeps their bounding spheres apart, above a floor
-// between four walls (the P-PILE box).
-io::Scene boxScene(const Options& o) {
-  io::Scene s;
-  s.file = "<generated Yade comparison>";
-  s.id = "P-YADE";
-  s.title = "randomly turned unit cubes settled in a box";
-  s.dt = kDt;
-  s.gravity = Vec3(0, 0, -9.81);
-  particles::Material rock;
-  rock.name = "rock";
-  rock.density = kDensity;
-  rock.kn = kKn;
-  rock.ks = kKs;
-  rock.friction_angle = kFriction;
-  rock.local_damping = kDamping;
-  rock.penalty = kKn * kInradius / (2.0 * kFaceArea);
-  s.materials.push_back(rock);
-  s.shapes.push_back({"cube", geometry::shapes::box(Vec3::Constant(-0.5), Vec3::Constant(0.5)), 0});
-
-  const double pitch = 2.0 * 0.5 * std::sqrt(3.0) * 1.05;
-  const auto side = static_cast<std::int64_t>(
-      std::ceil(std::sqrt(static_cast<double>(o.particles) / static_cast<double>(o.layers))));
-  const double width = static_cast<double>(side) * pitch;
-  Uid uid = sim::addPileBox(s, width, static_cast<double>(o.layers) * pitch + 2.0,
-                            sim::kPileBoxThickness, true, 1);
-  std::mt19937_64 rng(o.seed);
-  std::normal_distribution<double> gauss;
-  for (std::int64_t i = 0; i < o.particles; ++i) {
-    const std::int64_t ix = i % side, iy = (i / side) % side, iz = i / (side * side);
-    io::ParticleSpec p;
-    p.uid = uid++;
-    p.shape = 0;
-    p.material = 0;
-    p.position = pitch * Vec3(static_cast<double>(ix) + 0.5, static_cast<double>(iy) + 0.5,
-                              static_cast<double>(iz) + 0.5);
-    p.orientation = Quat(gauss(rng), gauss(rng), gauss(rng), gauss(rng)).normalized();
-    s.particles.push_back(p);
-  }
-  s.output.series_every = 1000000;
-  return s;
-}
-
-double threadSeconds() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-// The settled pile: the scene with the particles where the equilibrium stage left them, at rest.
-io::Scene settle(const Options& o, std::int64_t& steps_taken, bool& reached) {
-  io::Scene scene = boxScene(o);
-  scene.equilibrium.enabled = true;
-  scene.equilibrium.force_ratio = 1e-3;
-  scene.equilibrium.max_steps = o.settle;
-  sim::Simulation sim(scene, MPI_COMM_SELF);
-  steps_taken = sim.runEquilibrium();
-  reached = sim.equilibriumReached();
-  // The free cubes only: the storage holds centroids, and the walls, vertex-list shapes whose
-  // scene position is 0, would move by their centroid if theirs were copied.
-  const auto& storage = sim.particles();
-  for (std::size_t i = 0; i < storage.localCount(); ++i) {
-    const auto& p = storage[i];
-    if (!p.isFree()) continue;
-    for (auto& spec : scene.particles) {
-      if (spec.uid != p.uid) continue;
-      spec.position = p.position;
-      spec.orientation = p.orientation;
-    }
-  }
-  scene.equilibrium.enabled = false;
-  return scene;
-}
-
-struct Result {
-  std::string code, kernel, model;
-  double particle_steps_per_second = 0.0;
-  std::int64_t contacts = 0, particles = 0, steps = 0;
-  double seconds = 0.0;
-};
-
-Result runPolydem(io::Scene scene, const std::string& kernel, const std::string& model,
-                  const Options& o) {
-  scene.kernel = kernel;
-  scene.contact_model = model;
-  sim::Simulation sim(scene, MPI_COMM_SELF);
-  for (std::int64_t i = 0; i < o.warmup; ++i) sim.step();
-  const double t0 = threadSeconds();
-  for (std::int64_t i = 0; i < o.steps; ++i) sim.step();
-  const double seconds = threadSeconds() - t0;
-  const auto mon = sim.monitors();
-  Result r{"polydem", kernel, model};
-  r.particles = mon.particles;
-  r.contacts = mon.contacts;
-  r.steps = o.steps;
-  r.seconds = seconds;
-  r.particle_steps_per_second = static_cast<double>(mon.particles * o.steps) / seconds;
-  return r;
-}
-
 // The Yade script: the same bodies (world vertices: Yade finds each body's centroid and axes),
 // the same material and step, the Polyhedra engines; times o.steps steps after o.warmup.
-std::string yadeScript(const io::Scene& scene, const Options& o) {
+std::string yadeScript(const io::Scene& scene, const PileBenchOptions& o) {
   std::ostringstream py;
   py.precision(17);
   py << "# generated by polydem bench yade\n"
      << "import math, time\nfrom yade import polyhedra_utils\n"
-     << "mat = PolyhedraMat(density=" << kDensity << ", young=" << 2.0 * kKn / kFaceArea
-     << ", poisson=" << kKs / kKn << ", frictionAngle=math.radians(" << kFriction << "))\n"
+     << "mat = PolyhedraMat(density=" << kPileDensity << ", young=" << 2.0 * kPileKn / kPileFaceArea
+     << ", poisson=" << kPileKs / kPileKn << ", frictionAngle=math.radians(" << kPileFriction
+     << "))\n"
      << "O.materials.append(mat)\n"
      << "def body(v, fixed):\n"
      << "    b = polyhedra_utils.polyhedra(mat, v=[Vector3(*x) for x in v], fixed=fixed)\n"
@@ -187,7 +64,7 @@ std::string yadeScript(const io::Scene& scene, const Options& o) {
      << "    InteractionLoop([Ig2_Polyhedra_Polyhedra_PolyhedraGeom()],\n"
      << "                    [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],\n"
      << "                    [Law2_PolyhedraGeom_PolyhedraPhys_Volumetric()]),\n"
-     << "    NewtonIntegrator(damping=" << kDamping << ", gravity=(0, 0, -9.81))]\n"
+     << "    NewtonIntegrator(damping=" << kPileDamping << ", gravity=(0, 0, -9.81))]\n"
      << "O.dt = " << scene.dt << "\n"
      << "O.run(" << o.warmup << ", True)\n"
      << "t0 = time.process_time()\n"
@@ -200,20 +77,8 @@ std::string yadeScript(const io::Scene& scene, const Options& o) {
   return py.str();
 }
 
-std::string yadeExecutable(const Options& o) {
-  if (!o.yade.empty()) return std::filesystem::exists(o.yade) ? o.yade : std::string();
-  const char* path = std::getenv("PATH");
-  std::stringstream dirs(path ? path : "");
-  std::string dir;
-  while (std::getline(dirs, dir, ':')) {
-    const auto candidate = std::filesystem::path(dir) / "yade";
-    if (!dir.empty() && std::filesystem::exists(candidate)) return candidate.string();
-  }
-  return {};
-}
-
-std::optional<Result> runYade(const io::Scene& scene, const Options& o, const std::string& exe,
-                              const std::filesystem::path& dir) {
+std::optional<PileResult> runYade(const io::Scene& scene, const PileBenchOptions& o,
+                                  const std::string& exe, const std::filesystem::path& dir) {
   const auto script = dir / "yade_comparison.py";
   const auto log = dir / "yade_output.txt";
   std::ofstream(script) << yadeScript(scene, o);
@@ -226,7 +91,7 @@ std::optional<Result> runYade(const io::Scene& scene, const Options& o, const st
   while (std::getline(in, line)) {
     if (line.rfind("POLYDEM-YADE ", 0) != 0) continue;
     std::istringstream fields(line.substr(13));
-    Result r{"yade", "Polyhedra", "volumetric"};
+    PileResult r{"yade", "Polyhedra", "volumetric"};
     fields >> r.particles >> r.contacts >> r.steps >> r.seconds;
     if (!fields || r.seconds <= 0.0) break;
     r.particle_steps_per_second = static_cast<double>(r.particles * r.steps) / r.seconds;
@@ -243,29 +108,6 @@ std::optional<Result> runYade(const io::Scene& scene, const Options& o, const st
   log::warning(cat("bench yade: no result from Yade (", exe, ", exit status ", rc,
                    "); the end of its output:", tail));
   return std::nullopt;
-}
-
-Options parseOptions(Args& args) {
-  Options o;
-  o.particles = args.integer("particles", o.particles, 1);
-  o.layers = args.integer("layers", o.layers, 1);
-  o.settle = args.integer("settle", o.settle, 1, Args::kInt64Max);
-  o.steps = args.integer("steps", o.steps, 1, Args::kInt64Max);
-  o.warmup = args.integer("warmup", o.warmup, 0, Args::kInt64Max);
-  if (const auto k = args.value("kernels")) o.kernels = split(*k, ',');
-  if (const auto m = args.value("contact-models")) o.models = split(*m, ',');
-  for (const auto& m : o.models) {
-    if (const auto e = io::unknownContactModel(m); !e.empty()) {
-      throw UsageError("--contact-models: " + e);
-    }
-  }
-  o.yade = args.value("yade", "");
-  o.keep = args.value("keep", "");
-  o.seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, Args::kInt64Max));
-  if (o.kernels.empty() || o.models.empty()) {
-    throw UsageError("--kernels and --contact-models need at least one name each");
-  }
-  return o;
 }
 
 }  // namespace
@@ -289,7 +131,7 @@ int benchYade(int argc, char** argv) {
         "  output go (default: a temporary directory, removed). Without Yade: polydem only.\n");
     return 0;
   }
-  const Options o = parseOptions(args);
+  const PileBenchOptions o = parsePileOptions(args, "yade");
   const auto json_path = args.value("json");
   args.rejectUnknown();
   if (mpi::rank() != 0) return 0;  // one core: rank 0 measures
@@ -297,7 +139,7 @@ int benchYade(int argc, char** argv) {
 
   std::int64_t settle_steps = 0;
   bool reached = false;
-  const io::Scene scene = settle(o, settle_steps, reached);
+  const io::Scene scene = settledPile(o, settle_steps, reached);
   std::printf(
       "P-YADE: %lld randomly turned unit cubes in a box, settled by polydem in %lld steps (force "
       "ratio %s 1e-3); then %lld steps (after %lld untimed) from rest in each code, dt %g s\n"
@@ -305,31 +147,23 @@ int benchYade(int argc, char** argv) {
       "friction %g deg, local damping %g\n\n",
       static_cast<long long>(o.particles), static_cast<long long>(settle_steps),
       reached ? "reached" : "NOT reached", static_cast<long long>(o.steps),
-      static_cast<long long>(o.warmup), kDt, kDensity, kKn, 2.0 * kKn / kFaceArea, kKs, kFriction,
-      kDamping);
+      static_cast<long long>(o.warmup), kPileDt, kPileDensity, kPileKn,
+      2.0 * kPileKn / kPileFaceArea, kPileKs, kPileFriction, kPileDamping);
 
-  std::vector<Result> results;
+  std::vector<PileResult> results;
   for (const auto& kernel : o.kernels) {
-    for (const auto& model : o.models) results.push_back(runPolydem(scene, kernel, model, o));
+    for (const auto& model : o.models) results.push_back(runPolydemPile(scene, kernel, model, o));
   }
-  const std::string exe = yadeExecutable(o);
+  const std::string exe = findExecutable("yade", o.peer);
   if (exe.empty()) {
     std::printf("Yade not found (apt-get install yade, or --yade PATH): polydem only.\n\n");
   } else {
-    const bool temporary = o.keep.empty();
-    std::filesystem::path dir(o.keep);
-    if (temporary) {  // a new directory of our own (mkdtemp), so that removing it is safe
-      std::string name =
-          (std::filesystem::temp_directory_path() / "polydem-bench-yade-XXXXXX").string();
-      if (mkdtemp(name.data()) == nullptr) throw Error("bench yade: cannot create " + name);
-      dir = name;
-    } else {
-      std::filesystem::create_directories(dir);
-    }
+    const bool temporary = o.keep.empty();  // then a new directory of our own, safe to remove
+    const std::filesystem::path dir = benchDirectory(o.keep, "polydem-bench-yade");
     if (auto r = runYade(scene, o, exe, dir)) results.push_back(*r);
     if (temporary) std::filesystem::remove_all(dir);
   }
-  const Result* yade = nullptr;
+  const PileResult* yade = nullptr;
   for (const auto& r : results) {
     if (r.code == "yade") yade = &r;
   }

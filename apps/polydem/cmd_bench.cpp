@@ -1,4 +1,5 @@
-// polydem bench kernels | scaling | memory | checkpoint: the benchmarks of the README.
+// polydem bench kernels | scaling | memory | checkpoint | yade | lammps: the benchmarks of the
+// README.
 #include <cstdio>
 #include <string>
 
@@ -13,6 +14,7 @@ int benchKernels(int argc, char** argv);
 int benchMemory(int argc, char** argv);
 int benchScaling(int argc, char** argv);
 int benchYade(int argc, char** argv);
+int benchLammps(int argc, char** argv);
 #endif
 
 int benchCommand(int argc, char** argv) {
@@ -24,13 +26,15 @@ int benchCommand(int argc, char** argv) {
   if (which == "memory") return benchMemory(argc - 1, argv + 1);
   if (which == "contact-model") return benchContactModel(argc - 1, argv + 1);
   if (which == "yade") return benchYade(argc - 1, argv + 1);
+  if (which == "lammps") return benchLammps(argc - 1, argv + 1);
   std::printf(
       "usage: polydem bench kernels [--help]   contact kernels vs libccd (P-KERNELS)\n"
       "       mpirun -n P polydem bench scaling [--help]   strong scaling of P-PILE\n"
       "       mpirun -n P polydem bench memory [--help]   heap per particle by structure\n"
       "       polydem bench contact-model [--help]   sub-contacts vs the point model\n"
       "       mpirun -n P polydem bench checkpoint [--help]   checkpoint bandwidth vs raw HDF5\n"
-      "       polydem bench yade [--help]   polydem beside Yade on settled turned cubes\n");
+      "       polydem bench yade [--help]   polydem beside Yade on settled turned cubes\n"
+      "       polydem bench lammps [--help]   polydem beside LAMMPS's BODY package, same pile\n");
   return which == "--help" ? 0 : 2;
 #else
   std::fprintf(stderr, "polydem was built without benchmarks (POLYDEM_BUILD_BENCHMARKS=OFF)\n");

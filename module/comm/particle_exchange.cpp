@@ -86,10 +86,11 @@ void packHistories(const ContactHistory& history, const std::unordered_map<Uid, 
       SendBuffer& out = outgoing[it->second];
       out << kHistoryRecord;
       pack(out, keys[k], entries[k]);
-      const auto [first, last] = history.subRange(keys[k]);
+      const auto [first, last] = history.subsOf(k);
       for (std::size_t s = first; s < last; ++s) {
         out << kSubRecord;
-        pack(out, history.subKeys()[s], history.subEntries()[s]);
+        pack(out, particles::SubKey{keys[k], history.subFeatures()[s].feature},
+             history.subEntries()[s]);
       }
       ++stats.histories_sent;
     }

@@ -21,14 +21,13 @@ struct Keyed {
 // hashes as it did before sub-contacts existed). A sub-contact's joint-law history values are
 // hashed when one is not 0, so that a run without such laws hashes as it did before they existed.
 std::uint64_t historyHash(const particles::PairKey& key, const particles::PairHistory& h,
-                          std::span<const particles::SubKey> sub_keys,
+                          std::span<const particles::SubFeature> sub_keys,
                           std::span<const particles::SubHistory> subs) {
   SendBuffer bytes;
   pack(bytes, key, h);
   for (std::size_t i = 0; i < sub_keys.size(); ++i) {
-    const particles::SubKey& k = sub_keys[i];
     const particles::SubHistory& s = subs[i];
-    bytes << k.pair.lo << k.pair.hi << k.feature << s.shear_force << s.normal;
+    bytes << key.lo << key.hi << sub_keys[i].feature << s.shear_force << s.normal;
     if (s.hasLawState()) bytes << s.law[0] << s.law[1];
   }
   BitHasher hasher;

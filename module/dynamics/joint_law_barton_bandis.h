@@ -134,7 +134,7 @@ struct BartonBandisLaw {
     return {bartonBandisScale(k.jrc, k.jcs, k.lab_length, length), area};
   }
   /// The mean of the pair's sub-contacts of the last step, summed in key order.
-  static void inherit(std::span<const particles::SubKey>,
+  static void inherit(std::span<const particles::SubFeature>,
                       std::span<const particles::SubHistory> old, const contact::FaceContact&,
                       double* h) {
     h[0] = h[1] = 0.0;

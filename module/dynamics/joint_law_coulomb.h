@@ -58,8 +58,9 @@ struct CoulombLaw {
 
   struct Pair {};
   static Pair prepare(const LawCoefficients&, double) { return {}; }
-  static void inherit(std::span<const particles::SubKey>, std::span<const particles::SubHistory>,
-                      const contact::FaceContact&, double*) {}
+  static void inherit(std::span<const particles::SubFeature>,
+                      std::span<const particles::SubHistory>, const contact::FaceContact&,
+                      double*) {}
   static double effectiveGap(double gap, const double*) { return gap; }
   static double openGap(const double*, double open_gap) { return open_gap; }
   static double tension(const double*, double tension) { return tension; }

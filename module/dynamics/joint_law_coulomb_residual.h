@@ -40,7 +40,7 @@ struct CoulombResidualLaw {
   struct Pair {};
   static Pair prepare(const LawCoefficients&, double) { return {}; }
   /// Broken if a vanished sub-contact of the pair (an old key no new one has) was broken.
-  static void inherit(std::span<const particles::SubKey> old_keys,
+  static void inherit(std::span<const particles::SubFeature> old_keys,
                       std::span<const particles::SubHistory> old, const contact::FaceContact& fc,
                       double* h) {
     std::size_t i = 0;

@@ -38,12 +38,12 @@ void grow(std::vector<T>& buffer, std::size_t size) {
 }  // namespace
 
 PairForce subContactForces(const contact::FaceContact& fc,
-                           std::span<const particles::SubKey> old_keys,
+                           std::span<const particles::SubFeature> old_keys,
                            std::span<const particles::SubHistory> old, const PairKinematics& kin,
                            double m_eff, double dt, const LawCoefficients& k,
                            std::vector<SubState>& kept) {
   SubContactScratch scratch;
-  std::vector<particles::SubKey> keys(fc.subs.size());
+  std::vector<particles::SubFeature> keys(fc.subs.size());
   std::vector<particles::SubHistory> entries(fc.subs.size());
   const PairForce out =
       subContactForces(fc, old_keys, old, kin, m_eff, dt, k, {keys, entries}, scratch);
@@ -58,7 +58,8 @@ namespace {
 // Laws without history (coulomb, material pairs) skip every history step at compile time, so their
 // arithmetic is the plain Coulomb law's.
 template <typename Law>
-PairForce pairForces(const contact::FaceContact& fc, std::span<const particles::SubKey> old_keys,
+PairForce pairForces(const contact::FaceContact& fc,
+                     std::span<const particles::SubFeature> old_keys,
                      std::span<const particles::SubHistory> old, const PairKinematics& kin,
                      double m_eff, double dt, const LawCoefficients& k,
                      const particles::SubSlots& kept, SubContactScratch& scratch) {
@@ -238,7 +239,7 @@ PairForce pairForces(const contact::FaceContact& fc, std::span<const particles::
 }  // namespace
 
 PairForce subContactForces(const contact::FaceContact& fc,
-                           std::span<const particles::SubKey> old_keys,
+                           std::span<const particles::SubFeature> old_keys,
                            std::span<const particles::SubHistory> old, const PairKinematics& kin,
                            double m_eff, double dt, const LawCoefficients& k,
                            const particles::SubSlots& kept, SubContactScratch& scratch) {

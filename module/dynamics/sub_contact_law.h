@@ -89,7 +89,7 @@ struct SubContactScratch {
 /// Pre: as contactForce(); fc.subs sorted by feature, weights summing to 1; `kept` has
 /// fc.subs.size() slots.
 PairForce subContactForces(const contact::FaceContact& fc,
-                           std::span<const particles::SubKey> old_keys,
+                           std::span<const particles::SubFeature> old_keys,
                            std::span<const particles::SubHistory> old, const PairKinematics& kin,
                            double m_eff, double dt, const LawCoefficients& k,
                            const particles::SubSlots& kept, SubContactScratch& scratch);
@@ -97,7 +97,7 @@ PairForce subContactForces(const contact::FaceContact& fc,
 /// The same, the kept sub-contacts in `kept`, with working space of its own (allocates; for a
 /// single pair).
 PairForce subContactForces(const contact::FaceContact& fc,
-                           std::span<const particles::SubKey> old_keys,
+                           std::span<const particles::SubFeature> old_keys,
                            std::span<const particles::SubHistory> old, const PairKinematics& kin,
                            double m_eff, double dt, const LawCoefficients& k,
                            std::vector<SubState>& kept);

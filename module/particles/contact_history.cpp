@@ -55,11 +55,17 @@ void unpack(RecvBuffer& in, SubKey& key, SubHistory& h) {
 }
 
 void ContactHistory::clear() {
-  keys_.clear();
-  entries_.clear();
-  sub_end_.clear();
+  pairs_ = 0;
   subs_ = 0;
   open_ = 0;
+  open_scratch_ = false;
+  rebuilding_ = false;
+  dropOld();
+}
+
+void ContactHistory::dropOld() {
+  old_pair_ = old_end_ = keys_.size();
+  old_sub_ = old_sub_end_ = read_floor_ = sub_keys_.size();
 }
 
 std::uint64_t ContactHistory::pairBytes() const {
@@ -67,25 +73,109 @@ std::uint64_t ContactHistory::pairBytes() const {
 }
 
 std::uint64_t ContactHistory::subBytes() const {
-  return capacityBytes(sub_keys_) + capacityBytes(sub_entries_);
+  return capacityBytes(sub_keys_) + capacityBytes(sub_entries_) + capacityBytes(scratch_keys_) +
+         capacityBytes(scratch_entries_);
 }
 
 const PairHistory* ContactHistory::find(const PairKey& key) const {
-  const auto it = std::lower_bound(keys_.begin(), keys_.end(), key);
-  if (it == keys_.end() || *it != key) return nullptr;
+  const auto end = keys_.begin() + static_cast<std::ptrdiff_t>(pairs_);
+  const auto it = std::lower_bound(keys_.begin(), end, key);
+  if (it == end || *it != key) return nullptr;
   return &entries_[static_cast<std::size_t>(it - keys_.begin())];
 }
 
 std::pair<std::size_t, std::size_t> ContactHistory::subRange(const PairKey& key) const {
-  const auto it = std::lower_bound(keys_.begin(), keys_.end(), key);
+  const auto end = keys_.begin() + static_cast<std::ptrdiff_t>(pairs_);
+  const auto it = std::lower_bound(keys_.begin(), end, key);
   const auto k = static_cast<std::size_t>(it - keys_.begin());
   const std::size_t first = subBegin(k);
-  return {first, it == keys_.end() || *it != key ? first : sub_end_[k]};
+  return {first, it == end || *it != key ? first : sub_end_[k]};
+}
+
+void ContactHistory::beginRebuild() {
+  if (rebuilding_ || open_ > 0) refuse("beginRebuild: a rebuild or slots still open");
+  // Last step's table stays where it is; the new one is written from the front, and the unread
+  // old entries move to the end of the room only when the new ones reach them.
+  old_pair_ = 0;
+  old_end_ = pairs_;
+  old_sub_ = 0;
+  old_sub_end_ = subs_;
+  read_floor_ = 0;
+  pairs_ = 0;
+  subs_ = 0;
+  rebuilding_ = true;
+}
+
+namespace {
+
+// Keeps [0, front) of `v`, moves [first, last) to the end of `room` slots (a new array when the
+// room changes; move_backward within the array otherwise, the target at or after the source).
+template <typename T>
+void moveToEnd(std::vector<T>& v, std::size_t front, std::size_t first, std::size_t last,
+               std::size_t room) {
+  const auto at = [](auto& w, std::size_t i) { return w.begin() + static_cast<std::ptrdiff_t>(i); };
+  if (room == v.size()) {
+    std::move_backward(at(v, first), at(v, last), v.end());
+    return;
+  }
+  std::vector<T> out(room);
+  std::copy(v.begin(), at(v, front), out.begin());
+  std::copy(at(v, first), at(v, last), at(out, room - (last - first)));
+  v.swap(out);
+}
+
+// Room for `needed` slots: the current room, or a quarter more (at least `needed`).
+std::size_t roomFor(std::size_t room, std::size_t needed) {
+  return needed <= room ? room : std::max(needed, growthFor(room));
+}
+
+}  // namespace
+
+void ContactHistory::makePairRoom() {
+  const std::size_t unread = old_end_ - old_pair_;
+  const std::size_t room = roomFor(keys_.size(), pairs_ + 1 + unread);
+  moveToEnd(keys_, pairs_, old_pair_, old_end_, room);
+  moveToEnd(entries_, pairs_, old_pair_, old_end_, room);
+  moveToEnd(sub_end_, pairs_, old_pair_, old_end_, room);
+  old_pair_ = room - unread;
+  old_end_ = room;
+}
+
+void ContactHistory::makeSubRoom(std::size_t count) {
+  // Nothing below read_floor_ is read any more: the unread sub-contacts are [read_floor_,
+  // old_sub_end_), which old_sub_ and the block ends of the unread pairs point into.
+  const std::size_t unread = old_sub_end_ - read_floor_;
+  const std::size_t room = roomFor(sub_keys_.size(), subs_ + count + unread);
+  const std::size_t shift = room - unread - read_floor_;
+  moveToEnd(sub_keys_, subs_, read_floor_, old_sub_end_, room);
+  moveToEnd(sub_entries_, subs_, read_floor_, old_sub_end_, room);
+  for (std::size_t k = old_pair_; k < old_end_; ++k) sub_end_[k] += shift;
+  old_sub_ += shift;
+  read_floor_ += shift;
+  old_sub_end_ = room;
+}
+
+void ContactHistory::endRebuild() {
+  if (!rebuilding_ || open_ > 0) refuse("endRebuild: no rebuild, or slots still open");
+  rebuilding_ = false;
+  // Room kept from a larger table is given back: the table keeps at most twice its growth.
+  auto shrink = [](auto& v, std::size_t size) {
+    if (v.size() > 2 * growthFor(size)) {
+      v.resize(growthFor(size));
+      v.shrink_to_fit();
+    }
+  };
+  shrink(keys_, pairs_);
+  shrink(entries_, pairs_);
+  shrink(sub_end_, pairs_);
+  shrink(sub_keys_, subs_);
+  shrink(sub_entries_, subs_);
+  dropOld();
 }
 
 void ContactHistory::appendSubs(const PairKey& pair, std::span<const SubEntry> subs) {
   if (subs.empty()) return;
-  if (keys_.empty() || keys_.back() != pair) {
+  if (pairs_ == 0 || keys_[pairs_ - 1] != pair) {
     refuse("appendSubs: sub-contacts of a pair other than the last appended");
   }
   const SubSlots slots = openSubs(subs.size());
@@ -100,64 +190,63 @@ void ContactHistory::refuse(const char* what) {
   throw Error(cat("ContactHistory::", what));
 }
 
-void ContactHistory::growSubs(std::size_t size) {
-  // Grown geometrically: a table that starts without slots (the first steps' tables, the history
-  // that Simulation::startLeapfrog restores from a copy) would otherwise grow by one pair's
-  // sub-contacts per pair, a reallocation for every pair of the step. By a quarter, not doubled
-  // (core/memory.h growthFor): both tables keep their slots for the whole run.
-  const std::size_t slots = std::max(size, growthFor(sub_keys_.size()));
-  sub_keys_.reserve(slots);
-  sub_entries_.reserve(slots);
-  sub_keys_.resize(slots);
-  sub_entries_.resize(slots);
-}
-
-void ContactHistory::growPairs() {
-  const std::size_t pairs = growthFor(keys_.size());
-  keys_.reserve(pairs);
-  entries_.reserve(pairs);
-  sub_end_.reserve(pairs);
-}
-
-void ContactHistory::indexSubs() {
-  sub_end_.assign(keys_.size(), 0);
+void ContactHistory::assign(std::vector<PairKey> keys, std::vector<PairHistory> entries,
+                            const std::vector<SubKey>& sub_keys,
+                            std::vector<SubHistory> sub_entries) {
+  std::vector<std::size_t> sub_end(keys.size(), 0);
   std::size_t s = 0;
-  for (std::size_t k = 0; k < keys_.size(); ++k) {
-    if (s < subs_ && sub_keys_[s].pair < keys_[k]) break;  // no pair entry: below
-    while (s < subs_ && sub_keys_[s].pair == keys_[k]) ++s;
-    sub_end_[k] = s;
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    if (s < sub_keys.size() && sub_keys[s].pair < keys[k]) break;  // no pair entry: below
+    while (s < sub_keys.size() && sub_keys[s].pair == keys[k]) ++s;
+    sub_end[k] = s;
   }
-  if (s != subs_) {
-    const PairKey& orphan = sub_keys_[s].pair;
+  if (s != sub_keys.size()) {
+    const PairKey& orphan = sub_keys[s].pair;
     throw Error(cat("ContactHistory: sub-contact history of pair (", orphan.lo, ", ", orphan.hi,
                     ") without the pair's own history (inconsistent data)"));
   }
+  std::vector<SubFeature> features(sub_keys.size());
+  for (std::size_t i = 0; i < sub_keys.size(); ++i) features[i].feature = sub_keys[i].feature;
+  pairs_ = keys.size();
+  subs_ = features.size();
+  keys_ = std::move(keys);
+  entries_ = std::move(entries);
+  sub_end_ = std::move(sub_end);
+  sub_keys_ = std::move(features);
+  sub_entries_ = std::move(sub_entries);
+  open_ = 0;
+  open_scratch_ = false;
+  rebuilding_ = false;
+  dropOld();
 }
 
 void ContactHistory::merge(std::span<const PairKey> keys, std::span<const PairHistory> entries) {
-  mergeTable(keys_, entries_, keys, entries);
-  open_ = 0;
-  indexSubs();
+  HistoryRecords records;
+  records.keys.assign(keys.begin(), keys.end());
+  records.entries.assign(entries.begin(), entries.end());
+  merge(records);
 }
 
 void ContactHistory::merge(const HistoryRecords& records) {
-  mergeTable<PairKey, PairHistory>(keys_, entries_, records.keys, records.entries);
-  sub_keys_.resize(subs_);  // the slots kept for reuse are not entries
-  sub_entries_.resize(subs_);
-  mergeTable<SubKey, SubHistory>(sub_keys_, sub_entries_, records.sub_keys, records.sub_entries);
-  subs_ = sub_keys_.size();
-  open_ = 0;
-  indexSubs();
+  if (rebuilding_ || open_ > 0) refuse("merge: during a rebuild");
+  HistoryRecords all;
+  for (std::size_t k = 0; k < pairs_; ++k) copyPair(k, all);
+  // The table's own entries (sorted, one per key) first: they are kept over equal records.
+  mergeTable<PairKey, PairHistory>(all.keys, all.entries, records.keys, records.entries);
+  mergeTable<SubKey, SubHistory>(all.sub_keys, all.sub_entries, records.sub_keys,
+                                 records.sub_entries);
+  assign(std::move(all.keys), std::move(all.entries), all.sub_keys, std::move(all.sub_entries));
 }
 
 void ContactHistory::copyPair(std::size_t pair_index, HistoryRecords& records) const {
-  records.keys.push_back(keys_[pair_index]);
+  const PairKey& key = keys_[pair_index];
+  records.keys.push_back(key);
   records.entries.push_back(entries_[pair_index]);
   const std::size_t first = subBegin(pair_index), last = sub_end_[pair_index];
-  records.sub_keys.insert(records.sub_keys.end(), sub_keys_.begin() + first,
-                          sub_keys_.begin() + last);
-  records.sub_entries.insert(records.sub_entries.end(), sub_entries_.begin() + first,
-                             sub_entries_.begin() + last);
+  for (std::size_t s = first; s < last; ++s) {
+    records.sub_keys.push_back({key, sub_keys_[s].feature});
+    records.sub_entries.push_back(sub_entries_[s]);
+  }
 }
 
 }  // namespace polydem::particles

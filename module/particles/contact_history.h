@@ -2,16 +2,20 @@
 //
 // It holds the tangential (shear) force, the previous contact normal (to rotate the shear force
 // onto the new contact plane, Zhao eqs. 33-34) and the kernel's warm start (previous common plane
-// or separating axis). With the sub-contact model (contact/face/face_contact.h) every sub-contact
-// of a pair has a shear spring of its own, kept in a second table keyed by (pair, features). Both
-// live outside the kernels so that they can migrate with particles and be written to checkpoints.
+// or separating axis). With the sub-contact model (contact/face/face_contact.h) every sub-contact of a
+// pair has a shear spring of its own, kept in a second table under its features alone: a pair's
+// sub-contacts are one contiguous block, and each pair keeps the end of its block, so the pair of
+// a sub-contact is implied by where it lies. Both live outside the kernels so that they can
+// migrate with particles and be written to checkpoints.
 //
-// Storage is two tables sorted by key; a pair's sub-contacts are contiguous in the second, and each
-// pair keeps the end of its block there, so a pair's sub-contacts are found by its index, without
-// a search. The narrow phase visits candidate pairs in the same key order, so looking up last
-// step's entries is a merge walk (no hashing), and the new history comes out already sorted. A
-// pair whose two particles are owned by different ranks is evaluated on both ranks from identical
-// inputs, so both copies stay bit-for-bit equal.
+// Both tables are sorted by key. The narrow phase visits candidate pairs in the same key order,
+// so it rebuilds the table in place, in one pass (beginRebuild): the new step's entries are
+// written from the front while last step's are read ahead of them, so that one copy of the
+// history is held, not two. Where the new entries would reach unread old ones (pairs that appear,
+// a pair with more sub-contacts than before), the unread rest moves to the end of the table's
+// room, which grows by a quarter when that is not enough. A pair whose two particles are owned by
+// different ranks is evaluated on both ranks from identical inputs, so both copies stay
+// bit-for-bit equal.
 #pragma once
 
 #include <algorithm>
@@ -44,8 +48,16 @@ struct PairHistory {
   std::uint32_t touching = 0;       // 1 if the pair was in contact at the last step
 };
 
-/// A sub-contact's key: its pair, then the features of A and B it comes from (a
-/// contact::FeatureKey), so that a pair's sub-contacts sort together in a canonical order.
+/// A sub-contact's key in the table: the features of A and B it comes from (a
+/// contact::FeatureKey); its pair is the block it lies in.
+struct SubFeature {
+  std::uint64_t feature = 0;
+  friend bool operator==(const SubFeature&, const SubFeature&) = default;
+  friend auto operator<=>(const SubFeature&, const SubFeature&) = default;
+};
+
+/// A sub-contact's full key, for histories outside the table (in transit, in checkpoints): its
+/// pair, then its features, so that a pair's sub-contacts sort together in a canonical order.
 struct SubKey {
   PairKey pair;
   std::uint64_t feature = 0;
@@ -76,10 +88,10 @@ void unpack(RecvBuffer& in, PairKey& key, PairHistory& h);
 void pack(SendBuffer& out, const SubKey& key, const SubHistory& h);
 void unpack(RecvBuffer& in, SubKey& key, SubHistory& h);
 
-/// Room for a pair's sub-contacts in the table (ContactHistory::openSubs): the pair's key is
-/// filled in; the caller writes the features and the histories of the first n slots in order.
+/// Room for a pair's sub-contacts (ContactHistory::openSubs): the caller writes the features and
+/// the histories of the first n slots in order.
 struct SubSlots {
-  std::span<SubKey> keys;
+  std::span<SubFeature> keys;
   std::span<SubHistory> entries;
 };
 
@@ -94,24 +106,53 @@ struct HistoryRecords {
 
 class ContactHistory {
  public:
-  std::size_t size() const { return keys_.size(); }
-  bool empty() const { return keys_.empty(); }
-  std::span<const PairKey> keys() const { return keys_; }
-  std::span<const PairHistory> entries() const { return entries_; }
-  std::span<const SubKey> subKeys() const { return {sub_keys_.data(), subs_}; }
+  std::size_t size() const { return pairs_; }
+  bool empty() const { return pairs_ == 0; }
+  std::span<const PairKey> keys() const { return {keys_.data(), pairs_}; }
+  std::span<const PairHistory> entries() const { return {entries_.data(), pairs_}; }
+  std::size_t subCount() const { return subs_; }
+  std::span<const SubFeature> subFeatures() const { return {sub_keys_.data(), subs_}; }
   std::span<const SubHistory> subEntries() const { return {sub_entries_.data(), subs_}; }
+  /// Index range [first, last) of the sub-contacts of the pair at `pair_index`.
+  std::pair<std::size_t, std::size_t> subsOf(std::size_t pair_index) const {
+    return {subBegin(pair_index), sub_end_[pair_index]};
+  }
   void clear();
 
   /// Heap bytes (capacities, core/memory.h) of the pair table (keys, entries, block ends) and of
-  /// the sub-contact table (its kept slots included).
+  /// the sub-contact table, their room included.
   std::uint64_t pairBytes() const;
   std::uint64_t subBytes() const;
 
   /// Entry for `key`, or null. O(log n).
   const PairHistory* find(const PairKey& key) const;
 
-  /// Index range [first, last) of the sub-contacts of `key` in subKeys(). O(log n).
+  /// Index range [first, last) of the sub-contacts of `key` in subFeatures(). O(log n).
   std::pair<std::size_t, std::size_t> subRange(const PairKey& key) const;
+
+  /// A pair's entries: its own (null if none) and its sub-contacts (features and entries,
+  /// parallel).
+  struct Found {
+    const PairHistory* pair = nullptr;
+    std::span<const SubFeature> sub_keys;
+    std::span<const SubHistory> subs;
+  };
+
+  /// Starts rebuilding the table in place: the table becomes empty for appends, while last
+  /// step's entries stay readable through takeOld, for keys in increasing order.
+  void beginRebuild();
+  /// Last step's entries of `key` during a rebuild, for keys visited in increasing order; the old
+  /// entries below `key` are dropped. The pair entry is valid until the next appendSorted, the
+  /// sub-contacts until closeSubs or the next takeOld.
+  Found takeOld(const PairKey& key);
+  /// The same when the old entries of `key` are not read (a pair evaluated ahead of the step).
+  void skipOld(const PairKey& key) {
+    takeOld(key);
+    read_floor_ = old_sub_;
+  }
+  /// Ends the rebuild: old entries not taken are dropped, and room far beyond the table's size
+  /// (more than twice a quarter's growth) is given back.
+  void endRebuild();
 
   /// Appends an entry whose key is larger than every key so far (building in sorted order).
   /// Returns it, to be updated in place until the next append (the contact phase appends last
@@ -122,7 +163,9 @@ class ContactHistory {
   /// `pair` must be the pair appended last.
   void appendSubs(const PairKey& pair, std::span<const SubEntry> subs);
   /// Room for up to `count` sub-contacts of the pair appended last, to be written in place (no
-  /// copy through a buffer of the caller's) and closed by closeSubs before anything else.
+  /// copy through a buffer of the caller's) and closed by closeSubs before anything else. While
+  /// the old block of the pair taken last is still read, the slots are a buffer of the table's
+  /// whenever the table's own would reach it, copied in by closeSubs.
   SubSlots openSubs(std::size_t count);
   /// Keeps the first `used` slots of openSubs, drops the rest; throws (dropping them all) unless
   /// the pair's features are strictly increasing.
@@ -133,26 +176,21 @@ class ContactHistory {
   void merge(std::span<const PairKey> keys, std::span<const PairHistory> entries);
   /// The same for pairs and sub-contacts.
   void merge(const HistoryRecords& records);
-  /// Adds this history's entries for `key` (pair and sub-contacts) to `records`.
+  /// Adds this history's entries for the pair at `pair_index` (pair and sub-contacts) to
+  /// `records`.
   void copyPair(std::size_t pair_index, HistoryRecords& records) const;
 
-  /// Sequential lookup for a caller visiting keys in increasing order: advances an internal cursor
-  /// over the pairs; a pair's sub-contacts are then its block of the second table.
+  /// Sequential lookup for a caller visiting keys in increasing order (outside a rebuild):
+  /// advances an internal cursor over the pairs; a pair's sub-contacts are then its block of the
+  /// second table.
   class Cursor {
    public:
     explicit Cursor(const ContactHistory& h) : h_(h) {}
     const PairHistory* seek(const PairKey& key) {
-      while (pos_ < h_.keys_.size() && h_.keys_[pos_] < key) ++pos_;
-      return pos_ < h_.keys_.size() && h_.keys_[pos_] == key ? &h_.entries_[pos_] : nullptr;
+      while (pos_ < h_.pairs_ && h_.keys_[pos_] < key) ++pos_;
+      return pos_ < h_.pairs_ && h_.keys_[pos_] == key ? &h_.entries_[pos_] : nullptr;
     }
-    /// A pair's entries: its own (null if none) and its sub-contacts (keys and entries, parallel).
-    struct Found {
-      const PairHistory* pair = nullptr;
-      std::span<const SubKey> sub_keys;
-      std::span<const SubHistory> subs;
-    };
-    /// The entries of `key`, found by one step of the walk (the contact phase needs both; asking
-    /// seek and subs apart walked and compared twice), for keys visited in increasing order.
+    /// The entries of `key`, found by one step of the walk, for keys visited in increasing order.
     Found find(const PairKey& key) {
       const PairHistory* pair = seek(key);
       // Every sub-contact has its pair's entry (indexSubs), so a pair without one has none.
@@ -160,9 +198,9 @@ class ContactHistory {
       const std::size_t first = h_.subBegin(pos_), count = h_.sub_end_[pos_] - first;
       return {pair, {h_.sub_keys_.data() + first, count}, {h_.sub_entries_.data() + first, count}};
     }
-    /// The sub-contacts of `key` (keys and entries, parallel), for keys visited in increasing
-    /// order.
-    std::pair<std::span<const SubKey>, std::span<const SubHistory>> subs(const PairKey& key) {
+    /// The sub-contacts of `key` (features and entries, parallel), for keys visited in
+    /// increasing order.
+    std::pair<std::span<const SubFeature>, std::span<const SubHistory>> subs(const PairKey& key) {
       const Found found = find(key);
       return {found.sub_keys, found.subs};
     }
@@ -175,28 +213,46 @@ class ContactHistory {
  private:
   /// Throws Error("ContactHistory::" + what); out of line, away from the step's inline calls.
   [[noreturn]] static void refuse(const char* what);
-  /// Room for at least `size` sub-contacts (slots constructed once, then kept), grown
-  /// geometrically.
-  void growSubs(std::size_t size);
-  /// Room for one more pair, grown by a quarter (core/memory.h growthFor).
-  void growPairs();
+  /// Room for one more pair in front of the unread old ones: moves these to the end of the
+  /// room, or grows it by a quarter (core/memory.h growthFor) when that is not enough.
+  void makePairRoom();
+  /// The same for `count` more sub-contacts, in front of those still to be read.
+  void makeSubRoom(std::size_t count);
+  /// Nothing old to read: the unread ranges empty, at the end of the room.
+  void dropOld();
   /// Whether the features of the last pair's block are strictly increasing up to `last`,
   /// checking from `first` on (and the one before it, if the pair has it).
   bool increasingFrom(std::size_t first, std::size_t last) const;
   /// First sub-contact of pair `k` (the end of the block of pair k - 1).
   std::size_t subBegin(std::size_t k) const { return k == 0 ? 0 : sub_end_[k - 1]; }
-  /// Recomputes sub_end_ from the two sorted tables; throws if a sub-contact has no pair entry.
-  void indexSubs();
+  /// Replaces the table by sorted full-key tables; throws if a sub-contact has no pair entry.
+  void assign(std::vector<PairKey> keys, std::vector<PairHistory> entries,
+              const std::vector<SubKey>& sub_keys, std::vector<SubHistory> sub_entries);
+  PairHistory& place(const PairKey& key, const PairHistory& h) {
+    keys_[pairs_] = key;
+    entries_[pairs_] = h;
+    sub_end_[pairs_] = subs_;
+    return entries_[pairs_++];
+  }
 
+  // The room: every slot constructed (the vectors' sizes), so that the step's appends neither
+  // construct nor check per slot. The table is [0, pairs_) and [0, subs_).
   std::vector<PairKey> keys_;
   std::vector<PairHistory> entries_;
   std::vector<std::size_t> sub_end_;  // per pair: one past its last sub-contact in sub_keys_
-  // The sub-contacts are the first subs_ entries: slots past them are kept (constructed) from
-  // earlier steps, so that openSubs in the step's loop neither constructs nor checks per slot.
-  std::vector<SubKey> sub_keys_;
+  std::vector<SubFeature> sub_keys_;
   std::vector<SubHistory> sub_entries_;
-  std::size_t subs_ = 0;
-  std::size_t open_ = 0;  // slots handed out by openSubs, not yet closed
+  std::size_t pairs_ = 0, subs_ = 0;
+  // Last step's entries not yet taken, while rebuilding: pairs [old_pair_, old_end_), their
+  // sub-contacts [old_sub_, old_sub_end_). Sub-contacts from read_floor_ on may still be read
+  // (the old block of the pair taken last, until closeSubs). Outside a rebuild the ranges are
+  // empty, at the end of the room.
+  std::size_t old_pair_ = 0, old_end_ = 0, old_sub_ = 0, old_sub_end_ = 0, read_floor_ = 0;
+  std::size_t open_ = 0;       // slots handed out by openSubs, not yet closed
+  bool open_scratch_ = false;  // ... in the scratch buffers below
+  bool rebuilding_ = false;
+  std::vector<SubFeature> scratch_keys_;
+  std::vector<SubHistory> scratch_entries_;
 };
 
 // The calls made for every pair of every step, inline. appendSorted is forced inline: GCC keeps it
@@ -204,28 +260,50 @@ class ContactHistory {
 
 [[gnu::always_inline]] inline PairHistory& ContactHistory::appendSorted(const PairKey& key,
                                                                         const PairHistory& h) {
-  if (!keys_.empty() && !(keys_.back() < key))
+  if (pairs_ > 0 && !(keys_[pairs_ - 1] < key))
     refuse("appendSorted: keys must be strictly increasing");
-  if (keys_.size() == keys_.capacity()) growPairs();
-  keys_.push_back(key);
-  entries_.push_back(h);
-  sub_end_.push_back(subs_);
-  return entries_.back();
+  if (open_ > 0) refuse("appendSorted: sub-contact slots still open");
+  if (pairs_ < old_pair_) return place(key, h);
+  const PairHistory value = h;  // `h` may lie in the room that moves
+  makePairRoom();
+  return place(key, value);
+}
+
+inline ContactHistory::Found ContactHistory::takeOld(const PairKey& key) {
+  while (old_pair_ < old_end_ && keys_[old_pair_] < key) old_sub_ = sub_end_[old_pair_++];
+  read_floor_ = old_sub_;
+  if (old_pair_ == old_end_ || keys_[old_pair_] != key) return {};
+  // The pair's slot may be written from now on; its block is read until closeSubs.
+  const std::size_t first = old_sub_, last = sub_end_[old_pair_];
+  const PairHistory* pair = &entries_[old_pair_++];
+  old_sub_ = last;
+  return {
+      pair, {sub_keys_.data() + first, last - first}, {sub_entries_.data() + first, last - first}};
 }
 
 inline SubSlots ContactHistory::openSubs(std::size_t count) {
-  if (keys_.empty() || open_ > 0) refuse("openSubs: no pair appended, or slots still open");
+  if (pairs_ == 0 || open_ > 0) refuse("openSubs: no pair appended, or slots still open");
   const std::size_t first = subs_;
-  if (sub_keys_.size() < first + count) growSubs(first + count);
-  const PairKey pair = keys_.back();
-  for (std::size_t i = first; i < first + count; ++i) sub_keys_[i].pair = pair;
   open_ = count;
+  open_scratch_ = first + count > read_floor_;
+  if (open_scratch_ && read_floor_ == old_sub_) {
+    // No old block is being read: the unread ones may move now.
+    makeSubRoom(count);
+    open_scratch_ = false;
+  }
+  if (open_scratch_) {
+    if (scratch_keys_.size() < count) {
+      scratch_keys_.resize(count);
+      scratch_entries_.resize(count);
+    }
+    return {{scratch_keys_.data(), count}, {scratch_entries_.data(), count}};
+  }
   return {{sub_keys_.data() + first, count}, {sub_entries_.data() + first, count}};
 }
 
 inline bool ContactHistory::increasingFrom(std::size_t first, std::size_t last) const {
   // The whole block of the pair, with what an earlier openSubs of the same pair kept.
-  const std::size_t block = subBegin(keys_.size() - 1);
+  const std::size_t block = subBegin(pairs_ - 1);
   for (std::size_t i = std::max(first, block + 1); i < last; ++i) {
     if (!(sub_keys_[i - 1].feature < sub_keys_[i].feature)) return false;
   }
@@ -234,11 +312,20 @@ inline bool ContactHistory::increasingFrom(std::size_t first, std::size_t last) 
 
 inline void ContactHistory::closeSubs(std::size_t used) {
   const std::size_t first = subs_, last = first + used;
-  const bool valid = used <= open_ && increasingFrom(first, last);
+  const bool scratch = open_scratch_;
+  const bool fits = used <= open_;
   open_ = 0;
-  if (!valid) refuse("closeSubs: more than were opened, or features not increasing");
+  open_scratch_ = false;
+  read_floor_ = old_sub_;  // the old block of the pair has been read
+  if (!fits) refuse("closeSubs: more than were opened");
+  if (scratch) {
+    if (last > read_floor_) makeSubRoom(used);
+    std::copy_n(scratch_keys_.data(), used, sub_keys_.data() + first);
+    std::copy_n(scratch_entries_.data(), used, sub_entries_.data() + first);
+  }
+  if (!increasingFrom(first, last)) refuse("closeSubs: features not increasing");
   subs_ = last;
-  sub_end_.back() = last;
+  sub_end_[pairs_ - 1] = last;
 }
 
 }  // namespace polydem::particles

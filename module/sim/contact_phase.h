@@ -69,8 +69,9 @@ struct ContactSetup {
 class ContactPhase {
  public:
   /// Evaluates all pairs of `candidates` (broad-phase output over `storage`), replaces `history`
-  /// by the histories of the evaluated pairs, and leaves in `forces` (parallel to storage) the
-  /// contact forces and torques on local free particles, summed in partner-uid order.
+  /// by the histories of the evaluated pairs (rebuilt in place: one copy is held), and leaves in
+  /// `forces` (parallel to storage) the contact forces and torques on local free particles, summed
+  /// in partner-uid order.
   ContactPhaseStats run(const ContactSetup& setup, const particles::ParticleStorage& storage,
                         std::span<const broadphase::CandidatePair> candidates,
                         particles::ContactHistory& history,
@@ -99,7 +100,7 @@ class ContactPhase {
     std::uint64_t pair_list = 0;      // the ordered pairs and their sort
     std::uint64_t filter = 0;         // per-particle boxes and Bodies
     std::uint64_t records = 0;        // one ContactRecord per evaluated pair
-    std::uint64_t history_pairs = 0;  // the table being built (and the early one): pairs
+    std::uint64_t history_pairs = 0;  // the early pairs' table: pairs
     std::uint64_t history_subs = 0;   // ... and sub-contacts
     std::uint64_t early = 0;          // results of pairs evaluated early
   };
@@ -119,21 +120,23 @@ class ContactPhase {
     particles::PairKey key;
     Evaluated e;
   };
-  /// Filter, kernel, model and law of pair `c` (not `accepted` if the filter rejects it).
-  /// Appends the pair's new history to `next`. Returned by value: built in the caller's
+  /// Filter, kernel, model and law of pair `c` (not `accepted` if the filter rejects it): last
+  /// step's history found by `old` (a ContactHistory::Cursor, or the history being rebuilt),
+  /// the pair's new history appended to `next`. Returned by value: built in the caller's
   /// variable, where an output argument cost a copy of the law's result per pair.
+  template <typename OldHistory>
   Evaluated evaluate(const ContactSetup& setup, const particles::ParticleStorage& storage,
-                     const OrderedPair& c, particles::ContactHistory::Cursor& old,
-                     particles::ContactHistory& next);
-  /// Appends the early pair's history (pair and sub-contacts) from early_history_ to next_.
-  void takeEarlyHistory(const particles::PairKey& key, particles::ContactHistory::Cursor& early);
+                     const OrderedPair& c, OldHistory& old, particles::ContactHistory& next);
+  /// Appends the early pair's history (pair and sub-contacts) from early_history_ to `history`,
+  /// which is being rebuilt.
+  void takeEarlyHistory(const particles::PairKey& key, particles::ContactHistory::Cursor& early,
+                        particles::ContactHistory& history);
 
   PairOrder order_;
   PairFilter filter_;
   ContactModelStep model_;
   PairLaw law_;
   std::vector<ContactRecord> records_;
-  particles::ContactHistory next_;
   std::vector<EarlyPair> early_;  // in key order
   particles::ContactHistory early_history_;
   ContactSetup early_setup_;

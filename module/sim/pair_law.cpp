@@ -6,7 +6,7 @@ PairLawResult PairLaw::apply(const ModelledContact& modelled, const contact::Bod
                              const contact::Body& b, const dynamics::PairKinematics& kin,
                              double m_eff, double dt, const dynamics::LawCoefficients& law,
                              const PairJoints& joints, particles::PairHistory& h,
-                             std::span<const particles::SubKey> old_keys,
+                             std::span<const particles::SubFeature> old_keys,
                              std::span<const particles::SubHistory> old,
                              particles::ContactHistory& next) {
   const contact::Contact& contact = modelled.contact;

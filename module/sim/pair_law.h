@@ -62,7 +62,7 @@ class PairLaw {
   PairLawResult apply(const ModelledContact& modelled, const contact::Body& a,
                       const contact::Body& b, const dynamics::PairKinematics& kin, double m_eff,
                       double dt, const dynamics::LawCoefficients& law, const PairJoints& joints,
-                      particles::PairHistory& h, std::span<const particles::SubKey> old_keys,
+                      particles::PairHistory& h, std::span<const particles::SubFeature> old_keys,
                       std::span<const particles::SubHistory> old, particles::ContactHistory& next);
 
  private:

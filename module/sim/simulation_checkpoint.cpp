@@ -77,7 +77,7 @@ CheckpointData Simulation::checkpoint(const std::string& scene_toml, const std::
     d.pair_keys.push_back(keys[k]);
     d.pair_histories.push_back(entries[k]);
     const auto [sub_keys, subs] = cursor.subs(keys[k]);
-    d.sub_keys.insert(d.sub_keys.end(), sub_keys.begin(), sub_keys.end());
+    for (const auto& s : sub_keys) d.sub_keys.push_back({keys[k], s.feature});
     d.sub_histories.insert(d.sub_histories.end(), subs.begin(), subs.end());
   }
   return d;

@@ -62,7 +62,7 @@ PairKinematics moving(double vx) {
 // One step of the pair: kept histories in, kept histories out.
 struct Step {
   PairForce force;
-  std::vector<particles::SubKey> keys;
+  std::vector<particles::SubFeature> keys;
   std::vector<particles::SubHistory> entries;
 };
 
@@ -73,7 +73,7 @@ Step step(const std::vector<SubContact>& subs, const Step* last, const LawCoeffi
   out.keys.resize(subs.size());
   out.entries.resize(subs.size());
   SubContactScratch scratch;
-  std::span<const particles::SubKey> old_keys;
+  std::span<const particles::SubFeature> old_keys;
   std::span<const particles::SubHistory> old;
   if (last) {
     old_keys = last->keys;

@@ -127,10 +127,10 @@ TEST(SubContactLaw, TwistIsResisted) {
 // with them, magnitude kept (the Cayley rotation is exact).
 TEST(SubContactLaw, ShearTurnsWithTheSpinOfThePair) {
   const auto subs = square(1e-4);
-  std::vector<particles::SubKey> keys;
+  std::vector<particles::SubFeature> keys;
   std::vector<particles::SubHistory> old;
   for (const auto& s : subs) {
-    keys.push_back({{1, 2}, s.feature});
+    keys.push_back({s.feature});
     old.push_back({Vec3(100, 0, 0), Vec3::UnitZ()});
   }
   PairKinematics kin = still();
@@ -163,13 +163,13 @@ TEST(SubContactLaw, SpinShearIsARotation) {
 // goes to the new corners in proportion to their weights, so the pair's stored shear is kept.
 TEST(SubContactLaw, ShearOfVanishedCornersGoesToNewOnes) {
   auto subs = square(1e-4);
-  std::vector<particles::SubKey> keys;
+  std::vector<particles::SubFeature> keys;
   std::vector<particles::SubHistory> old;
   for (const auto& s : subs) {
-    keys.push_back({{1, 2}, s.feature});
+    keys.push_back({s.feature});
     old.push_back({Vec3(10, 0, 0), Vec3::UnitZ()});
   }
-  keys.push_back({{1, 2}, 99});  // a corner that is gone now
+  keys.push_back({99});  // a corner that is gone now
   old.push_back({Vec3(0, 8, 0), Vec3::UnitZ()});
   subs.push_back({100, Vec3(0.5, 0.0, 0), Vec3::UnitZ(), 1e-4, 0.1});  // two new corners
   subs.push_back({101, Vec3(0.5, 0.2, 0), Vec3::UnitZ(), 1e-4, 0.3});
@@ -190,18 +190,18 @@ TEST(SubContactLaw, ShearOfVanishedCornersGoesToNewOnes) {
 // six-corner pair with other histories gives the bits of a fresh working space and table.
 TEST(SubContactLaw, ReusedWorkingSpaceGivesTheSameBits) {
   auto subs = square(1e-4, 3e-4);  // the corners at y = -0.5 are open
-  std::vector<particles::SubKey> keys;
+  std::vector<particles::SubFeature> keys;
   std::vector<particles::SubHistory> old;
-  keys.push_back({{1, 2}, 0});  // gone now
+  keys.push_back({0});  // gone now
   old.push_back({Vec3(0, 4, 0), Vec3::UnitZ()});
-  keys.push_back({{1, 2}, subs[3].feature});
+  keys.push_back({subs[3].feature});
   old.push_back({Vec3(3, -1, 0), Vec3(0.01, 0, 1).normalized()});
   PairKinematics kin = still();
   kin.va = Vec3(0.01, -0.02, -0.003);
   kin.wa = Vec3(0.1, 0.2, 0.3);
 
   // As PairLaw: the pair's entry, then its sub-contacts written in place.
-  auto step = [&](const std::vector<SubContact>& s, std::span<const particles::SubKey> k,
+  auto step = [&](const std::vector<SubContact>& s, std::span<const particles::SubFeature> k,
                   std::span<const particles::SubHistory> h, const particles::PairKey& pair,
                   SubContactScratch& scratch, particles::ContactHistory& next) {
     next.appendSorted(pair, {});
@@ -217,14 +217,14 @@ TEST(SubContactLaw, ReusedWorkingSpaceGivesTheSameBits) {
   auto big = square(2e-4);  // a larger pair first, every corner carried over
   big.push_back({7, Vec3(0.6, 0, 0), Vec3::UnitZ(), 2e-4, 0.0});
   big.push_back({8, Vec3(0.6, 0.1, 0), Vec3::UnitZ(), 2e-4, 0.0});
-  std::vector<particles::SubKey> big_keys;
+  std::vector<particles::SubFeature> big_keys;
   std::vector<particles::SubHistory> big_old;
   for (const auto& s : big) {
-    big_keys.push_back({{0, 1}, s.feature});
+    big_keys.push_back({s.feature});
     big_old.push_back({Vec3(50, 50, 0), Vec3::UnitZ()});
   }
   step(big, big_keys, big_old, {0, 1}, reused, table_reused);
-  ASSERT_EQ(table_reused.subKeys().size(), 6u);
+  ASSERT_EQ(table_reused.subFeatures().size(), 6u);
   const auto f = step(subs, keys, old, {1, 2}, reused, table_reused);
 
   EXPECT_EQ(f.force, expected.force);
@@ -233,14 +233,14 @@ TEST(SubContactLaw, ReusedWorkingSpaceGivesTheSameBits) {
   EXPECT_EQ(f.energy, expected.energy);
   const auto kept_fresh = table_fresh.subEntries();
   const auto kept_reused = table_reused.subEntries().subspan(6);
-  ASSERT_EQ(table_reused.subKeys().size(), 8u);  // six of the big pair, two of this one
-  ASSERT_EQ(kept_fresh.size(), 2u);              // the two closed corners
+  ASSERT_EQ(table_reused.subFeatures().size(), 8u);  // six of the big pair, two of this one
+  ASSERT_EQ(kept_fresh.size(), 2u);                  // the two closed corners
   for (std::size_t i = 0; i < kept_fresh.size(); ++i) {
-    EXPECT_EQ(table_reused.subKeys()[6 + i], table_fresh.subKeys()[i]);
+    EXPECT_EQ(table_reused.subFeatures()[6 + i], table_fresh.subFeatures()[i]);
     EXPECT_EQ(kept_reused[i].shear_force, kept_fresh[i].shear_force);
     EXPECT_EQ(kept_reused[i].normal, kept_fresh[i].normal);
   }
-  EXPECT_EQ(table_fresh.subKeys()[0], (particles::SubKey{{1, 2}, subs[1].feature}));
+  EXPECT_EQ(table_fresh.subFeatures()[0], (particles::SubFeature{subs[1].feature}));
   // The newcomer (no history) got the vanished corner's shear, the carried one its own.
   EXPECT_GT(kept_fresh[0].shear_force.y(), 3.0);
   EXPECT_GT(kept_fresh[1].shear_force.x(), 2.0);
