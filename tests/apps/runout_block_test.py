@@ -101,9 +101,10 @@ def main():
     with open(os.path.join(workdir, "fos", "fos.json")) as f:
         f_run = json.load(f)["runout"]
     got = f_run["runout_distance"]
-    # KNOWN FAILURE, reported and not asserted: since fos trials start from the settled state,
-    # the run-on from the mechanism's state stops about a quarter of a block short of the energy
-    # answer (README, Known limitations); `polydem runout` above is checked within 5 % of b.
+    # KNOWN FAILURE, reported and not asserted: the run-on from the mechanism's state keeps the
+    # plain run's speed down the incline but loses more of it at the kink, and stops about a
+    # quarter of a block short of the energy answer (README, Known limitations); `polydem
+    # runout` above is checked within 5 % of b.
     print(f"REPORT fos --runout: runout {got:.4f} m against {expected:.4f} m "
           f"({(got - expected) / b:+.2%} of b; KNOWN FAILURE when beyond 5 %)")
     expect(f_run["at_rest"], f"fos --runout: not at rest, runout {got} m")
