@@ -70,14 +70,7 @@ RealizationResult unpack(const double*& in) {
 std::vector<RealizationResult> gather(const std::optional<RealizationResult>& mine, MPI_Comm comm) {
   std::vector<double> buffer;
   if (mine) pack(*mine, buffer);
-  const int ranks = mpi::size(comm);
-  int count = static_cast<int>(buffer.size());
-  std::vector<int> counts(ranks), offsets(ranks, 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
-  std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
-  MPI_Allgatherv(buffer.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
-                 MPI_DOUBLE, comm);
+  const std::vector<double> all = mpi::allgatherv(buffer, comm);  // in rank order
   std::vector<RealizationResult> out;
   for (const double* p = all.data(); p < all.data() + all.size();) out.push_back(unpack(p));
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
