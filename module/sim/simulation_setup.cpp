@@ -213,22 +213,6 @@ void Simulation::buildDomain() {
   forest_->setRankMap(rankMap(weights), ranks_);
 }
 
-std::vector<int> Simulation::rankMap(std::span<const double> weights) const {
-  if (scene_.domain.balancer == "cyclic") {
-    if (forest_->numBlocks() < ranks_) {
-      throw InputError(scene_.file, scene_.domain.line,
-                       cat("[domain] has ", forest_->numBlocks(), " blocks for ", ranks_,
-                           " ranks: balancer \"cyclic\" needs at least one block per rank"));
-    }
-    std::vector<int> map(forest_->numBlocks());
-    for (int b = 0; b < forest_->numBlocks(); ++b) map[b] = b % ranks_;
-    return map;
-  }
-  domain::BlockLoads loads(forest_->numBlocks());
-  loads.self.assign(weights.begin(), weights.end());
-  return domain::computeRankMap(*forest_, loads, comm_, partitionMethod());
-}
-
 void Simulation::placeParticles() {
   for (const auto& spec : scene_.particles) {
     // The spec places the shape's own frame; the body frame sits at the shape's centroid, turned

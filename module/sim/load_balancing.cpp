@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 
+#include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
@@ -46,6 +47,22 @@ std::int64_t occupiedOnAllRanks(const domain::Aabb& box, const domain::Index3& c
 }
 
 }  // namespace
+
+std::vector<int> Simulation::rankMap(std::span<const double> weights) const {
+  if (scene_.domain.balancer == "cyclic") {
+    if (forest_->numBlocks() < ranks_) {
+      throw InputError(scene_.file, scene_.domain.line,
+                       cat("[domain] has ", forest_->numBlocks(), " blocks for ", ranks_,
+                           " ranks: balancer \"cyclic\" needs at least one block per rank"));
+    }
+    std::vector<int> map(forest_->numBlocks());
+    for (int b = 0; b < forest_->numBlocks(); ++b) map[b] = b % ranks_;
+    return map;
+  }
+  domain::BlockLoads loads(forest_->numBlocks());
+  loads.self.assign(weights.begin(), weights.end());
+  return domain::computeRankMap(*forest_, loads, comm_, partitionMethod());
+}
 
 domain::PartitionMethod Simulation::partitionMethod() const {
   return scene_.domain.balancer == "sfc" ? domain::PartitionMethod::kSfc
