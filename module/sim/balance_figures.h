@@ -38,7 +38,7 @@ struct BalanceFigures {
   // (finding destinations, packing, unpacking). Timings: not deterministic.
   Spread wait_seconds, transfer_seconds, bookkeeping_seconds;
   // Seconds per step of contact work done while the exchange was in flight (not part of the
-  // three above; the loop's "communicate" timer holds it).
+  // three above; the loop's "early contacts" timer).
   Spread early_seconds;
 };
 

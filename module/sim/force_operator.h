@@ -2,11 +2,12 @@
 // uplift, a seismic body force, a drag), registered with Simulation::addForceOperator from C++ or
 // Simulation.add_force_operator from Python.
 //
-// Within a step (simulation.h) the operators run in the order they were registered, after the
-// contact forces, gravity and the scene's water pressure (sim/water.h) have been summed and before
-// the force ratio is taken and the particles are integrated:
+// Within a step (sim/step/step_list.cpp) the operators run in the order they were registered,
+// each an operator of the step timed under its own name, after the contact forces, gravity, the
+// scene's water pressure (sim/water.h) and bolts have been summed and before the force ratio is
+// taken and the particles are integrated:
 //
-//   derived -> broadphase -> contacts -> gravity -> water -> force operators -> ratio -> ...
+//   ... contacts -> body forces -> water -> bolts -> force operators -> force ratio -> integrate ...
 //
 // An operator sees this rank's own particles only (no ghosts) and adds to their accumulators; a
 // force that depends only on the particle's own state then gives the same bits on any number of

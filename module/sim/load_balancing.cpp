@@ -1,8 +1,4 @@
-// The decomposition of a Simulation follows its work: blocks sized from where the free particles
-// are (domain/block_fit.h), the block -> rank map balanced by the work of the last contact phase
-// (sim/load_balance.h, domain/block_loads.h), a new decomposition adopted only when it is
-// clearly better. None of it changes a result: pairs are evaluated in their canonical frame and
-// summed in uid order whatever rank holds them (contact_phase.h).
+// Load balancing (sim/load_balancing.h) and Simulation::rebalance between steps.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -13,7 +9,9 @@
 #include "polydem/core/strings.h"
 #include "polydem/domain/block_fit.h"
 #include "polydem/domain/rebalance.h"
+#include "polydem/sim/load_balancing.h"
 #include "polydem/sim/simulation.h"
+#include "polydem/sim/step/operators.h"
 
 namespace polydem::sim {
 
@@ -48,31 +46,30 @@ std::int64_t occupiedOnAllRanks(const domain::Aabb& box, const domain::Index3& c
 
 }  // namespace
 
-std::vector<int> Simulation::rankMap(std::span<const double> weights) const {
-  if (scene_.domain.balancer == "cyclic") {
-    if (forest_->numBlocks() < ranks_) {
-      throw InputError(scene_.file, scene_.domain.line,
-                       cat("[domain] has ", forest_->numBlocks(), " blocks for ", ranks_,
+std::vector<int> rankMap(const StepState& s, std::span<const double> weights) {
+  if (s.scene.domain.balancer == "cyclic") {
+    if (s.forest->numBlocks() < s.ranks) {
+      throw InputError(s.scene.file, s.scene.domain.line,
+                       cat("[domain] has ", s.forest->numBlocks(), " blocks for ", s.ranks,
                            " ranks: balancer \"cyclic\" needs at least one block per rank"));
     }
-    std::vector<int> map(forest_->numBlocks());
-    for (int b = 0; b < forest_->numBlocks(); ++b) map[b] = b % ranks_;
+    std::vector<int> map(s.forest->numBlocks());
+    for (int b = 0; b < s.forest->numBlocks(); ++b) map[b] = b % s.ranks;
     return map;
   }
-  domain::BlockLoads loads(forest_->numBlocks());
+  domain::BlockLoads loads(s.forest->numBlocks());
   loads.self.assign(weights.begin(), weights.end());
-  return domain::computeRankMap(*forest_, loads, comm_, partitionMethod());
+  return domain::computeRankMap(*s.forest, loads, s.comm, partitionMethod(s));
 }
 
-domain::PartitionMethod Simulation::partitionMethod() const {
-  return scene_.domain.balancer == "sfc" ? domain::PartitionMethod::kSfc
-                                         : domain::PartitionMethod::kMetis;
+domain::PartitionMethod partitionMethod(const StepState& s) {
+  return s.scene.domain.balancer == "sfc" ? domain::PartitionMethod::kSfc
+                                          : domain::PartitionMethod::kMetis;
 }
 
-domain::Index3 Simulation::fittedBlockCounts(const domain::Aabb& box,
-                                             const domain::Periodic& periodic,
-                                             std::span<const Vec3> centroids,
-                                             bool collective) const {
+domain::Index3 fittedBlockCounts(const StepState& s, const domain::Aabb& box,
+                                 const domain::Periodic& periodic, std::span<const Vec3> centroids,
+                                 bool collective) {
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
   for (const Vec3& x : centroids) {
     lo = lo.cwiseMin(x);
@@ -80,60 +77,60 @@ domain::Index3 Simulation::fittedBlockCounts(const domain::Aabb& box,
   }
   std::int64_t particles = static_cast<std::int64_t>(centroids.size());
   if (collective) {
-    MPI_Allreduce(MPI_IN_PLACE, lo.data(), 3, MPI_DOUBLE, MPI_MIN, comm_);
-    MPI_Allreduce(MPI_IN_PLACE, hi.data(), 3, MPI_DOUBLE, MPI_MAX, comm_);
-    particles = mpi::allreduceSum(particles, comm_);
+    MPI_Allreduce(MPI_IN_PLACE, lo.data(), 3, MPI_DOUBLE, MPI_MIN, s.comm);
+    MPI_Allreduce(MPI_IN_PLACE, hi.data(), 3, MPI_DOUBLE, MPI_MAX, s.comm);
+    particles = mpi::allreduceSum(particles, s.comm);
   }
-  if (particles == 0) return domain::chooseBlockCounts(box, ranks_, 8);  // nothing to follow
+  if (particles == 0) return domain::chooseBlockCounts(box, s.ranks, 8);  // nothing to follow
   domain::BlockFitOptions options;
-  options.ranks = ranks_;
+  options.ranks = s.ranks;
   options.particles = particles;
   options.occupied_per_rank = kOccupiedBlocksPerRank;
-  options.min_block_edge = 2.0 * r_free_;  // a particle diameter
-  const domain::Aabb filled = domain::Aabb(lo, hi).inflated(r_free_);
+  options.min_block_edge = 2.0 * s.r_free;  // a particle diameter
+  const domain::Aabb filled = domain::Aabb(lo, hi).inflated(s.r_free);
   return domain::fitBlockCounts(box, filled, options, [&](const domain::Index3& counts) {
-    return collective ? occupiedOnAllRanks(box, counts, periodic, centroids, comm_)
+    return collective ? occupiedOnAllRanks(box, counts, periodic, centroids, s.comm)
                       : domain::countOccupiedBlocks(box, counts, periodic, centroids);
   });
 }
 
-bool Simulation::balanceDecomposition() {
-  if (scene_.domain.balancer == "cyclic") return false;  // a stress test of the borders
-  const LoadSample sample = std::move(load_sample_);     // of the last contact phase
-  load_sample_ = LoadSample();
+bool balanceDecomposition(StepState& s) {
+  if (s.scene.domain.balancer == "cyclic") return false;  // a stress test of the borders
+  const LoadSample sample = std::move(s.load_sample);     // of the last contact phase
+  s.load_sample = LoadSample();
   // The imbalance of the work just done: one small reduction, every time.
   double total = sample.work.done, most = sample.work.done;
-  MPI_Allreduce(MPI_IN_PLACE, &most, 1, MPI_DOUBLE, MPI_MAX, comm_);
-  MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_DOUBLE, MPI_SUM, comm_);
-  ++balance_log_.checks;
-  balance_log_.last_imbalance = total > 0 ? most / (total / ranks_) : 1.0;
-  if (balance_log_.last_imbalance <= 1.0 + kAdoptMargin) return false;  // nothing to gain
+  MPI_Allreduce(MPI_IN_PLACE, &most, 1, MPI_DOUBLE, MPI_MAX, s.comm);
+  MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_DOUBLE, MPI_SUM, s.comm);
+  ++s.balance_log.checks;
+  s.balance_log.last_imbalance = total > 0 ? most / (total / s.ranks) : 1.0;
+  if (s.balance_log.last_imbalance <= 1.0 + kAdoptMargin) return false;  // nothing to gain
 
   // A new forest if the free particles now call for other block counts.
   std::unique_ptr<domain::BlockForest> candidate;
-  if (!scene_.domain.blocks) {
+  if (!s.scene.domain.blocks) {
     std::vector<Vec3> centroids;
-    for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-      if (storage_[i].isFree()) centroids.push_back(forest_->wrap(storage_[i].position));
+    for (std::size_t i = 0; i < s.storage.localCount(); ++i) {
+      if (s.storage[i].isFree()) centroids.push_back(s.forest->wrap(s.storage[i].position));
     }
-    const auto counts =
-        fittedBlockCounts(forest_->domain(), forest_->periodic(), centroids, /*collective=*/true);
-    if (counts != forest_->counts()) {
+    const auto counts = fittedBlockCounts(s, s.forest->domain(), s.forest->periodic(), centroids,
+                                          /*collective=*/true);
+    if (counts != s.forest->counts()) {
       candidate =
-          std::make_unique<domain::BlockForest>(forest_->domain(), counts, forest_->periodic());
+          std::make_unique<domain::BlockForest>(s.forest->domain(), counts, s.forest->periodic());
     }
   }
-  const domain::BlockLoads now = binLoad(*forest_, sample);
+  const domain::BlockLoads now = binLoad(*s.forest, sample);
   const domain::BlockLoads next = candidate ? binLoad(*candidate, sample) : domain::BlockLoads();
-  ++balance_log_.proposals;
+  ++s.balance_log.proposals;
   auto proposal =
-      domain::proposeBalance(*forest_, now, candidate.get(), candidate ? &next : nullptr, comm_,
-                             partitionMethod(), kAdoptMargin);
-  const domain::Index3 n = candidate ? candidate->counts() : forest_->counts();
+      domain::proposeBalance(*s.forest, now, candidate.get(), candidate ? &next : nullptr, s.comm,
+                             partitionMethod(s), kAdoptMargin);
+  const domain::Index3 n = candidate ? candidate->counts() : s.forest->counts();
   // A changed map is news; a kept one is detail (--verbose), so that it does not bury the
   // progress line every balance interval.
   const std::string line =
-      cat("balance at step ", loop_.step(), ": work imbalance ", num(balance_log_.last_imbalance),
+      cat("balance at step ", s.loop.step(), ": work imbalance ", num(s.balance_log.last_imbalance),
           ", modelled ", num(proposal.imbalance_before), " -> ", num(proposal.imbalance_after),
           " on ", n[0], " x ", n[1], " x ", n[2],
           " blocks: ", proposal.adopted ? "adopted" : "kept the current map");
@@ -143,20 +140,21 @@ bool Simulation::balanceDecomposition() {
     log::detail(line);
   }
   if (!proposal.adopted) return false;
-  if (candidate) forest_ = std::move(candidate);
-  forest_->setRankMap(std::move(proposal.map), ranks_);
-  ++balance_log_.adopted;
+  if (candidate) s.forest = std::move(candidate);
+  s.forest->setRankMap(std::move(proposal.map), s.ranks);
+  ++s.balance_log.adopted;
   return true;
 }
 
 bool Simulation::rebalance() {
   requireBetweenSteps("rebalance");
-  if (!balanceDecomposition()) return false;
-  const auto moved = exchange_.migrate(*forest_, storage_, history_, loop_.step());
-  migrated_histories_ += moved.histories_received;
-  refreshGhosts();
-  exchange_totals_ += moved;
-  exchange_totals_ += exchange_stats_;
+  if (!balanceDecomposition(state_)) return false;
+  const auto moved =
+      state_.exchange.migrate(*state_.forest, state_.storage, state_.history, state_.loop.step());
+  state_.migrated_histories += moved.histories_received;
+  refreshGhosts(state_);
+  state_.exchange_totals += moved;
+  state_.exchange_totals += state_.exchange_stats;
   return true;
 }
 

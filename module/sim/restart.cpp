@@ -15,7 +15,9 @@
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 #include "polydem/domain/rebalance.h"
+#include "polydem/sim/load_balancing.h"
 #include "polydem/sim/simulation.h"
+#include "polydem/sim/step/operators.h"
 
 namespace polydem::sim {
 
@@ -46,34 +48,36 @@ CheckpointData Simulation::checkpoint(const std::string& scene_toml, const std::
   CheckpointData d;
   d.scene_toml = scene_toml;
   d.scene_file = scene_file;
-  d.step = loop_.step();
-  d.time_digits = loop_.exactTime().digits();
-  d.time = loop_.time();
+  d.step = state_.loop.step();
+  d.time_digits = state_.loop.exactTime().digits();
+  d.time = state_.loop.time();
   d.dt = dt();
-  d.stage = stage_ == Stage::kEquilibrium ? CheckpointStage::kEquilibrium : CheckpointStage::kMain;
-  d.equilibrium_steps = stage_ == Stage::kEquilibrium ? loop_.step() : equilibrium_steps_;
+  d.stage =
+      state_.stage == Stage::kEquilibrium ? CheckpointStage::kEquilibrium : CheckpointStage::kMain;
+  d.equilibrium_steps =
+      state_.stage == Stage::kEquilibrium ? state_.loop.step() : equilibrium_steps_;
   d.equilibrium_reached = equilibrium_reached_;
-  d.shapes = shapeRecords(shapes_);
-  d.materials = scene_.materials;
-  d.interactions = scene_.interactions;
-  d.domain.lo = forest_->domain().lo;
-  d.domain.hi = forest_->domain().hi;
-  d.domain.blocks = forest_->counts();
-  d.domain.periodic = forest_->periodic();
-  d.domain.rank_map = forest_->rankMap();
-  d.domain.ranks = ranks_;
+  d.shapes = shapeRecords(state_.shapes);
+  d.materials = state_.scene.materials;
+  d.interactions = state_.scene.interactions;
+  d.domain.lo = state_.forest->domain().lo;
+  d.domain.hi = state_.forest->domain().hi;
+  d.domain.blocks = state_.forest->counts();
+  d.domain.periodic = state_.forest->periodic();
+  d.domain.rank_map = state_.forest->rankMap();
+  d.domain.ranks = state_.ranks;
   d.run_state = run_state;
-  d.bolt_states = bolts_.states();
-  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    const auto& p = storage_[i];
-    if (p.isGlobal() && rank_ != 0) continue;  // replicated: rank 0's copy only
+  d.bolt_states = state_.bolts.states();
+  for (std::size_t i = 0; i < state_.storage.localCount(); ++i) {
+    const auto& p = state_.storage[i];
+    if (p.isGlobal() && state_.rank != 0) continue;  // replicated: rank 0's copy only
     d.particles.push_back(p);
   }
-  const auto keys = history_.keys();
-  const auto entries = history_.entries();
-  particles::ContactHistory::Cursor cursor(history_);
+  const auto keys = state_.history.keys();
+  const auto entries = state_.history.entries();
+  particles::ContactHistory::Cursor cursor(state_.history);
   for (std::size_t k = 0; k < keys.size(); ++k) {
-    if (!writesPair(storage_, keys[k], rank_)) continue;
+    if (!writesPair(state_.storage, keys[k], state_.rank)) continue;
     d.pair_keys.push_back(keys[k]);
     d.pair_histories.push_back(entries[k]);
     const auto [sub_keys, subs] = cursor.subs(keys[k]);
@@ -89,28 +93,28 @@ Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoi
   buildTables();
   // The shapes are rebuilt by the code that built them in the first run; a change in that code
   // or in the scene would silently change the continued run.
-  if (const std::string diff = shapeMismatch(checkpoint.shapes, shapes_); !diff.empty()) {
-    throw CheckpointError(cat(file, ": the shapes built from scene '", scene_.file,
+  if (const std::string diff = shapeMismatch(checkpoint.shapes, state_.shapes); !diff.empty()) {
+    throw CheckpointError(cat(file, ": the shapes built from scene '", state_.scene.file,
                               "' differ from the stored ones (", diff, ")"));
   }
   // The faces' joint planes as the run had them: a file from before they were stored (layout
   // version 4) continues as it was written, without joints.
-  restoreFacePlanes(checkpoint.shapes, shapes_, scene_.joint_planes.size(), file);
-  if (checkpoint.dt != scene_.dt) {
+  restoreFacePlanes(checkpoint.shapes, state_.shapes, state_.scene.joint_planes.size(), file);
+  if (checkpoint.dt != state_.scene.dt) {
     throw CheckpointError(cat(file, ": stored time step ", num(checkpoint.dt),
-                              " s differs from the scene's ", num(scene_.dt), " s"));
+                              " s differs from the scene's ", num(state_.scene.dt), " s"));
   }
-  if (checkpoint.materials.size() != materials_.size()) {
+  if (checkpoint.materials.size() != state_.materials.size()) {
     throw CheckpointError(cat(file, ": ", checkpoint.materials.size(),
-                              " stored materials, the scene has ", materials_.size()));
+                              " stored materials, the scene has ", state_.materials.size()));
   }
   buildBolts();
   // A file of a layout without bolts (before version 6) holds no bolt state: it continues a scene
   // without bolts, or refuses one with them below.
-  if (!bolts_.restore(checkpoint.bolt_states)) {
+  if (!state_.bolts.restore(checkpoint.bolt_states)) {
     throw CheckpointError(cat(file, ": ", checkpoint.bolt_states.size(),
                               " stored bolt joint states, the scene's [[bolt]]s cross ",
-                              bolts_.jointCount(), " joints"));
+                              state_.bolts.jointCount(), " joints"));
   }
   buildLaws();
   computeExtents();
@@ -121,16 +125,16 @@ Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoi
   equilibrium_reached_ = checkpoint.equilibrium_reached;
   const ExactSum time = ExactSum::fromDigits(checkpoint.time_digits);
   if (checkpoint.stage == CheckpointStage::kEquilibrium) {
-    if (!scene_.equilibrium.enabled) {
+    if (!state_.scene.equilibrium.enabled) {
       throw CheckpointError(cat(file, ": written in the equilibrium stage, but scene '",
-                                scene_.file, "' has no [equilibrium] stage"));
+                                state_.scene.file, "' has no [equilibrium] stage"));
     }
     enterEquilibrium();
   } else {
     equilibrium_done_ = true;
   }
-  loop_.restore(checkpoint.step, time);
-  refreshGhosts();
+  state_.loop.restore(checkpoint.step, time);
+  refreshGhosts(state_);
 }
 
 // The stored domain box and periodicity (they decide wrapping and what leaves the domain); the
@@ -141,50 +145,51 @@ Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoi
 void Simulation::restoreParticles(const CheckpointData& checkpoint, const std::string& file) {
   const auto& dom = checkpoint.domain;
   const domain::Aabb box{dom.lo, dom.hi};
-  const bool same_ranks = dom.ranks == ranks_ && !dom.rank_map.empty();
+  const bool same_ranks = dom.ranks == state_.ranks && !dom.rank_map.empty();
   for (const auto& p : checkpoint.particles) {
-    if (p.shape < 0 || p.shape >= static_cast<int>(shapes_.size()) || p.material < 0 ||
-        p.material >= static_cast<int>(materials_.size()) ||
-        (p.isDriven() && (p.driver < 0 || p.driver >= static_cast<int>(scene_.drivers.size())))) {
+    if (p.shape < 0 || p.shape >= static_cast<int>(state_.shapes.size()) || p.material < 0 ||
+        p.material >= static_cast<int>(state_.materials.size()) ||
+        (p.isDriven() &&
+         (p.driver < 0 || p.driver >= static_cast<int>(state_.scene.drivers.size())))) {
       throw CheckpointError(cat(file, ": particle ", p.uid,
                                 " names a shape, material or driver the scene does not have"));
     }
     particles::Particle q = p;
     q.flags &= ~particles::kGhost;
-    storage_.addLocal(q);
+    state_.storage.addLocal(q);
   }
   domain::Index3 counts = dom.blocks;
   if (!same_ranks) {
-    if (scene_.domain.blocks) {
-      counts = *scene_.domain.blocks;
+    if (state_.scene.domain.blocks) {
+      counts = *state_.scene.domain.blocks;
     } else {  // blocks fitted to the particles, which every rank holds some of
       const domain::BlockForest whole(box, {1, 1, 1}, dom.periodic);
       std::vector<Vec3> centroids;
-      for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-        const Vec3 x = whole.wrap(storage_[i].position);
-        if (storage_[i].isFree() && box.contains(x)) centroids.push_back(x);
+      for (std::size_t i = 0; i < state_.storage.localCount(); ++i) {
+        const Vec3 x = whole.wrap(state_.storage[i].position);
+        if (state_.storage[i].isFree() && box.contains(x)) centroids.push_back(x);
       }
-      counts = fittedBlockCounts(box, dom.periodic, centroids, /*collective=*/true);
+      counts = fittedBlockCounts(state_, box, dom.periodic, centroids, /*collective=*/true);
     }
   }
-  forest_ = std::make_unique<domain::BlockForest>(box, counts, dom.periodic);
+  state_.forest = std::make_unique<domain::BlockForest>(box, counts, dom.periodic);
   if (same_ranks) {
-    forest_->setRankMap(dom.rank_map, ranks_);
+    state_.forest->setRankMap(dom.rank_map, state_.ranks);
   } else {
-    std::vector<double> weights(forest_->numBlocks(), 0.0);
-    for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-      if (!storage_[i].isFree()) continue;
-      const int b = forest_->blockOf(forest_->wrap(storage_[i].position));
+    std::vector<double> weights(state_.forest->numBlocks(), 0.0);
+    for (std::size_t i = 0; i < state_.storage.localCount(); ++i) {
+      if (!state_.storage[i].isFree()) continue;
+      const int b = state_.forest->blockOf(state_.forest->wrap(state_.storage[i].position));
       if (b >= 0) weights[b] += 1.0;  // outside: migrate() reports it
     }
-    forest_->setRankMap(rankMap(weights), ranks_);
+    state_.forest->setRankMap(rankMap(state_, weights), state_.ranks);
   }
-  exchange_.migrate(*forest_, storage_, history_, checkpoint.step);
+  state_.exchange.migrate(*state_.forest, state_.storage, state_.history, checkpoint.step);
   particles::HistoryRecords records{checkpoint.pair_keys, checkpoint.pair_histories,
                                     checkpoint.sub_keys, checkpoint.sub_histories};
-  history_ = comm::routeHistories(records, storage_, comm_);
+  state_.history = comm::routeHistories(records, state_.storage, state_.comm);
   log::info(cat("restored step ", checkpoint.step, " (", toString(checkpoint.stage),
-                " stage) from ", file, ", written by ", dom.ranks, " rank(s), on ", ranks_,
+                " stage) from ", file, ", written by ", dom.ranks, " rank(s), on ", state_.ranks,
                 " rank(s)"));
 }
 

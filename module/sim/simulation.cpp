@@ -1,40 +1,21 @@
 // Simulation: the mass properties, global monitors and state hash of its current state.
 #include "polydem/sim/simulation.h"
 
-#include <chrono>
-#include <cmath>
+#include <algorithm>
 
-#include "polydem/core/error.h"
 #include "polydem/core/exact_sum.h"
-#include "polydem/core/logging.h"
-#include "polydem/core/memory.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/state_hash.h"
-#include "polydem/core/strings.h"
-#include "polydem/domain/partition.h"
-#include "polydem/domain/rebalance.h"
-#include "polydem/dynamics/driver.h"
-#include "polydem/dynamics/integrator.h"
-#include "polydem/sim/pair_memory.h"
-#include "polydem/sim/seismic.h"
-#include "polydem/sim/water.h"
 
 namespace polydem::sim {
 
-dynamics::MassProperties Simulation::massProperties(std::size_t i) const {
-  const auto& p = storage_[i];
-  const double density = densities_[p.material];
-  const auto& s = shapes_[p.shape];
-  return {density * s.volume, density * s.principal_moments};
-}
-
 GlobalMonitors Simulation::monitors() {
   ExactSum kinetic, speed;
-  dynamics::ForceRatio ratio = ratio_local_;
+  dynamics::ForceRatio ratio = state_.ratio_local;
   std::int64_t contacts = 0, free_particles = 0;
   double max_speed = 0.0;
-  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    const auto& p = storage_[i];
+  for (std::size_t i = 0; i < state_.storage.localCount(); ++i) {
+    const auto& p = state_.storage[i];
     if (!p.isFree()) continue;
     ++free_particles;
     kinetic += dynamics::kineticEnergy(p, massProperties(i));
@@ -42,28 +23,28 @@ GlobalMonitors Simulation::monitors() {
     speed += v;
     max_speed = std::max(max_speed, v);
   }
-  for (const auto& r : contact_phase_.records()) contacts += r.touching && r.a_is_local;
-  kinetic.allreduce(comm_);
-  speed.allreduce(comm_);
-  ratio.allreduce(comm_);
+  for (const auto& r : state_.contact_phase.records()) contacts += r.touching && r.a_is_local;
+  kinetic.allreduce(state_.comm);
+  speed.allreduce(state_.comm);
+  ratio.allreduce(state_.comm);
   GlobalMonitors m;
   m.kinetic_energy = kinetic.value();
   m.force_ratio = ratio.value();
-  m.contacts = mpi::allreduceSum(contacts, comm_);
-  m.particles = mpi::allreduceSum(free_particles, comm_);
-  m.max_speed = mpi::allreduceMax(max_speed, comm_);
+  m.contacts = mpi::allreduceSum(contacts, state_.comm);
+  m.particles = mpi::allreduceSum(free_particles, state_.comm);
+  m.max_speed = mpi::allreduceMax(max_speed, state_.comm);
   m.mean_speed = m.particles > 0 ? speed.value() / static_cast<double>(m.particles) : 0.0;
   return m;
 }
 
 comm::StateHash Simulation::stateHash() const {
-  comm::StateHash h = comm::globalStateHash(storage_, history_, comm_);
+  comm::StateHash h = comm::globalStateHash(state_.storage, state_.history, state_.comm);
   // The bolts' state, replicated on every rank, joins the combined hash; a scene without bolts
   // keeps its hash.
-  if (!bolts_.empty()) {
+  if (!state_.bolts.empty()) {
     BitHasher bolts;
     bolts.add(h.combined);
-    for (const auto& b : bolts_.states()) {
+    for (const auto& b : state_.bolts.states()) {
       bolts.add(b.axial_plastic);
       bolts.add(b.shear_plastic);
       bolts.add(std::uint64_t{b.broken});

@@ -8,6 +8,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/dynamics/integrator.h"
 #include "polydem/sim/simulation.h"
+#include "polydem/sim/step/operators.h"
 
 namespace polydem::sim {
 
@@ -30,16 +31,17 @@ bool Simulation::setVelocity(Uid uid, const std::optional<Vec3>& velocity,
   // the centroid (|w| r dt) in one step; the owner knows r, every rank learns both.
   std::ptrdiff_t index = -1;
   double linear = 0.0, angular = 0.0;
-  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    const auto& p = storage_[i];
+  for (std::size_t i = 0; i < state_.storage.localCount(); ++i) {
+    const auto& p = state_.storage[i];
     if (p.uid != uid || !p.isFree()) continue;
     index = static_cast<std::ptrdiff_t>(i);
     if (velocity) linear = velocity->norm() * dt();
-    if (angular_velocity) angular = angular_velocity->norm() * shapes_[p.shape].circumradius * dt();
+    if (angular_velocity)
+      angular = angular_velocity->norm() * state_.shapes[p.shape].circumradius * dt();
   }
-  if (!mpi::allreduceOr(index >= 0, comm_)) return false;
-  linear = mpi::allreduceMax(linear, comm_);
-  angular = mpi::allreduceMax(angular, comm_);
+  if (!mpi::allreduceOr(index >= 0, state_.comm)) return false;
+  linear = mpi::allreduceMax(linear, state_.comm);
+  angular = mpi::allreduceMax(angular, state_.comm);
   const auto refuse = [&](const char* what, const Vec3& value, double reach, const char* rule) {
     throw Error(cat("particle ", uid, ": the ", what, " (", value.transpose(), ") would move it ",
                     reach, " m in one step (", rule, ", dt = ", dt(), " s), more than ",
@@ -51,7 +53,7 @@ bool Simulation::setVelocity(Uid uid, const std::optional<Vec3>& velocity,
     refuse("angular velocity", *angular_velocity, angular, "|w| r dt, r its circumradius");
   }
   if (index >= 0) {
-    auto& p = storage_[static_cast<std::size_t>(index)];
+    auto& p = state_.storage[static_cast<std::size_t>(index)];
     if (velocity) p.velocity = *velocity;
     // The leapfrog keeps the angular momentum; L = R I R^T w at the current orientation.
     if (angular_velocity) {
@@ -61,7 +63,7 @@ bool Simulation::setVelocity(Uid uid, const std::optional<Vec3>& velocity,
     }
   }
   // Ghost copies carry velocities into the contact law's damping: refresh them (collective).
-  refreshGhosts();
+  refreshGhosts(state_);
   return true;
 }
 

@@ -31,30 +31,32 @@ std::uint64_t sceneBytes(const setup::Setup& scene) {
 }  // namespace
 
 MemoryUse Simulation::memoryUse() const {
-  std::uint64_t shapes =
-      capacityBytes(shapes_) + capacityBytes(shape_frames_) + capacityBytes(densities_);
-  for (const auto& s : shapes_) shapes += shapeBytes(s);
-  const ContactPhase::Memory phase = contact_phase_.memory();
-  const std::uint64_t broadphase = broadphase_->heapBytes() + cell_order_.heapBytes() +
-                                   capacityBytes(candidates_) + capacityBytes(early_candidates_) +
-                                   capacityBytes(centers_) + capacityBytes(radii_) +
-                                   capacityBytes(uids_) + capacityBytes(active_);
+  std::uint64_t shapes = capacityBytes(state_.shapes) + capacityBytes(state_.shape_frames) +
+                         capacityBytes(state_.densities);
+  for (const auto& s : state_.shapes) shapes += shapeBytes(s);
+  const ContactPhase::Memory phase = state_.contact_phase.memory();
+  const std::uint64_t broadphase = state_.broadphase->heapBytes() + state_.cell_order.heapBytes() +
+                                   capacityBytes(state_.candidates) +
+                                   capacityBytes(state_.early_candidates) +
+                                   capacityBytes(state_.centers) + capacityBytes(state_.radii) +
+                                   capacityBytes(state_.uids) + capacityBytes(state_.active);
   return {
-      {"particles", "particle state, uid index", storage_.stateBytes()},
+      {"particles", "particle state, uid index", state_.storage.stateBytes()},
       {"shapes", "shape table (vertices, faces, edges, adjacency)", shapes},
-      {"scene", "the setup's particle and shape lists, kept by the simulation", sceneBytes(scene_)},
+      {"scene", "the setup's particle and shape lists, kept by the simulation",
+       sceneBytes(state_.scene)},
       {"broadphase", "grids, bounding spheres, candidate pairs", broadphase},
       {"pair_list", "candidate pairs in key order and their sort", phase.pair_list},
       {"history_pairs", "contact history: pairs (one table, rebuilt in place)",
-       history_.pairBytes() + phase.history_pairs},
+       state_.history.pairBytes() + phase.history_pairs},
       {"history_subs", "contact history: sub-contacts (one table, rebuilt in place)",
-       history_.subBytes() + phase.history_subs},
+       state_.history.subBytes() + phase.history_subs},
       {"kernel_caches", "per particle: rotations, world vertices and normals, boxes, Bodies",
-       storage_.derivedBytes() + phase.filter},
+       state_.storage.derivedBytes() + phase.filter},
       {"records", "contact records (output, monitors, load model), early results",
        phase.records + phase.early},
-      {"forces", "per-particle force accumulators", capacityBytes(forces_)},
-      {"exchange", "ghost and migration buffers, channels", exchange_.heapBytes()},
+      {"forces", "per-particle force accumulators", capacityBytes(state_.forces)},
+      {"exchange", "ghost and migration buffers, channels", state_.exchange.heapBytes()},
   };
 }
 

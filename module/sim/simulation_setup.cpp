@@ -14,19 +14,23 @@
 #include "polydem/dynamics/time_step.h"
 #include "polydem/geometry/body_shape.h"
 #include "polydem/sim/face_planes.h"
+#include "polydem/sim/load_balancing.h"
 #include "polydem/sim/simulation.h"
+#include "polydem/sim/step/operators.h"
 
 namespace polydem::sim {
 
 Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm, Unbuilt)
-    : scene_(scene),
-      comm_(comm),
-      rank_(mpi::rank(comm)),
-      ranks_(mpi::size(comm)),
-      exchange_(comm),
-      loop_(comm),
-      parked_loop_(comm) {
-  ground_ = groundMotion(scene_);
+    : state_(scene, comm), parked_loop_(comm) {}
+
+StepState::StepState(const setup::Setup& scene_in, MPI_Comm comm_in)
+    : scene(scene_in),
+      comm(comm_in),
+      rank(mpi::rank(comm_in)),
+      ranks(mpi::size(comm_in)),
+      loop(comm_in),
+      exchange(comm_in) {
+  ground = groundMotion(scene);
 }
 
 Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm)
@@ -38,8 +42,8 @@ Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm)
   placeParticles();
   suggestTimeStep();
   registerSteps();
-  refreshGhosts();
-  sample_load_ = true;
+  refreshGhosts(state_);
+  state_.sample_load = true;
   startLeapfrog();
   rebalance();  // by the work of the contact phase at t = 0, which startLeapfrog computed
 }
@@ -49,11 +53,11 @@ Simulation::~Simulation() = default;
 void Simulation::buildTables() {
   // A stop signal ends a long build (a rock mass of many blocks) every 256 shapes.
   constexpr std::size_t kPollEvery = 256;
-  for (const auto& spec : scene_.shapes) {
-    if ((shapes_.size() + 1) % kPollEvery == 0) {
+  for (const auto& spec : state_.scene.shapes) {
+    if ((state_.shapes.size() + 1) % kPollEvery == 0) {
       throwIfInterrupted([&] {
-        return cat("building the shapes' hulls (", shapes_.size(), " of ", scene_.shapes.size(),
-                   ")");
+        return cat("building the shapes' hulls (", state_.shapes.size(), " of ",
+                   state_.scene.shapes.size(), ")");
       });
     }
     try {
@@ -62,89 +66,93 @@ void Simulation::buildTables() {
       auto frame = geometry::toBodyFrame(poly, spec.name);
       frame.shape.face_plane =
           matchFacePlanes(frame.shape, frame.rotation, frame.centroid, spec.face_planes);
-      shapes_.push_back(std::move(frame.shape));
-      shape_frames_.push_back({frame.rotation, frame.centroid});
+      state_.shapes.push_back(std::move(frame.shape));
+      state_.shape_frames.push_back({frame.rotation, frame.centroid});
     } catch (const GeometryError& e) {  // e.g. a shape scaled flat after the reader built it
-      throw InputError(scene_.file, spec.line, cat("[[shape]] '", spec.name, "': ", e.what()));
+      throw InputError(state_.scene.file, spec.line,
+                       cat("[[shape]] '", spec.name, "': ", e.what()));
     }
   }
-  for (const auto& m : scene_.materials) materials_.add(m);
-  for (const auto& i : scene_.interactions) materials_.setInteraction(i.a, i.b, i.properties);
-  materials_.finalize();
-  densities_ = materials_.densities();
-  kernel_ = contact::makeKernel(scene_.kernel, scene_.kernel_params);
-  load_model_ = loadModelFor(scene_.kernel);
-  broadphase_ = broadphase::makeBroadPhase(scene_.broadphase);
+  for (const auto& m : state_.scene.materials) state_.materials.add(m);
+  for (const auto& i : state_.scene.interactions)
+    state_.materials.setInteraction(i.a, i.b, i.properties);
+  state_.materials.finalize();
+  state_.densities = state_.materials.densities();
+  state_.kernel = contact::makeKernel(state_.scene.kernel, state_.scene.kernel_params);
+  state_.load_model = loadModelFor(state_.scene.kernel);
+  state_.broadphase = broadphase::makeBroadPhase(state_.scene.broadphase);
 }
 
 void Simulation::buildBolts() {
-  if (scene_.bolts.empty()) return;
-  bolts_ = Bolts(scene_, [this](std::size_t i) {
-    const auto& spec = scene_.particles[i];
-    return InitialBody{&shapes_[static_cast<std::size_t>(spec.shape)], initialCentroid(spec),
+  if (state_.scene.bolts.empty()) return;
+  state_.bolts = Bolts(state_.scene, [this](std::size_t i) {
+    const auto& spec = state_.scene.particles[i];
+    return InitialBody{&state_.shapes[static_cast<std::size_t>(spec.shape)], initialCentroid(spec),
                        initialOrientation(spec), !spec.fixed && spec.driver < 0};
   });
 }
 
 void Simulation::buildLaws() {
   // The setup's names are resolved once here, never per step.
-  const auto model = dynamics::findContactModel(scene_.contact_model);
-  if (!model) throw Error(setup::unknownContactModel(scene_.contact_model));
-  contact_model_ = *model;
-  overlap_centroid_ = scene_.contact_point == "overlap-centroid";
-  const int n = static_cast<int>(materials_.size());
-  const bool potential = scene_.kernel == "distance-potential" || scene_.kernel == "fdem";
-  law_main_.resize(n * n);
-  law_equilibrium_.resize(n * n);
+  const auto model = dynamics::findContactModel(state_.scene.contact_model);
+  if (!model) throw Error(setup::unknownContactModel(state_.scene.contact_model));
+  state_.contact_model = *model;
+  state_.overlap_centroid = state_.scene.contact_point == "overlap-centroid";
+  const int n = static_cast<int>(state_.materials.size());
+  const bool potential =
+      state_.scene.kernel == "distance-potential" || state_.scene.kernel == "fdem";
+  state_.law_main.resize(n * n);
+  state_.law_equilibrium.resize(n * n);
   for (int a = 0; a < n; ++a) {
     for (int b = 0; b < n; ++b) {
-      const auto& props = materials_.pair(a, b);
+      const auto& props = state_.materials.pair(a, b);
       const bool stiff = potential ? props.penalty > 0 : props.kn > 0;
       if (!stiff) {
         // Only an error if some particles of these materials can meet (checked lazily below).
-        law_main_[a * n + b] = dynamics::lawCoefficients(props);
-        law_equilibrium_[a * n + b] = law_main_[a * n + b];
+        state_.law_main[a * n + b] = dynamics::lawCoefficients(props);
+        state_.law_equilibrium[a * n + b] = state_.law_main[a * n + b];
         continue;
       }
-      law_main_[a * n + b] = dynamics::lawCoefficients(props);
-      law_equilibrium_[a * n + b] =
-          dynamics::lawCoefficients(props, scene_.equilibrium.friction_angle);
+      state_.law_main[a * n + b] = dynamics::lawCoefficients(props);
+      state_.law_equilibrium[a * n + b] =
+          dynamics::lawCoefficients(props, state_.scene.equilibrium.friction_angle);
     }
   }
   buildJointLaws();
   // Every material a particle uses must have the stiffness the kernel needs.
-  for (const auto& p : scene_.particles) {
-    const auto& m = materials_[p.material];
+  for (const auto& p : state_.scene.particles) {
+    const auto& m = state_.materials[p.material];
     const double k = potential ? m.penalty : m.kn;
     if (!(k > 0)) {
-      throw InputError(scene_.file, p.line,
+      throw InputError(state_.scene.file, p.line,
                        cat("material '", m.name, "' has no ", potential ? "penalty" : "kn",
-                           ", which kernel '", scene_.kernel, "' needs"));
+                           ", which kernel '", state_.scene.kernel, "' needs"));
     }
   }
 }
 
 void Simulation::buildJointLaws() {
-  plane_joint_.clear();
-  joint_law_main_.clear();
-  joint_law_equilibrium_.clear();
+  state_.plane_joint.clear();
+  state_.joint_law_main.clear();
+  state_.joint_law_equilibrium.clear();
   // Only joints some plane uses matter; without any, the contact phase skips the lookup.
   bool used = false;
-  for (const auto& p : scene_.joint_planes) used = used || p.joint >= 0;
+  for (const auto& p : state_.scene.joint_planes) used = used || p.joint >= 0;
   if (!used) return;
-  for (const auto& p : scene_.joint_planes) plane_joint_.push_back(p.joint);
-  const int n = static_cast<int>(materials_.size());
-  for (const auto& j : scene_.joints) {
+  for (const auto& p : state_.scene.joint_planes) state_.plane_joint.push_back(p.joint);
+  const int n = static_cast<int>(state_.materials.size());
+  for (const auto& j : state_.scene.joints) {
     try {
       for (int a = 0; a < n; ++a) {
         for (int b = 0; b < n; ++b) {
-          joint_law_main_.push_back(dynamics::jointCoefficients(j.law, law_main_[a * n + b]));
-          joint_law_equilibrium_.push_back(dynamics::jointCoefficients(
-              j.law, law_equilibrium_[a * n + b], scene_.equilibrium.friction_angle));
+          state_.joint_law_main.push_back(
+              dynamics::jointCoefficients(j.law, state_.law_main[a * n + b]));
+          state_.joint_law_equilibrium.push_back(dynamics::jointCoefficients(
+              j.law, state_.law_equilibrium[a * n + b], state_.scene.equilibrium.friction_angle));
         }
       }
     } catch (const Error& e) {
-      throw InputError(scene_.file, j.line, cat("[[joint]] '", j.name, "': ", e.what()));
+      throw InputError(state_.scene.file, j.line, cat("[[joint]] '", j.name, "': ", e.what()));
     }
   }
 }
@@ -154,22 +162,22 @@ domain::Aabb Simulation::computeExtents() {
   // on every side so that falling and sliding particles stay inside.
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
   double r_free = 0.0, r_all = 0.0;
-  for (const auto& p : scene_.particles) {
-    const auto& s = shapes_[p.shape];
-    const Vec3 c = p.position + p.orientation * shape_frames_[p.shape].centroid;
+  for (const auto& p : state_.scene.particles) {
+    const auto& s = state_.shapes[p.shape];
+    const Vec3 c = p.position + p.orientation * state_.shape_frames[p.shape].centroid;
     lo = lo.cwiseMin(c - Vec3::Constant(s.circumradius));
     hi = hi.cwiseMax(c + Vec3::Constant(s.circumradius));
     r_all = std::max(r_all, s.circumradius);
     if (!p.fixed && p.driver < 0) r_free = std::max(r_free, s.circumradius);
   }
-  margin_ = scene_.contact_margin * r_free;
-  r_free_ = r_free;
+  state_.margin = state_.scene.contact_margin * r_free;
+  state_.r_free = r_free;
   // The broad phase and the ghost radius need a superset of the canonical-frame pair test.
   const double slack = 1e-9 * 2.0 * r_all;
-  ghost_range_ = r_free + margin_ + slack;
+  state_.ghost_range = r_free + state_.margin + slack;
   domain::Aabb box;
-  if (scene_.domain.min && scene_.domain.max) {
-    box = {*scene_.domain.min, *scene_.domain.max};
+  if (state_.scene.domain.min && state_.scene.domain.max) {
+    box = {*state_.scene.domain.min, *state_.scene.domain.max};
   } else {
     const double grow = 0.5 * (hi - lo).maxCoeff();
     box = {lo - Vec3::Constant(grow), hi + Vec3::Constant(grow)};
@@ -181,43 +189,46 @@ void Simulation::buildDomain() {
   const domain::Aabb box = computeExtents();
   try {
     domain::Index3 counts;
-    if (scene_.domain.blocks) {
-      counts = *scene_.domain.blocks;
+    if (state_.scene.domain.blocks) {
+      counts = *state_.scene.domain.blocks;
     } else {
       // Blocks sized from where the free particles are; the fixed and driven bodies, which may
       // span the whole domain, play no part (domain/block_fit.h).
       std::vector<Vec3> centroids;
-      for (const auto& p : scene_.particles) {
+      for (const auto& p : state_.scene.particles) {
         if (p.fixed || p.driver >= 0) continue;
-        const Vec3 c = p.position + p.orientation * shape_frames_[p.shape].centroid;
+        const Vec3 c = p.position + p.orientation * state_.shape_frames[p.shape].centroid;
         if (box.contains(c)) centroids.push_back(c);  // outside: reported below
       }
-      counts = fittedBlockCounts(box, scene_.domain.periodic, centroids, /*collective=*/false);
+      counts = fittedBlockCounts(state_, box, state_.scene.domain.periodic, centroids,
+                                 /*collective=*/false);
     }
-    forest_ = std::make_unique<domain::BlockForest>(box, counts, scene_.domain.periodic);
+    state_.forest =
+        std::make_unique<domain::BlockForest>(box, counts, state_.scene.domain.periodic);
   } catch (const domain::DomainError& e) {  // the same on every rank: all stop alike
-    throw InputError(scene_.file, scene_.domain.line, cat("[domain]: ", e.what()));
+    throw InputError(state_.scene.file, state_.scene.domain.line, cat("[domain]: ", e.what()));
   }
   // Every rank checks (so that all of them stop on an error); rank 0 alone counts the weights.
-  std::vector<double> weights(forest_->numBlocks(), 0.0);
-  for (const auto& p : scene_.particles) {
+  std::vector<double> weights(state_.forest->numBlocks(), 0.0);
+  for (const auto& p : state_.scene.particles) {
     if (p.fixed || p.driver >= 0) continue;
-    const int b = forest_->blockOf(p.position + p.orientation * shape_frames_[p.shape].centroid);
+    const int b =
+        state_.forest->blockOf(p.position + p.orientation * state_.shape_frames[p.shape].centroid);
     if (b < 0) {
-      throw InputError(scene_.file, p.line,
+      throw InputError(state_.scene.file, p.line,
                        cat("particle ", p.uid, (p.label.empty() ? "" : " '" + p.label + "'"),
                            " lies outside the [domain] box"));
     }
-    if (rank_ == 0) weights[b] += 1.0;
+    if (state_.rank == 0) weights[b] += 1.0;
   }
-  forest_->setRankMap(rankMap(weights), ranks_);
+  state_.forest->setRankMap(rankMap(state_, weights), state_.ranks);
 }
 
 void Simulation::placeParticles() {
-  for (const auto& spec : scene_.particles) {
+  for (const auto& spec : state_.scene.particles) {
     // The spec places the shape's own frame; the body frame sits at the shape's centroid, turned
     // by its principal axes.
-    const ShapeFrame& frame = shape_frames_[spec.shape];
+    const ShapeFrame& frame = state_.shape_frames[spec.shape];
     particles::Particle p;
     p.uid = spec.uid;
     p.shape = spec.shape;
@@ -228,11 +239,13 @@ void Simulation::placeParticles() {
     p.orientation = (spec.orientation * frame.rotation).normalized();
     p.velocity = spec.fixed ? Vec3::Zero() : spec.velocity;
     if (p.isFree()) {
-      const double density = densities_[spec.material];
-      p.angular_momentum = dynamics::angularMomentum(
-          p.orientation, spec.angular_velocity, density * shapes_[spec.shape].principal_moments);
+      const double density = state_.densities[spec.material];
+      p.angular_momentum =
+          dynamics::angularMomentum(p.orientation, spec.angular_velocity,
+                                    density * state_.shapes[spec.shape].principal_moments);
     }
-    if (p.isGlobal() || forest_->ownerOf(p.position) == rank_) storage_.addLocal(p);
+    if (p.isGlobal() || state_.forest->ownerOf(p.position) == state_.rank)
+      state_.storage.addLocal(p);
   }
 }
 
@@ -250,25 +263,25 @@ constexpr double kMinMomentRatio = 1e-10;
 // noise of either sign. Refused at the particle's line, once per shape and material.
 void Simulation::checkFreeBodies() const {
   std::set<std::pair<int, int>> seen;
-  for (const auto& spec : scene_.particles) {
+  for (const auto& spec : state_.scene.particles) {
     if (spec.fixed || spec.driver >= 0 || !seen.insert({spec.shape, spec.material}).second) {
       continue;
     }
-    const auto& s = shapes_[spec.shape];
-    const double density = densities_[spec.material];
+    const auto& s = state_.shapes[spec.shape];
+    const double density = state_.densities[spec.material];
     const double mass = density * s.volume;
     const Vec3 moments = density * s.principal_moments;
     const std::string what = cat("a particle of shape '", s.name, "' and material '",
-                                 materials_[spec.material].name, "'");
+                                 state_.materials[spec.material].name, "'");
     if (!std::isnormal(mass) || !std::isfinite(1.0 / mass)) {
-      throw InputError(scene_.file, spec.line,
+      throw InputError(state_.scene.file, spec.line,
                        cat(what, " has mass ", mass, " kg (density ", density, " kg/m^3 x volume ",
                            s.volume, " m^3), not a usable number"));
     }
     const double largest = moments.maxCoeff(), smallest = moments.minCoeff();
     if (!std::isnormal(smallest) || !std::isfinite(largest) ||
         !(smallest >= kMinMomentRatio * largest)) {
-      throw InputError(scene_.file, spec.line,
+      throw InputError(state_.scene.file, spec.line,
                        cat(what, " has principal moments of inertia (", moments.x(), ", ",
                            moments.y(), ", ", moments.z(), ") kg m^2: shape '", s.name,
                            "' is too thin (a sliver or needle; the smallest moment must be at "
@@ -281,11 +294,11 @@ void Simulation::checkFreeBodies() const {
 void Simulation::suggestTimeStep() {
   checkFreeBodies();
   std::vector<dynamics::TimeStepParticle> dt_particles;
-  for (const auto& spec : scene_.particles) {
+  for (const auto& spec : state_.scene.particles) {
     if (spec.fixed || spec.driver >= 0) continue;
-    const auto& s = shapes_[spec.shape];
-    const double density = densities_[spec.material];
-    const auto& props = materials_.pair(spec.material, spec.material);
+    const auto& s = state_.shapes[spec.shape];
+    const double density = state_.densities[spec.material];
+    const auto& props = state_.materials.pair(spec.material, spec.material);
     // A joint stiffness per area meets its largest value on the particle's largest face.
     double largest_face = 0.0;
     for (const auto& f : s.polyhedron.faces()) largest_face = std::max(largest_face, f.area);
@@ -296,7 +309,7 @@ void Simulation::suggestTimeStep() {
   }
   const auto suggestion = dynamics::suggestTimeStep(dt_particles);
   suggested_dt_ = suggestion.dt;
-  const std::string warning = dynamics::timeStepWarning(scene_.dt, suggestion);
+  const std::string warning = dynamics::timeStepWarning(state_.scene.dt, suggestion);
   if (!warning.empty()) log::warning(warning);
 }
 

@@ -1,89 +1,92 @@
-// The stages of a run: the leapfrog's start, the initial-equilibrium stage and the main run.
+// The stages of a run: the leapfrog's start, the initial-equilibrium stage and the main run, each a
+// loop over the step of sim/step/step_list.cpp.
 #include "polydem/sim/simulation.h"
 
-#include <chrono>
-#include <cmath>
+#include <utility>
 
 #include "polydem/core/error.h"
-#include "polydem/core/exact_sum.h"
 #include "polydem/core/logging.h"
-#include "polydem/core/memory.h"
-#include "polydem/core/mpi_env.h"
-#include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
-#include "polydem/domain/partition.h"
-#include "polydem/domain/rebalance.h"
-#include "polydem/dynamics/driver.h"
 #include "polydem/dynamics/integrator.h"
-#include "polydem/sim/pair_memory.h"
-#include "polydem/sim/seismic.h"
-#include "polydem/sim/water.h"
+#include "polydem/sim/step/operators.h"
+#include "polydem/sim/step/step_list.h"
 
 namespace polydem::sim {
+
+// The loop's steps: the operators of the step (sim/step/step_list.cpp), the step hook as a stop
+// condition, the global monitors for the progress line.
+void Simulation::registerSteps() {
+  state_.loop.setTimeStep(state_.scene.dt);
+  addStep(state_.loop, state_);
+  state_.loop.stopWhen("interruption requested", [this] { return step_hook_ && step_hook_(); });
+  state_.loop.setMonitor([this] {
+    const auto m = monitors();
+    return timeloop::Monitor{m.contacts, m.kinetic_energy, m.force_ratio};
+  });
+}
 
 void Simulation::startLeapfrog() {
   // Velocities of a scene are given at t = 0; the leapfrog keeps them at t - dt/2. The forces at
   // t = 0 are computed on a copy of the (empty) history and bolt state so that this start leaves
   // no trace.
-  const particles::ContactHistory saved = history_;
-  const auto saved_bolts = bolts_.states();
-  updateDerived();
-  findCandidates();
-  computeContacts();
-  history_ = saved;
-  bolts_.restore(saved_bolts);
-  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    auto& p = storage_[i];
+  const particles::ContactHistory saved = state_.history;
+  const auto saved_bolts = state_.bolts.states();
+  computeForces(state_);
+  state_.history = saved;
+  state_.bolts.restore(saved_bolts);
+  for (std::size_t i = 0; i < state_.storage.localCount(); ++i) {
+    auto& p = state_.storage[i];
     if (p.isFree()) {
-      dynamics::startLeapfrog(p, massProperties(i), forces_[i].force, forces_[i].torque, dt());
+      dynamics::startLeapfrog(p, massProperties(i), state_.forces[i].force, state_.forces[i].torque,
+                              dt());
     }
   }
-  refreshGhosts();
-  leapfrog_fresh_ = true;
+  refreshGhosts(state_);
+  state_.leapfrog_fresh = true;
 }
 
 void Simulation::step() {
   requireBetweenSteps("step");
-  loop_.singleStep();
+  state_.loop.singleStep();
 }
 
 // The equilibrium stage runs in its own loop, with the same steps; the main stage's loop is parked
 // meanwhile.
 void Simulation::enterEquilibrium() {
-  std::swap(parked_loop_, loop_);
-  loop_ = timeloop::TimeLoop(comm_);
+  std::swap(parked_loop_, state_.loop);
+  state_.loop = timeloop::TimeLoop(state_.comm);
   registerSteps();
-  loop_.stopWhenForceRatioBelow(scene_.equilibrium.force_ratio,
-                                [this] { return monitors().force_ratio; });
-  loop_.stopAtStep(scene_.equilibrium.max_steps);
-  stage_ = Stage::kEquilibrium;
+  state_.loop.stopWhenForceRatioBelow(state_.scene.equilibrium.force_ratio,
+                                      [this] { return monitors().force_ratio; });
+  state_.loop.stopAtStep(state_.scene.equilibrium.max_steps);
+  state_.stage = Stage::kEquilibrium;
 }
 
 std::int64_t Simulation::runEquilibrium() {
   requireBetweenSteps("runEquilibrium");
-  if (!scene_.equilibrium.enabled || equilibrium_done_) return equilibrium_steps_;
-  if (stage_ != Stage::kEquilibrium) enterEquilibrium();
-  log::info(cat("initial equilibrium: local damping ", scene_.equilibrium.local_damping,
-                ", friction ", scene_.equilibrium.friction_angle, " deg, until R < ",
-                scene_.equilibrium.force_ratio));
-  const auto reason = loop_.run();
-  equilibrium_steps_ = loop_.step();
+  if (!state_.scene.equilibrium.enabled || equilibrium_done_) return equilibrium_steps_;
+  if (state_.stage != Stage::kEquilibrium) enterEquilibrium();
+  log::info(cat("initial equilibrium: local damping ", state_.scene.equilibrium.local_damping,
+                ", friction ", state_.scene.equilibrium.friction_angle, " deg, until R < ",
+                state_.scene.equilibrium.force_ratio));
+  const auto reason = state_.loop.run();
+  equilibrium_steps_ = state_.loop.step();
   if (reason == timeloop::StopReason::kUserCondition) return equilibrium_steps_;  // interrupted
   equilibrium_reached_ = reason == timeloop::StopReason::kForceRatio;
   log::info(cat("initial equilibrium ", equilibrium_reached_ ? "reached" : "NOT reached", " after ",
-                equilibrium_steps_, " steps (", loop_.stopMessage(), ")"));
-  equilibrium_timing_ = loop_.timing();
-  std::swap(parked_loop_, loop_);
-  stage_ = Stage::kMain;
+                equilibrium_steps_, " steps (", state_.loop.stopMessage(), ")"));
+  equilibrium_timing_ = state_.loop.timing();
+  std::swap(parked_loop_, state_.loop);
+  state_.stage = Stage::kMain;
   equilibrium_done_ = true;
-  if (scene_.equilibrium.reset_velocities) {
-    for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-      auto& p = storage_[i];
+  if (state_.scene.equilibrium.reset_velocities) {
+    for (std::size_t i = 0; i < state_.storage.localCount(); ++i) {
+      auto& p = state_.storage[i];
       if (!p.isFree()) continue;
       p.velocity.setZero();
       p.angular_momentum.setZero();
     }
-    refreshGhosts();
+    refreshGhosts(state_);
   }
   return equilibrium_steps_;
 }
@@ -99,10 +102,10 @@ void requireStopCondition(const setup::Setup& scene) {
 
 timeloop::StopReason Simulation::run() {
   requireBetweenSteps("run");
-  requireStopCondition(scene_);
-  if (scene_.end_time) loop_.stopAtTime(*scene_.end_time);
-  if (scene_.steps) loop_.stopAtStep(*scene_.steps);
-  return loop_.run();
+  requireStopCondition(state_.scene);
+  if (state_.scene.end_time) state_.loop.stopAtTime(*state_.scene.end_time);
+  if (state_.scene.steps) state_.loop.stopAtStep(*state_.scene.steps);
+  return state_.loop.run();
 }
 
 }  // namespace polydem::sim

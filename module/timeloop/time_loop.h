@@ -42,6 +42,9 @@ class TimeLoop {
   // ---- the step ------------------------------------------------------------------------------
   /// Appends a function to every step; names must be unique (they are the timer names).
   void add(const std::string& name, Function function);
+  /// Inserts a function into every step just before the step function `before` (throws Error if
+  /// there is none); names must be unique.
+  void insertBefore(const std::string& before, const std::string& name, Function function);
   /// Appends a function called after every step, once step() and time() count it, so that what
   /// it records of the state the step produced carries that step's number and time (output,
   /// checks). Timed like the step functions; names share their namespace.
@@ -109,6 +112,7 @@ class TimeLoop {
     Function function;
   };
   void checkNewName(const std::string& name, const Function& function) const;
+  void timed(const Step& s);
   StopReason check(bool after_step);
   std::string describe(StopReason reason) const;
   bool agree(StopReason reason, bool progress_due);

@@ -1,73 +1,40 @@
-// Contact phase: the forces of every candidate pair (sim/contact_phase.h).
-#include "polydem/sim/simulation.h"
-
-#include <chrono>
-#include <cmath>
-
-#include "polydem/core/error.h"
-#include "polydem/core/exact_sum.h"
-#include "polydem/core/logging.h"
-#include "polydem/core/memory.h"
-#include "polydem/core/mpi_env.h"
-#include "polydem/core/state_hash.h"
-#include "polydem/core/strings.h"
-#include "polydem/domain/partition.h"
-#include "polydem/domain/rebalance.h"
-#include "polydem/dynamics/driver.h"
-#include "polydem/dynamics/integrator.h"
-#include "polydem/sim/pair_memory.h"
-#include "polydem/sim/seismic.h"
-#include "polydem/sim/water.h"
+// Operator "contacts": the contact phase (sim/contact_phase.h) over the broad phase's candidates,
+// and the load model's measure of its work (sim/load_balance.h).
+#include "polydem/sim/step/operators.h"
 
 namespace polydem::sim {
 
-ContactSetup Simulation::contactSetup() const {
+ContactSetup contactSetup(const StepState& s) {
   ContactSetup setup;
-  setup.shapes = &shapes_;
-  setup.kernel = kernel_.get();
-  setup.law = stage_ == Stage::kEquilibrium ? &law_equilibrium_ : &law_main_;
-  setup.materials = static_cast<int>(materials_.size());
-  setup.plane_joint = &plane_joint_;
-  setup.joint_law = stage_ == Stage::kEquilibrium ? &joint_law_equilibrium_ : &joint_law_main_;
-  setup.drivers = &scene_.drivers;
-  setup.model = contact_model_;
-  setup.overlap_centroid = overlap_centroid_;
-  setup.margin = margin_;
-  setup.dt = dt();
-  setup.time = stage_ == Stage::kEquilibrium ? 0.0 : time();
+  setup.shapes = &s.shapes;
+  setup.kernel = s.kernel.get();
+  setup.law = s.stage == Stage::kEquilibrium ? &s.law_equilibrium : &s.law_main;
+  setup.materials = static_cast<int>(s.materials.size());
+  setup.plane_joint = &s.plane_joint;
+  setup.joint_law = s.stage == Stage::kEquilibrium ? &s.joint_law_equilibrium : &s.joint_law_main;
+  setup.drivers = &s.scene.drivers;
+  setup.model = s.contact_model;
+  setup.overlap_centroid = s.overlap_centroid;
+  setup.margin = s.margin;
+  setup.dt = s.dt();
+  setup.time = s.stage == Stage::kEquilibrium ? 0.0 : s.time();
   return setup;
 }
 
-void Simulation::computeContacts() {
-  contact_stats_ = contact_phase_.run(contactSetup(), storage_, candidates_, history_, forces_);
+void computeContacts(StepState& s) {
+  // Early work of an older ghost epoch was made from a state that changed since (step_state.h).
+  if (s.early_epoch != s.ghost_epoch) s.contact_phase.discardEarly();
+  s.contact_stats =
+      s.contact_phase.run(contactSetup(s), s.storage, s.candidates, s.history, s.forces);
   // The work of this phase, and where it was if the decomposition is weighed after this step
   // (the records hold storage indices, valid only until the particles move).
-  const auto every = scene_.domain.rebalance_every;
-  if (sample_load_ || (every > 0 && (loop_.step() + 1) % every == 0)) {
-    load_sample_ = sampleLoad(storage_, contact_phase_.records(), load_model_);
-    last_work_ = load_sample_.work;
-    sample_load_ = false;
+  const auto every = s.scene.domain.rebalance_every;
+  if (s.sample_load || (every > 0 && (s.loop.step() + 1) % every == 0)) {
+    s.load_sample = sampleLoad(s.storage, s.contact_phase.records(), s.load_model);
+    s.last_work = s.load_sample.work;
+    s.sample_load = false;
   } else {
-    last_work_ = stepWork(storage_, contact_phase_.records(), load_model_);
-  }
-  // Gravity, and the pseudo-static earthquake load when the scene has one (sim/seismic.h).
-  const Vec3 body = bodyAcceleration(scene_);
-  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    if (storage_[i].isFree()) forces_[i].addBodyForce(storage_.mass(i) * body);
-  }
-  if (scene_.water.enabled) {
-    addWaterForces(scene_.water, stage_ == Stage::kEquilibrium ? 0.0 : time(), shapes_, storage_,
-                   std::span<dynamics::ForceAccumulator>(forces_.data(), storage_.localCount()));
-  }
-  if (!bolts_.empty()) {
-    bolts_.addForces(storage_,
-                     std::span<dynamics::ForceAccumulator>(forces_.data(), storage_.localCount()),
-                     stage_ == Stage::kEquilibrium ? 0.0 : time(), comm_);
-  }
-  applyForceOperators();
-  ratio_local_.clear();
-  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    if (storage_[i].isFree()) ratio_local_.add(forces_[i]);
+    s.last_work = stepWork(s.storage, s.contact_phase.records(), s.load_model);
   }
 }
 

@@ -1,38 +1,23 @@
-// Derived state: world vertices, rotations and the driven bodies' angular velocities.
-#include "polydem/sim/simulation.h"
+// Operator "derived": the particles' derived state (world vertices, rotations, inverse
+// inertia) of owned and ghost particles, and the driven bodies' angular velocities.
+#include "polydem/sim/step/operators.h"
 
-#include <chrono>
-#include <cmath>
-
-#include "polydem/core/error.h"
-#include "polydem/core/exact_sum.h"
-#include "polydem/core/logging.h"
-#include "polydem/core/memory.h"
-#include "polydem/core/mpi_env.h"
-#include "polydem/core/state_hash.h"
-#include "polydem/core/strings.h"
-#include "polydem/domain/partition.h"
-#include "polydem/domain/rebalance.h"
 #include "polydem/dynamics/driver.h"
-#include "polydem/dynamics/integrator.h"
-#include "polydem/sim/pair_memory.h"
-#include "polydem/sim/seismic.h"
-#include "polydem/sim/water.h"
 
 namespace polydem::sim {
 
-void Simulation::updateDerived() {
-  storage_.updateDerived(shapes_, densities_);
+void updateDerived(StepState& s) {
+  s.storage.updateDerived(s.shapes, s.densities);
   // Driven bodies turn with their driver's angular velocity, at the same half step as the
   // free particles' velocities (frozen during the equilibrium stage).
-  const double t_half = time() - 0.5 * dt();
-  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    const auto& p = storage_[i];
+  const double t_half = s.time() - 0.5 * s.dt();
+  for (std::size_t i = 0; i < s.storage.localCount(); ++i) {
+    const auto& p = s.storage[i];
     if (!p.isDriven()) continue;
-    const Vec3 w = stage_ == Stage::kEquilibrium
+    const Vec3 w = s.stage == Stage::kEquilibrium
                        ? Vec3::Zero()
-                       : dynamics::driverState(scene_.drivers[p.driver], t_half).angular_velocity;
-    storage_.setAngularVelocity(i, w);
+                       : dynamics::driverState(s.scene.drivers[p.driver], t_half).angular_velocity;
+    s.storage.setAngularVelocity(i, w);
   }
 }
 

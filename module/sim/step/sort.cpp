@@ -1,23 +1,7 @@
-// Sort: the local particles into the broad phase's cell order now and then.
-#include "polydem/sim/simulation.h"
+// Operator "sort": the local particles into the broad phase's cell order now and then.
+#include "polydem/sim/step/operators.h"
 
-#include <chrono>
-#include <cmath>
-
-#include "polydem/core/error.h"
-#include "polydem/core/exact_sum.h"
-#include "polydem/core/logging.h"
-#include "polydem/core/memory.h"
-#include "polydem/core/mpi_env.h"
-#include "polydem/core/state_hash.h"
-#include "polydem/core/strings.h"
-#include "polydem/domain/partition.h"
-#include "polydem/domain/rebalance.h"
-#include "polydem/dynamics/driver.h"
-#include "polydem/dynamics/integrator.h"
-#include "polydem/sim/pair_memory.h"
-#include "polydem/sim/seismic.h"
-#include "polydem/sim/water.h"
+#include <algorithm>
 
 namespace polydem::sim {
 
@@ -27,24 +11,24 @@ namespace polydem::sim {
 // steps, the local particles are put in the cell order of the grid of the smallest free particles
 // (broadphase/cell_order.h; for one size, exactly the order the multilevel grid gathers them in).
 // Ghosts keep their places. No result changes (contact_phase.h: uid order throughout).
-void Simulation::sortParticles() {
-  const std::int64_t every = scene_.domain.sort_every;
-  if (every <= 0 || (sort_started_ && loop_.step() % every != 0)) return;
-  sort_started_ = true;
-  const double r_max = fillSphereSet();
+void sortParticles(StepState& s) {
+  const std::int64_t every = s.scene.domain.sort_every;
+  if (every <= 0 || (s.sort_started && s.loop.step() % every != 0)) return;
+  s.sort_started = true;
+  const double r_max = fillSphereSet(s);
   double r_min = r_max;
   bool any_free = false;
-  for (std::size_t i = 0; i < storage_.localCount(); ++i) {
-    if (!active_[i]) continue;
+  for (std::size_t i = 0; i < s.storage.localCount(); ++i) {
+    if (!s.active[i]) continue;
     any_free = true;
-    r_min = std::min(r_min, radii_[i]);
+    r_min = std::min(r_min, s.radii[i]);
   }
   if (!any_free) return;
   // The reach findCandidates() gives the grid of particles of this size (cell_factor 1).
-  const double reach = 2.0 * r_min + margin_ + 1e-9 * 2.0 * r_max;
-  storage_.permuteLocals(
-      cell_order_.order({centers_, radii_, uids_, active_}, storage_.localCount(), reach));
-  ++sorts_;
+  const double reach = 2.0 * r_min + s.margin + 1e-9 * 2.0 * r_max;
+  s.storage.permuteLocals(
+      s.cell_order.order({s.centers, s.radii, s.uids, s.active}, s.storage.localCount(), reach));
+  ++s.sorts;
 }
 
 }  // namespace polydem::sim

@@ -1,47 +1,32 @@
-// User force operators within the step (sim/force_operator.h).
-#include "polydem/sim/simulation.h"
+// A user's force operator as an operator of the step (sim/force_operator.h): each one added with
+// Simulation::addForceOperator runs under its own name and timer, after the scene's forces and
+// before the force ratio, in the order added (step_list.cpp).
+#include <span>
 
-#include <chrono>
-#include <cmath>
-
-#include "polydem/core/error.h"
-#include "polydem/core/exact_sum.h"
-#include "polydem/core/logging.h"
-#include "polydem/core/memory.h"
-#include "polydem/core/mpi_env.h"
-#include "polydem/core/state_hash.h"
-#include "polydem/core/strings.h"
-#include "polydem/domain/partition.h"
-#include "polydem/domain/rebalance.h"
-#include "polydem/dynamics/driver.h"
-#include "polydem/dynamics/integrator.h"
-#include "polydem/sim/pair_memory.h"
-#include "polydem/sim/seismic.h"
-#include "polydem/sim/water.h"
+#include "polydem/sim/step/operators.h"
 
 namespace polydem::sim {
 
-void Simulation::applyForceOperators() {
-  if (force_operators_.empty()) return;
+void applyForceOperator(StepState& s, const NamedForceOperator& op) {
   ForceStep step;
-  step.time = stage_ == Stage::kEquilibrium ? 0.0 : time();
-  step.dt = dt();
-  step.equilibrium = stage_ == Stage::kEquilibrium;
-  step.particles = &storage_;
-  step.forces = std::span<dynamics::ForceAccumulator>(forces_.data(), storage_.localCount());
-  for (const auto& op : force_operators_) callForceOperator(op.name, op.apply, step);
+  step.time = s.stage == Stage::kEquilibrium ? 0.0 : s.time();
+  step.dt = s.dt();
+  step.equilibrium = s.stage == Stage::kEquilibrium;
+  step.particles = &s.storage;
+  step.forces = std::span<dynamics::ForceAccumulator>(s.forces.data(), s.storage.localCount());
+  callForceOperator(s, op.name, op.apply, step);
 }
 
-void Simulation::callForceOperator(const std::string& name, const ForceOperator& op,
-                                   const ForceStep& step) {
-  running_operator_ = &name;
+void callForceOperator(StepState& s, const std::string& name, const ForceOperator& op,
+                       const ForceStep& step) {
+  s.running_operator = &name;
   try {
     op(step);
   } catch (...) {
-    running_operator_ = nullptr;
+    s.running_operator = nullptr;
     throw;
   }
-  running_operator_ = nullptr;
+  s.running_operator = nullptr;
 }
 
 }  // namespace polydem::sim
