@@ -159,7 +159,7 @@ CubeLayer makeCubeLayer(const CubeLayerSpec& spec) {
     if (spec.shuffle) {
       rng.shuffle(order);
     } else {
-      // The order a simulation's periodic sort leaves (sim/simulation.cpp): cells of the small
+      // The order a simulation's periodic sort leaves (sim/step/sort.cpp): cells of the small
       // cubes' grid at zero margin.
       broadphase::CellOrder cells;
       const auto sorted = cells.order(layer.view(), n, 2.0 * circumradius(kSmallEdge));

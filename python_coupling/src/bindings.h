@@ -62,9 +62,9 @@ void checkSignals();
 /// (through its py2f()). TypeError for anything else, ValueError for COMM_NULL.
 MPI_Comm toComm(const py::object& comm);
 /// The simulation of a SceneData, a polydem.Scene (through its build()) or a scene file's path,
-/// on `comm` (simulation_checkpoint.cpp).
+/// on `comm` (sim/restart.cpp).
 std::unique_ptr<sim::Simulation> makeSimulation(const py::object& scene, const py::object& comm);
-/// write_checkpoint and restart (simulation_checkpoint.cpp).
+/// write_checkpoint and restart (sim/restart.cpp).
 void bindSimulationCheckpoint(py::class_<sim::Simulation>& c);
 
 void bindGeometry(py::module_& m);

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "polydem/core/error.h"
 #include "polydem/geometry/shapes.h"
@@ -98,6 +100,55 @@ TEST(ForceOperator, OperatorsRunInOrderAndNeedNewNames) {
   EXPECT_THROW(sim.addForceOperator("first", [](const ForceStep&) {}), Error);
   EXPECT_THROW(sim.addForceOperator("", [](const ForceStep&) {}), Error);
   EXPECT_THROW(sim.addForceOperator("empty", ForceOperator{}), Error);
+}
+
+// The timer names of the loop, in the order they were first used (the order of the step).
+std::vector<std::string> timerNames(Simulation& sim) {
+  std::vector<std::string> names;
+  for (const auto& e : sim.loop().timing().entries()) names.push_back(e.name);
+  return names;
+}
+
+TEST(ForceOperator, EachOperatorIsTimedUnderItsNameWithinTheStep) {
+  Simulation sim(fallingCubes(2), MPI_COMM_WORLD);
+  sim.addForceOperator("lift", liftByUid);
+  sim.step();  // added later: after "lift", before the force ratio, from the next step on
+  sim.addForceOperator("drag", [](const ForceStep&) {});
+  sim.step();
+  sim.step();
+  const auto names = timerNames(sim);
+  const auto at = [&](const std::string& name) {
+    return std::find(names.begin(), names.end(), name) - names.begin();
+  };
+  ASSERT_LT(at("lift"), static_cast<std::ptrdiff_t>(names.size()));
+  ASSERT_LT(at("drag"), static_cast<std::ptrdiff_t>(names.size()));
+  // Gravity, the user's forces and the force ratio each under their own timer, not "contacts".
+  EXPECT_LT(at("contacts"), at("body forces"));
+  EXPECT_LT(at("body forces"), at("lift"));
+  EXPECT_LT(at("lift"), at("force ratio"));
+  EXPECT_LT(at("force ratio"), at("integrate"));
+  for (const auto& e : sim.loop().timing().entries()) {
+    if (e.name == "lift") {
+      EXPECT_EQ(e.count, 3);
+    }
+    if (e.name == "drag") {
+      EXPECT_EQ(e.count, 2);
+    }
+  }
+  // A step operator's name is taken: the timing table would merge the two.
+  EXPECT_THROW(sim.addForceOperator("water", [](const ForceStep&) {}), Error);
+  EXPECT_THROW(sim.addForceOperator("contacts", [](const ForceStep&) {}), Error);
+}
+
+TEST(ForceOperator, AnOperatorAddedLaterRunsAfterTheEarlierOnes) {
+  Simulation sim(fallingCubes(1), MPI_COMM_WORLD);
+  std::vector<std::string> calls;
+  sim.addForceOperator("first", [&](const ForceStep&) { calls.push_back("first"); });
+  sim.step();
+  sim.addForceOperator("second", [&](const ForceStep&) { calls.push_back("second"); });
+  calls.clear();
+  sim.step();
+  EXPECT_EQ(calls, (std::vector<std::string>{"first", "second"}));
 }
 
 TEST(ForceOperator, AnOperatorCannotStepChangeOrCheckpointItsSimulation) {

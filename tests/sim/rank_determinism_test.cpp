@@ -145,7 +145,7 @@ TEST(RankDeterminism, OverlapOnAndOffGiveTheSameBitsAcrossPeriodicFaces) {
   expectOverlapKeepsTheBits(s);
 }
 
-// The storage sort (Simulation::sortParticles) runs at the start of a step, after the early pass
+// The storage sort (sortParticles, sim/step/sort.cpp) runs at the start of a step, after the early pass
 // of the step before: the buffered results are values matched by key, not storage indices.
 TEST(RankDeterminism, OverlapKeepsTheBitsWhenStorageIsSorted) {
   io::Scene s = crossingScene(false);

@@ -101,7 +101,7 @@ TEST(StorageOrder, TheStepLeavesTheGridsCellOrder) {
   std::mt19937_64 rng(77 + static_cast<std::uint64_t>(mpi::rank()));
   sim.reorderParticles(shuffledOrder(sim, rng));
 
-  // The grid order of the current storage, as the step computes it (simulation.cpp).
+  // The grid order of the current storage, as the step computes it (sim/step/sort.cpp).
   auto gridOrder = [&] {
     const auto& storage = sim.particles();
     std::vector<Vec3> centers;
