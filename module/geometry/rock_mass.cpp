@@ -87,6 +87,11 @@ std::optional<ConvexPolyhedron> convexUnion(const ConvexPolyhedron& a, const Con
 // Blocks cut (or not) by a plane between two looks at the stop flag and the clock.
 constexpr std::size_t kPollEvery = 256;
 
+// The cut is depth first: each piece of the region goes through the planes in order, and each
+// part a plane makes goes on through the rest before its neighbour does. The blocks come out in
+// the order a plane-by-plane cut of the whole mass gives (parts below before parts above), with
+// the same bits (each split depends on its block alone), but only the blocks on the way down are
+// held, and no list of every block is moved once per plane.
 class Cutter {
  public:
   explicit Cutter(const RockMassSpec& spec)
@@ -98,9 +103,10 @@ class Cutter {
       throw GeometryError(cat(cuts_.size(), " planes cross the region, more than the limit of ",
                               num(kMaxRockPlanes), ": increase the joint sets' spacings"));
     }
-    for (const ConvexPolyhedron& piece : spec_.region.pieces) work_.push_back({piece, {}, false});
+    cut_any_.assign(cuts_.size(), false);
     report_.region_volume = spec_.region.volume;
-    for (std::size_t c = 0; c < cuts_.size(); ++c) apply(cuts_[c], c);
+    for (const ConvexPolyhedron& piece : spec_.region.pieces) descend({piece, {}, false});
+    tallyInCutOrder();
     if (spec_.region.pieces.size() > 1) joinPieces();
     sweepSlivers();
     RockMass mass = result();
@@ -121,32 +127,73 @@ class Cutter {
     return cuts;
   }
 
-  void apply(const Cut& cut, std::size_t index) {
-    std::vector<Work> next;
-    next.reserve(work_.size());
-    bool cut_something = false;
-    for (std::size_t i = 0; i < work_.size(); ++i) {
-      if (++ticks_ % kPollEvery == 0) poll(index, next.size() + (work_.size() - i));
-      Work& w = work_[i];
-      if (!cut.single && w.fixed && !spec_.joints_cut_fixed) {
-        note(w, 0);  // not cut by the joint: fixed rock stays whole
-        next.push_back(std::move(w));
-        continue;
+  // A block and the next plane it meets.
+  struct Pending {
+    Work w;
+    std::size_t cut = 0;
+  };
+
+  // Takes `piece` through every plane; its blocks join work_ in order.
+  void descend(Work piece) {
+    std::vector<Pending> stack;
+    stack.push_back({std::move(piece), 0});
+    std::vector<Work> parts;
+    while (!stack.empty()) {
+      Pending p = std::move(stack.back());
+      stack.pop_back();
+      for (; p.cut < cuts_.size(); ++p.cut) {
+        furthest_ = std::max(furthest_, p.cut);
+        if (++ticks_ % kPollEvery == 0) poll(furthest_, work_.size() + stack.size() + 1);
+        parts.clear();
+        if (!apply(cuts_[p.cut], p.cut, std::move(p.w), parts)) break;  // removed
+        if (parts.size() == 1) {
+          p.w = std::move(parts[0]);
+          continue;
+        }
+        // Two parts: the one above waits while the one below goes on.
+        stack.push_back({std::move(parts[1]), p.cut + 1});
+        p.w = std::move(parts[0]);
       }
-      cut_something |= split(std::move(w), cut.plane, static_cast<std::int32_t>(index), next);
+      if (p.cut < cuts_.size()) continue;
+      work_.push_back(std::move(p.w));
+      // The estimate (checkRockMassLimits) came first; this guards against its being far off.
+      if (static_cast<double>(work_.size() + stack.size()) > kMaxRockBlocks) {
+        throw GeometryError(
+            cat("more than ", num(kMaxRockBlocks), " blocks: increase the joint sets' spacings"));
+      }
     }
-    work_ = std::move(next);
-    // The estimate (checkRockMassLimits) came first; this guards against its being far off.
-    if (static_cast<double>(work_.size()) > kMaxRockBlocks) {
-      throw GeometryError(cat("more than ", num(kMaxRockBlocks), " blocks after plane '", cut.name,
-                              "' (", index + 1, " of ", cuts_.size(),
-                              "): increase the joint sets' spacings"));
-    }
-    report_.planes += cut_something;
-    if (cut.single) classify(*cut.single);
   }
 
-  // Every kPollEvery blocks: a stop signal ends the cut; a progress line every few seconds.
+  // Cut `index` applied to w: its parts (one or two) into `out`; false if w is removed.
+  bool apply(const Cut& cut, std::size_t index, Work w, std::vector<Work>& out) {
+    if (!cut.single && w.fixed && !spec_.joints_cut_fixed) {
+      note(w, 0);  // not cut by the joint: fixed rock stays whole
+      out.push_back(std::move(w));
+      return true;
+    }
+    if (split(std::move(w), cut.plane, static_cast<std::int32_t>(index), out)) {
+      cut_any_[index] = true;
+    }
+    if (!cut.single) return true;
+    return classify(*cut.single, index, out);
+  }
+
+  // The removed and dropped pieces, counted in the order of a plane-by-plane cut: by plane, and
+  // along a plane in block order, which is the order the depth-first cut met them in.
+  void tallyInCutOrder() {
+    const auto by_cut = [](const auto& a, const auto& b) { return a.first < b.first; };
+    std::stable_sort(removed_.begin(), removed_.end(), by_cut);
+    std::stable_sort(dropped_.begin(), dropped_.end(), by_cut);
+    for (const auto& [cut, volume] : removed_) {
+      ++report_.removed_blocks;
+      report_.removed_volume += volume;
+    }
+    for (const auto& [cut, piece] : dropped_) drop(piece);
+    for (const bool cut : cut_any_) report_.planes += cut;
+  }
+
+  // Every kPollEvery blocks offered to a plane: a stop signal ends the cut; a progress line
+  // every few seconds. The cut goes depth first: `plane` is the furthest plane reached so far.
   void poll(std::size_t plane, std::size_t blocks) {
     throwIfInterrupted([&] {
       return cat("cutting the rock mass (plane ", plane + 1, " of ", cuts_.size(), ", ", blocks,
@@ -194,7 +241,8 @@ class Cutter {
     const std::optional<ConvexPolyhedron>& small = small_below ? below : above;
     const std::vector<Vec3>& small_points = small_below ? parts.below : parts.above;
     w.poly = small_below ? std::move(*above) : std::move(*below);
-    drop({small ? small->centroid() : mean(small_points), whole - w.poly.volume()});
+    dropped_.push_back({static_cast<std::size_t>(index),
+                        {small ? small->centroid() : mean(small_points), whole - w.poly.volume()}});
     out.push_back(cutPart(std::move(w), index, small_below ? 1 : -1));
     return true;
   }
@@ -237,19 +285,19 @@ class Cutter {
     return plane.signedDistance(w.poly.centroid()) > 0.0 ? Side::kAbove : Side::kBelow;
   }
 
-  void classify(const SinglePlane& p) {
-    std::vector<Work> kept;
-    for (Work& w : work_) {
+  // The parts in `parts` that plane p removes are noted and taken out; those it fixes, fixed.
+  // False if none is left.
+  bool classify(const SinglePlane& p, std::size_t index, std::vector<Work>& parts) {
+    std::erase_if(parts, [&](Work& w) {
       const Side side = sideOfLast(w, p.plane);
       if (p.remove != Side::kNone && side == p.remove) {
-        ++report_.removed_blocks;
-        report_.removed_volume += w.poly.volume();
-        continue;
+        removed_.push_back({index, w.poly.volume()});
+        return true;
       }
       if (p.fixed != Side::kNone && side == p.fixed) w.fixed = true;
-      kept.push_back(std::move(w));
-    }
-    work_ = std::move(kept);
+      return false;
+    });
+    return !parts.empty();
   }
 
   // A profile's pieces are not joints: parts of one block (same side of every plane) in
@@ -375,8 +423,12 @@ class Cutter {
   std::vector<Cut> cuts_;
   std::vector<Work> work_;
   RockMassReport report_;
+  std::vector<bool> cut_any_;                               // per plane: whether it cut a block
+  std::vector<std::pair<std::size_t, double>> removed_;     // (plane, volume), as met
+  std::vector<std::pair<std::size_t, RockPiece>> dropped_;  // (plane, piece), as met
   std::chrono::steady_clock::time_point start_, last_progress_;
-  std::size_t ticks_ = 0;  // blocks offered to planes so far
+  std::size_t ticks_ = 0;     // blocks offered to planes so far
+  std::size_t furthest_ = 0;  // the furthest plane a block has been offered to
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 // hulls (geometry::shapes builds the named ones), particles get uids in file order.
 #include <algorithm>
 #include <map>
+#include <unordered_map>
 
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
@@ -310,14 +311,17 @@ class ParticleReader {
       scene_.joint_planes.push_back(
           {cat(cut.info.name, "/", cut.mass.plane_names[k]), cut.plane_joint[k]});
     }
+    // The shapes so far by name, looked up once per block (not a search of every shape).
+    std::unordered_map<std::string, int> shape_line;
+    for (const ShapeSpec& other : scene_.shapes) shape_line.emplace(other.name, other.line);
     for (std::size_t i = 0; i < cut.mass.blocks.size(); ++i) {
       geometry::RockBlock& block = cut.mass.blocks[i];
       ShapeSpec shape;
       shape.name = cat(cut.info.name, "#", i);
       shape.line = s.line();
-      if (const int other = indexByName(scene_.shapes, shape.name); other >= 0) {
+      if (const auto other = shape_line.find(shape.name); other != shape_line.end()) {
         s.fail("name", cat("its block shape '", shape.name, "' clashes with the [[shape]] at line ",
-                           scene_.shapes[other].line));
+                           other->second));
       }
       shape.face_planes = blockFacePlanes(cut.mass, block, first_plane);
       shape.vertices = std::move(block.vertices);

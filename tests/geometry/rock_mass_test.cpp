@@ -73,6 +73,36 @@ TEST(RockMass, OrthogonalSetsCutABoxIntoTheirCells) {
   expectPartition(m, spec.region, 2000);
 }
 
+// The blocks come in the order of a plane-by-plane cut (the part below a plane before the part
+// above): after the sets ns (normal +x), ew (+y) and bed (+z), ordered by x, then y, then z.
+// Single planes remove their sides from every block they meet, in plane order.
+TEST(RockMass, BlocksComeInPlaneByPlaneOrder) {
+  RockMassSpec spec;
+  spec.region = boxRegion(Vec3(0, 0, 0), Vec3(4, 3, 2));
+  spec.joint_sets = {set("ns", 90, 90, 1.0, 0.5), set("ew", 90, 0, 1.0, 0.5),
+                     set("bed", 0, 0, 1.0, 0.5)};
+  SinglePlane cap{"cap", {Vec3::UnitZ(), 1.75}, Side::kNone, Side::kAbove};
+  SinglePlane wall{"wall", {Vec3::UnitX(), 3.25}, Side::kNone, Side::kAbove};
+  spec.planes = {cap, wall};
+  const RockMass m = cutRockMass(spec);
+  ASSERT_EQ(m.blocks.size(), 4u * 4u * 3u);  // the wall leaves the ns plane at x = 3.5 nothing
+  for (std::size_t i = 1; i < m.blocks.size(); ++i) {
+    const Vec3& a = m.blocks[i - 1].centroid;
+    const Vec3& b = m.blocks[i].centroid;
+    // Centroids of blocks in one slab agree to round-off (1e-9 of the region's size).
+    const auto less = [](double u, double v) { return u < v - 4e-9; };
+    const auto same = [&](double u, double v) { return !less(u, v) && !less(v, u); };
+    const bool before = less(a.x(), b.x()) || (same(a.x(), b.x()) && less(a.y(), b.y())) ||
+                        (same(a.x(), b.x()) && same(a.y(), b.y()) && less(a.z(), b.z()));
+    EXPECT_TRUE(before) << "block " << i - 1 << " at " << a.transpose() << ", block " << i << " at "
+                        << b.transpose();
+  }
+  // The cap takes 4 x 3 x 0.25 m^3 in one piece, the wall what is left beyond x = 3.25.
+  EXPECT_EQ(m.report.removed_blocks, 2);
+  EXPECT_NEAR(m.report.removed_volume, 3.0 + 0.75 * 3.0 * 1.75, 1e-12 * 24.0);
+  EXPECT_NEAR(totalVolume(m) + m.report.removed_volume, 24.0, 1e-12 * 24.0);
+}
+
 TEST(RockMass, JitteredSetsFillTheRegionAndAreDeterministic) {
   RockMassSpec spec;
   spec.region = polyhedronRegion(

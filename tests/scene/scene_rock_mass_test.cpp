@@ -139,6 +139,10 @@ TEST(SceneRockMassErrors, EveryMistakeHasItsLine) {
   // Two rock masses of one name.
   expectError(base + replaced(kRockMass, "name = \"slope\"", "name = \"slope\"  # <-"),
               {"rock mass 'slope' is already defined"});
+  // A [[shape]] of a block's name ("<rock mass>#<index>").
+  expectError(replaced(base, "name = \"slope\"", "name = \"slope\"  # <-") +
+                  "\n[[shape]]\nname = \"slope#3\"\ntype = \"box\"\nsize = [1, 1, 1]\n",
+              {"its block shape 'slope#3' clashes with the [[shape]] at line"});
 }
 
 // Descriptions beyond the limits are refused before any cutting, at the line of the table
