@@ -20,8 +20,8 @@ TILT = ("the slopes are reconstructed from the paper's captions (its drawings di
         "(docs/validation.md, tools/tilt_study.py) shows the cause: on the flat platform the "
         "staircase slips 2 mm and jams, and topples 1.3-2.6 deg after Goodman and Bray's 14.0; on "
         "a stepped base it topples at their limit (onset 12.6 / 12.2 deg against 12.7, both "
-        "kernels), and no staircase of these columns has a limit below 11.7: the experiment's "
-        "9.8-11.6 is that of free columns 5-6 cubes high. s3 is read as sliding because its "
+        "kernels); on treads lower than a cube these columns have no limit below 11.7: the "
+        "experiment's 9.8-11.6 is that of free columns 5-6 cubes high. s3 is read as sliding because its "
         "first block to move 5 cm is the top cube sliding off a toppling column")
 
 KNOWN_FAILURES = [

@@ -30,6 +30,7 @@ the top cube of a leaning column sliding off it.
 Run from the repository root, one case after another (each at full length, 1 rank, nice -n 10):
   /usr/bin/python3 benchmark_scenes/tools/tilt_study.py --cases all --out results/tilt-study
   /usr/bin/python3 benchmark_scenes/tools/tilt_study.py --table results/tilt-study   (table only)
+  /usr/bin/python3 benchmark_scenes/tools/tilt_study.py --goodman-bray   (limit against step rise)
 """
 import argparse
 import csv
@@ -228,21 +229,48 @@ def run_case(name, root):
     return result
 
 
-def gb_limit(base):
-    """Goodman and Bray's limit tilt (deg) of the six columns on that base."""
+def gb_set_limit(step, cubes):
+    """Goodman and Bray's limit tilt (deg) of six columns of `cubes` cubes (toe first) on treads
+    rising `step` m: the platform's tilt at which their recursion (tests/apps/goodman_bray.py,
+    mu on bases and sides) first needs a force at a toe. Columns whose lower neighbour's top is
+    below their tread stand free of it: each connected run of columns is its own set."""
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../tests/apps"))
     from goodman_bray import toe_force
-    step, cubes = BASES[base]
-    heights = [EDGE * n for n in (cubes or range(1, COLUMNS + 1))]
+    phi = math.degrees(math.atan(mtt.MU))
+    heights = [EDGE * n for n in cubes]
     bases = [k * step for k in range(COLUMNS)]
-    lo, hi = 0.01, math.degrees(math.atan(mtt.MU)) - 1e-6
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        if toe_force(math.degrees(math.atan(mtt.MU)), mid, EDGE, heights, bases)[0] > 0.0:
-            hi = mid
+    runs = [[0]]
+    for k in range(1, COLUMNS):
+        if bases[k - 1] + heights[k - 1] - bases[k] > 1e-12:
+            runs[-1].append(k)
         else:
-            lo = mid
-    return 0.5 * (lo + hi)
+            runs.append([k])
+    limits = []
+    for run in runs:
+        h, b = [heights[i] for i in run], [bases[i] for i in run]
+        lo, hi = 0.01, phi - 1e-6
+        for _ in range(80):
+            mid = 0.5 * (lo + hi)
+            if toe_force(phi, mid, EDGE, h, b)[0] > 0.0:
+                hi = mid
+            else:
+                lo = mid
+        limits.append(0.5 * (lo + hi))
+    return min(limits)
+
+
+def gb_limit(base):
+    """Goodman and Bray's limit tilt (deg) of the six columns on that base."""
+    step, cubes = BASES[base]
+    return gb_set_limit(step, cubes or range(1, COLUMNS + 1))
+
+
+def gb_steps():
+    """The staircase (6 .. 1 cubes) on treads of every rise: Goodman and Bray's limit tilt."""
+    lines = ["| tread rise b (m) | Goodman-Bray limit tilt (deg) |", "|---|---|"]
+    for b in (0.0, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5):
+        lines.append(f"| {b:g} | {gb_set_limit(b, range(1, COLUMNS + 1)):.2f} |")
+    return "\n".join(lines) + "\n"
 
 
 def table(root):
@@ -279,7 +307,12 @@ def main():
     ap.add_argument("--cases", nargs="*", default=[], help=f"'all' or some of {list(CASES)}")
     ap.add_argument("--out", default="results/tilt-study")
     ap.add_argument("--table", help="only write the table of the runs under this folder")
+    ap.add_argument("--goodman-bray", action="store_true",
+                    help="only print the staircase's limit tilt against the treads' rise")
     args = ap.parse_args()
+    if args.goodman_bray:
+        print(gb_steps(), end="")
+        return
     if args.table:
         print(table(args.table), end="")
         return
