@@ -44,8 +44,9 @@ HEADER = f"""# A-TILT-TABLE (Zhao section 5.3, tables 2-5, after Li et al. 2007)
 #
 # mu = 0.4877 (26.0 deg) everywhere, C = 2.14 Pa (on a 0.1 m face: 0.0214 N per contact, which
 # the law takes per contact), ks / kn = 0.8, density 2000. Zhao's penalty of 2 GPa would be a
-# spring of 2 GPa x face area / inradius = 0.4 GN/m between 0.1 m faces (0.2 GN/m between the
-# 0.05 m cubes); the springs here are ten times softer, which leaves the blocks' overlaps and
+# spring of 2 GPa x face area x (1 / r_A + 1 / r_B) = 0.8 GN/m between 0.1 m faces (r the
+# inradius: docs/kernels/distance-potential.md; 0.4 GN/m between the 0.05 m cubes); the springs
+# here are twenty times softer, which leaves the blocks' overlaps and
 # elastic slips below 1e-6 m (a quasi-static tilt does not depend on them) and allows a time step
 # of 1e-5 s (the 0.05 m cubes' rotation sets it). The distance potential keeps Zhao's 2 GPa.
 # The platform turns from t = {START} s; the tilt at time t is 0.03 (t - {START}) rad.
