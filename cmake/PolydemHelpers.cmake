@@ -21,16 +21,15 @@ if(NOT EXISTS ${POLYDEM_BUILD_INCLUDE_DIR}/polydem)
 endif()
 set_property(GLOBAL PROPERTY POLYDEM_MODULES "")
 
-# Precompiled headers (-DPOLYDEM_PCH=ON): Eigen's Core and Geometry (through core/types.h
+# Precompiled headers (POLYDEM_PCH, on by default): Eigen's Core and Geometry (through core/types.h
 # in almost every file) and the standard headers most files include are parsed once, into one
 # header that every module's library reuses, instead of once per file; the tests share a second one
 # (with GoogleTest), the polydem program has its own. A precompiled header is the same text compiled
-# ahead, so the object code is the same with or without it. Off by default until a whole build
-# with it has reproduced the reference state hashes (docs/DEVELOPING.md, "Build time").
+# ahead, so the object code is the same with or without it (docs/DEVELOPING.md, "Build time").
 set(POLYDEM_PCH_HEADERS <algorithm> <array> <cmath> <cstdint> <functional> <limits> <map> <memory>
                         <optional> <span> <sstream> <string> <string_view> <utility> <vector>
                         <Eigen/Core> <Eigen/Geometry>)
-option(POLYDEM_PCH "Precompiled headers for the modules, the polydem program and the tests" OFF)
+option(POLYDEM_PCH "Precompiled headers for the modules, the polydem program and the tests" ON)
 if(POLYDEM_PCH)
   # ccache caches a compile that includes a precompiled header only with this sloppiness (ccache's
   # manual, "Precompiled headers"): a ccache launcher gets it, so that cached builds stay cached.
@@ -72,8 +71,8 @@ endfunction()
 # batches unless cmake/PolydemUnity.cmake lists it: files whose file-local names (anonymous
 # namespace, static) repeat those of another file of the same target compile on their own. A new
 # file that repeats such a name fails the build with "redefinition of ..." in a unity_*.cxx: give
-# the helper a distinct name or share it through a header, or list the file there. Off by default
-# until a whole build with it has reproduced the reference state hashes.
+# the helper a distinct name or share it through a header, or list the file there. Off by default:
+# a new file can break it that way, which a precompiled header cannot.
 option(POLYDEM_UNITY "Compile each module's files in batches (unity build)" OFF)
 set(POLYDEM_UNITY_BATCH 8 CACHE STRING "Files per batch of a unity build")
 include(PolydemUnity)
