@@ -21,17 +21,25 @@ if(NOT EXISTS ${POLYDEM_BUILD_INCLUDE_DIR}/polydem)
 endif()
 set_property(GLOBAL PROPERTY POLYDEM_MODULES "")
 
-# Precompiled headers (-DPOLYDEM_PCH=ON): Eigen's Core and Geometry (through core/types.h in almost
-# every file) and the standard headers most files include are parsed once, into one header that
-# every module's library reuses, instead of once per file. A precompiled header is the same text
-# compiled ahead, so the object code is the same with or without it. Off by default until a whole
-# build with it has been checked against the reference state hashes. ccache caches a compile that
-# uses one only when told (CCACHE_SLOPPINESS=pch_defines,time_macros).
+# Precompiled headers (POLYDEM_PCH, on by default): Eigen's Core and Geometry (through core/types.h
+# in almost every file) and the standard headers most files include are parsed once, into one
+# header that every module's library reuses, instead of once per file; the tests share a second one
+# (with GoogleTest), the polydem program has its own. A precompiled header is the same text compiled
+# ahead, so the object code is the same with or without it (docs/DEVELOPING.md, "Build time").
 set(POLYDEM_PCH_HEADERS <algorithm> <array> <cmath> <cstdint> <functional> <limits> <map> <memory>
-                        <optional> <span> <string> <string_view> <utility> <vector> <Eigen/Core>
-                        <Eigen/Geometry>)
-option(POLYDEM_PCH "Precompiled headers for the modules and the polydem program" OFF)
+                        <optional> <span> <sstream> <string> <string_view> <utility> <vector>
+                        <Eigen/Core> <Eigen/Geometry>)
+option(POLYDEM_PCH "Precompiled headers for the modules, the polydem program and the tests" ON)
 if(POLYDEM_PCH)
+  # ccache caches a compile that includes a precompiled header only with this sloppiness (ccache's
+  # manual, "Precompiled headers"): a ccache launcher gets it, so that cached builds stay cached.
+  foreach(lang C CXX)
+    if(CMAKE_${lang}_COMPILER_LAUNCHER MATCHES "ccache$")
+      set(CMAKE_${lang}_COMPILER_LAUNCHER ${CMAKE_COMMAND} -E env
+                                          CCACHE_SLOPPINESS=pch_defines,time_macros
+                                          ${CMAKE_${lang}_COMPILER_LAUNCHER})
+    endif()
+  endforeach()
   # The header the modules reuse, compiled with a module's flags (position-independent code).
   # (file(CONFIGURE) rewrites it only when its text changes: a reconfigure rebuilds nothing.)
   file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/polydem_pch.cpp
@@ -56,6 +64,32 @@ function(polydem_use_pch target)
   endif()
 endfunction()
 
+# Unity builds (-DPOLYDEM_UNITY=ON): a module library or program compiles its files
+# POLYDEM_UNITY_BATCH at a time, each batch as one file that includes them, so that the headers
+# they share are parsed and their inline functions compiled once per batch instead of once per
+# file. The code is the same; only what the compiler sees at once is larger. A file joins the
+# batches unless cmake/PolydemUnity.cmake lists it: files whose file-local names (anonymous
+# namespace, static) repeat those of another file of the same target compile on their own. A new
+# file that repeats such a name fails the build with "redefinition of ..." in a unity_*.cxx: give
+# the helper a distinct name or share it through a header, or list the file there. Off by default:
+# a new file can break it that way, which a precompiled header cannot.
+option(POLYDEM_UNITY "Compile each module's files in batches (unity build)" OFF)
+set(POLYDEM_UNITY_BATCH 8 CACHE STRING "Files per batch of a unity build")
+include(PolydemUnity)
+
+function(polydem_use_unity target name)
+  if(NOT POLYDEM_UNITY)
+    return()
+  endif()
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE BATCH
+                                             UNITY_BUILD_BATCH_SIZE ${POLYDEM_UNITY_BATCH})
+  # (Called from the target's own folder, so the listed paths are relative to it.)
+  if(POLYDEM_UNITY_ALONE_${name})
+    set_source_files_properties(${POLYDEM_UNITY_ALONE_${name}}
+                                PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
+  endif()
+endfunction()
+
 function(polydem_add_module)
   cmake_parse_arguments(M "" "NAME" "SOURCES;DEPENDS" ${ARGN})
   set(target polydem_${M_NAME})
@@ -66,6 +100,7 @@ function(polydem_add_module)
     target_link_libraries(${target} PUBLIC ${M_DEPENDS})
     set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
     polydem_use_pch(${target})
+    polydem_use_unity(${target} ${M_NAME})
   else()
     add_library(${target} INTERFACE)
     target_include_directories(${target} INTERFACE $<BUILD_INTERFACE:${POLYDEM_BUILD_INCLUDE_DIR}>
@@ -95,6 +130,10 @@ function(polydem_add_test)
   set(exe test_${T_NAME})
   add_executable(${exe} ${T_SOURCES})
   target_link_libraries(${exe} PRIVATE ${T_DEPENDS} polydem_test_main GTest::gtest)
+  if(POLYDEM_PCH)
+    # The tests' precompiled header (tests/CMakeLists.txt): same flags as every test executable.
+    target_precompile_headers(${exe} REUSE_FROM polydem_test_main)
+  endif()
   set_target_properties(${exe} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
   foreach(np IN LISTS T_PROCESSES)
     if(np EQUAL 1)
