@@ -1,6 +1,8 @@
 """polydem runout on A-RUNOUT-SLIDE-TO-REST (a block launched down an incline, sliding to rest on
 it): the runout of its front and its travel against the exact answer the scene's header derives,
-computed here from the scene's own inputs, within 1 % of the block's size.
+computed here from the scene's own inputs, within 1 % of the block's size; and a run-on stopped by
+SIGTERM between two checks of rest and continued from its checkpoint ends on the same step with
+the same bits.
 
     runout_slide_test.py POLYDEM SCENE WORKDIR
 """
@@ -8,6 +10,8 @@ import json
 import math
 import os
 import shutil
+import signal
+import subprocess
 import sys
 import tomllib
 
@@ -50,6 +54,26 @@ def main():
     print(f"travel {moved:.5f} m, expected {travel:.5f} m ({(moved - travel) / b:+.2%} of b)")
     expect(abs(moved - travel) <= 0.01 * b, f"travel {moved} m, expected {travel} m within 1 % of b")
     expect(abs(r["direction"][0] - 1) < 1e-6, f"direction {r['direction']}, expected +x")
+    # Stopped by SIGTERM after its first step (held before it by the test hook), between two
+    # checks of rest, and continued: the same steps and bits as the run that never stopped.
+    env = dict(os.environ, POLYDEM_TEST_PAUSE="runout-start:3")
+    proc = subprocess.Popen([polydem, "runout", scene_path, "--out", "stopped", "--quiet"],
+                            cwd=workdir, env=env, stderr=subprocess.PIPE, text=True)
+    for line in proc.stderr:
+        if "test pause: runout-start" in line:
+            proc.send_signal(signal.SIGTERM)
+            break
+    proc.communicate()
+    with open(os.path.join(workdir, "stopped", "runout.json")) as f:
+        s = json.load(f)
+    expect(s["stopped_by"] == "SIGTERM" and s["steps"] == 1,
+           f"the stop: {s['stopped_by']} at step {s['steps']}, expected SIGTERM at step 1")
+    run([polydem, "runout", "--resume", "stopped", "--quiet"], workdir)
+    with open(os.path.join(workdir, "stopped", "runout.json")) as f:
+        c = json.load(f)
+    expect(c["steps"] == r["steps"] and c["state_hash"] == r["state_hash"],
+           f"continued: step {c['steps']} hash {c['state_hash']}; whole run: step {r['steps']} "
+           f"hash {r['state_hash']}")
     if FAILURES:
         sys.exit(f"{len(FAILURES)} check(s) failed")
     print("runout slide to rest: all checks pass")
