@@ -189,7 +189,7 @@ int fosCommand(int argc, char** argv) {
       return fosRealizationsCommand(argc, argv);
     }
   }
-  Args args(argc, argv, {"help", "quiet"});
+  Args args(argc, argv, {"help", "quiet", "runout"});
   const auto resume = args.value("resume");
   if (args.flag("help") || args.positional().size() != (resume ? 0u : 1u)) {
     usage();
@@ -251,7 +251,7 @@ int fosCommand(int argc, char** argv) {
   if (runout_settings) {
     then = [&](sim::Simulation& failing) {
       log::info(
-          cat("runout: the failing state on at the scene's strengths, into ", out, "/runout"));
+          cat("runout: the failing state on into ", out, "/runout, with ", runOnDynamics(scene)));
       run_on = runOutFrom(failing, scene, *runout_settings);
     };
   }
@@ -271,7 +271,7 @@ int fosCommand(int argc, char** argv) {
     try {
       writeFosFiles(out, scene, criterion, result, resume_command,
                     mechanism ? &*mechanism : nullptr, picture);
-      if (run_on) addRunout(out, *run_on, mpi::size());
+      if (run_on) addRunout(out, *run_on, mpi::size(), runOnDynamics(scene));
     } catch (const Error& e) {
       error = e.what();
     }

@@ -9,6 +9,7 @@
 #include "picture.h"
 #include "polydem/checkpoint/checkpoint.h"
 #include "polydem/core/error.h"
+#include "polydem/core/mpi_env.h"
 #include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
 #include "polydem/output/output_file.h"
@@ -61,12 +62,31 @@ sim::RunoutSettings runoutSettings(const io::Scene& scene, const RunoutOptions& 
   return s;
 }
 
+std::string runOnDynamics(const io::Scene& scene) {
+  std::string materials;
+  for (const auto& m : scene.materials) {
+    materials +=
+        cat(materials.empty() ? "" : "; ", m.name, ": friction angle ", num(m.friction_angle),
+            " deg, cohesion ", num(m.cohesion), " N, local damping ", num(m.local_damping),
+            ", normal damping ", num(m.normal_damping));
+  }
+  return cat("the scene's own strengths and damping, unreduced (", materials, "; ",
+             scene.interactions.size(), " [[interaction]](s) and ", scene.joints.size(),
+             " [[joint]](s) as written, each joint's slip history carried on), not the trials' "
+             "reduced strengths and static local damping");
+}
+
 sim::RunoutResult runOutFrom(sim::Simulation& failing, const io::Scene& scene,
                              const sim::RunoutSettings& settings) {
   // The failing state handed over as a checkpoint in memory, continued with the scene's own
   // strengths and damping (the stored scene is the one written: a restart continues the same).
   sim::RunoutProgress progress;
   progress.start_time = failing.time();
+  // Its periodic checkpoints go into DIR/runout, which exists before the first one.
+  if (!settings.dir.empty() && mpi::rank(failing.comm()) == 0) {
+    std::filesystem::create_directories(settings.dir);
+  }
+  MPI_Barrier(failing.comm());
   const io::CheckpointData data = failing.checkpoint(
       settings.scene_text, settings.scene_file, sim::runoutStateJson(progress, settings, scene));
   sim::Simulation runout(scene, data, "the failed trial's state", failing.comm());
@@ -130,19 +150,22 @@ json writeRunoutFiles(const std::string& dir, const sim::RunoutResult& r,
   return j;
 }
 
-void addRunout(const std::string& fos_dir, const sim::RunoutResult& r, int ranks) {
+void addRunout(const std::string& fos_dir, const sim::RunoutResult& r, int ranks,
+               const std::string& dynamics) {
   const std::string dir = fos_dir + "/runout";
   const std::string resume = r.checkpoint.empty()
                                  ? std::string()
                                  : cat("mpirun -n ", ranks, " polydem runout --resume ", dir);
   json j = writeRunoutFiles(dir, r, resume);
   j["dir"] = "runout";
+  j["dynamics"] = dynamics;
   const std::string path = fos_dir + "/fos.json";
   std::ifstream in(path);
   json fos = json::parse(in);
   fos["runout"] = j;
   io::writeFileAtomic(path, fos.dump(2) + "\n");
   std::printf("%s\n", runoutLine(r, dir).c_str());
+  std::printf("runout dynamics: %s\n", dynamics.c_str());
   if (!resume.empty()) std::printf("to continue the runout: %s\n", resume.c_str());
 }
 

@@ -34,6 +34,11 @@ RunoutOptions runoutOptions(Args& args, const std::string& prefix);
 sim::RunoutSettings runoutSettings(const io::Scene& scene, const RunoutOptions& options,
                                    const std::string& dir);
 
+/// The strengths and damping a run-on of `scene` uses, in words: the scene's own (per material:
+/// friction angle, cohesion, local and normal damping; its [[interaction]]s and [[joint]]s as
+/// written), not the fos trials' reduced strengths and static local damping.
+std::string runOnDynamics(const io::Scene& scene);
+
 /// Continues the failing state of `failing` (a fos trial's simulation, at reduced strength and
 /// the static solution's damping) with `scene` as written: its strengths and damping (collective).
 sim::RunoutResult runOutFrom(sim::Simulation& failing, const io::Scene& scene,
@@ -50,7 +55,8 @@ nlohmann::json writeRunoutFiles(const std::string& dir, const sim::RunoutResult&
 
 /// `polydem fos --runout`: the run-on's files into FOS_DIR/runout, its figures into
 /// FOS_DIR/fos.json under "runout", and its line on the console. Rank 0 only.
-void addRunout(const std::string& fos_dir, const sim::RunoutResult& r, int ranks);
+void addRunout(const std::string& fos_dir, const sim::RunoutResult& r, int ranks,
+               const std::string& dynamics);
 
 /// One line for the console.
 std::string runoutLine(const sim::RunoutResult& r, const std::string& dir);

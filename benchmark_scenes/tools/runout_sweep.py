@@ -4,8 +4,8 @@ friction angle (the same on the joints, the faults and the floor) the rock mass 
 run until at rest (or the time cap), and its runout and deposit measured.
 
     nice -n 10 /usr/bin/python3 benchmark_scenes/tools/runout_sweep.py \\
-        [--angles 10 15 20 25] [--time-cap 60] [--out results/runout-sweep] \\
-        [--figure docs/images/a-runout-friction-sweep.png] [--table docs/runout-sweep.md]
+        [--angles 10 15 20 25] [--time-cap 600] [--out results/runout-sweep] \\
+        [--figure docs/images/a-runout-friction-sweep.png] [--table docs/validation.md]
 
 The cases run one after another (each `polydem runout` on one rank); after each, OUT/sweep.json,
 the figure (left: mean displacement of the free blocks against time, one line per angle, as
@@ -13,8 +13,11 @@ fig. 4.11; right: runout distance and largest block travel against the friction 
 table (markdown: per angle, at rest or not and when, runout, largest travel, the deposit's
 area, length, width and largest thickness, wall time) are rewritten, so that a sweep stopped
 part way leaves the cases it finished. A case whose OUT/phi-X/runout.json exists is read, not
-run again. The thesis's finding, checked and reported: the lower the friction, the farther the
-mass runs out. Exit status 1 if the runout does not fall as the angle rises.
+run again, unless a signal stopped it (SIGTERM to its polydem): then it is continued from its
+OUT/phi-X/runout.h5, as is a case killed without one, so that a sweep to rest can be spread over
+several sessions. The time cap (600 s of run-on by default) only guards against a mass that
+never settles: each case runs until every block is at rest. The thesis's finding, checked and
+reported: the lower the friction, the farther the mass runs out. Exit status 1 if the runout does not fall as the angle rises.
 """
 import argparse
 import csv
@@ -52,9 +55,21 @@ def run_case(polydem, text, angle, out, time_cap):
     """One angle: its runout.json (run unless already there) and wall seconds (None if read)."""
     run_dir = os.path.join(out, f"phi-{angle:g}")
     result = os.path.join(run_dir, "runout.json")
+    checkpoint = os.path.join(run_dir, "runout.h5")
+    stopped = None
     if os.path.exists(result):
         with open(result) as f:
-            return json.load(f), None
+            stopped = json.load(f)
+        if stopped["stopped_by"] in ("rest", "time_cap") or not os.path.exists(checkpoint):
+            return stopped, None
+    if os.path.exists(checkpoint) and (stopped is not None or not os.path.exists(result)):
+        # Stopped by a signal (or killed): continued from its checkpoint, the same bits as a run
+        # that never stopped; the wall time adds up over the parts.
+        t0 = time.time()
+        subprocess.run([polydem, "runout", "--resume", run_dir, "--quiet"], check=True)
+        with open(result) as f:
+            r = json.load(f)
+        return r, (stopped or {}).get("wall_seconds", 0) + time.time() - t0
     os.makedirs(out, exist_ok=True)
     scene = os.path.join(out, f"A-RUNOUT-phi-{angle:g}.toml")
     with open(scene, "w") as f:
@@ -66,6 +81,31 @@ def run_case(polydem, text, angle, out, time_cap):
     subprocess.run(cmd, check=True)
     with open(result) as f:
         return json.load(f), time.time() - t0
+
+
+BEGIN, END = "<!-- runout_sweep.py table -->", "<!-- /runout_sweep.py table -->"
+
+
+def write_table(path, table):
+    """The table into `path`: between its BEGIN and END markers when it has them (a page of the
+    docs keeps its text), else the whole file."""
+    text = open(path).read() if os.path.exists(path) else ""
+    if BEGIN in text and END in text:
+        head, rest = text.split(BEGIN, 1)
+        text = head + BEGIN + "\n" + table + END + rest.split(END, 1)[1]
+    else:
+        text = table
+    with open(path, "w") as f:
+        f.write(text)
+
+
+def rest_word(case):
+    """The table's "at rest" cell: yes, or why not."""
+    if case["at_rest"]:
+        return "yes"
+    if case["stopped_by"] == "time_cap":
+        return "no (time cap)"
+    return f"no ({case['stopped_by']}; continued from its checkpoint by the next sweep)"
 
 
 def write_outputs(a, cases):
@@ -98,13 +138,12 @@ def write_outputs(a, cases):
     for c in cases:
         d = c["deposit"]
         lines.append(
-            f"| {c['friction_angle_deg']:g} | {'yes' if c['at_rest'] else 'no (time cap)'} | "
+            f"| {c['friction_angle_deg']:g} | {rest_word(c)} | "
             f"{c['time']:.3g} | {c['runout_distance']:.3g} | {c['largest_block_travel']:.3g} | "
             f"{c['failed_blocks']} of {c['free_blocks']} | {d['area']:.4g} | "
             f"{d['length']:.3g} x {d['width']:.3g} | {d['max_thickness']:.3g} | "
             f"{c.get('wall_seconds') or 0:.0f} |")
-    with open(a.table, "w") as f:
-        f.write("\n".join(lines) + "\n")
+    write_table(a.table, "\n".join(lines) + "\n")
     falls = all(x["runout_distance"] >= y["runout_distance"] for x, y in zip(cases, cases[1:]))
     with open(os.path.join(a.out, "sweep.json"), "w") as f:
         json.dump({"scene": a.scene, "cases": cases, "runout_falls_with_friction": falls}, f,
@@ -115,13 +154,16 @@ def write_outputs(a, cases):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--angles", nargs="+", type=float, default=[10, 15, 20, 25])
-    ap.add_argument("--time-cap", type=float, default=None, help="s (default: the scene's)")
+    ap.add_argument("--time-cap", type=float, default=600,
+                    help="s of run-on at most (default 600: each case runs to rest)")
     ap.add_argument("--scene", default=SCENE)
     ap.add_argument("--polydem", default=os.path.join(ROOT, "build", "bin", "polydem"))
     ap.add_argument("--out", default="results/runout-sweep")
     ap.add_argument("--figure", default=os.path.join(ROOT, "docs", "images",
                                                      "a-runout-friction-sweep.png"))
-    ap.add_argument("--table", default=None, help="markdown (default OUT/sweep.md)")
+    ap.add_argument("--table", default=None,
+                    help="markdown (default OUT/sweep.md); a file with the markers "
+                         f"{BEGIN} ... {END} (docs/validation.md) gets the table between them")
     a = ap.parse_args()
     a.table = a.table or os.path.join(a.out, "sweep.md")
     text = open(a.scene).read()

@@ -11,6 +11,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/strings.h"
+#include "polydem/core/test_pause.h"
 #include "polydem/run/free_motion.h"
 #include "polydem/run/run_checkpoint.h"
 #include "polydem/sim/simulation.h"
@@ -65,13 +66,17 @@ RunoutResult runRunout(Simulation& sim, const RunoutSettings& s, RunoutProgress 
   RunoutResult r;
   const FreeMotionMeter meter(sim);
   std::int64_t since_checkpoint = 0;
+  testPause("runout-start");  // test hook: a signal here stops the run-on after its next step
   for (;;) {
     if (sim.time() - progress.start_time >= s.time_cap) {
       r.stopped_by = "time_cap";
       break;
     }
+    // Checks on the steps that are multiples of check_every, so that a run-on continued from a
+    // checkpoint written between two checks (a stop signal) checks, and stops, on the same steps.
+    const std::int64_t round = s.check_every - sim.stepCount() % s.check_every;
     int sig = 0;
-    for (std::int64_t k = 0; k < s.check_every && sig == 0; ++k) {
+    for (std::int64_t k = 0; k < round && sig == 0; ++k) {
       sim.step();
       sig = receivedSignal(sim.comm());  // finish this step, then stop
     }
@@ -90,7 +95,7 @@ RunoutResult runRunout(Simulation& sim, const RunoutSettings& s, RunoutProgress 
       r.at_rest = true;
       break;
     }
-    since_checkpoint += s.check_every;
+    since_checkpoint += round;
     if (s.checkpoint_every > 0 && since_checkpoint >= s.checkpoint_every) {
       writeRunoutCheckpoint(sim, s, progress);
       since_checkpoint = 0;

@@ -5,7 +5,7 @@
 // solution's local damping of the fos trials would brake a dynamic runout), and each joint's own
 // law, so that a `coulomb-residual` joint whose sub-contacts slipped during the failure carries
 // on at its residual strength (its history says so) and a Barton-Bandis joint at its mobilized
-// one. It is checked every check_every steps:
+// one. It is checked on the steps that are multiples of check_every:
 //   at rest  every free block's speed, |v| + |w| R at its farthest point, is below
 //            kRestSpeed sqrt(g s) (s = V^(1/3) its size: a Froude number, free of the length
 //            scale) at kRestChecks checks in a row;
