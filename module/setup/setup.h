@@ -213,19 +213,38 @@ struct CheckSpec {
   int line = 0;
 };
 
-/// [water]: hydrostatic water pressure on the joint faces of the free blocks
-/// (docs/scene-format.md "Water"). The phreatic surface is z = level, or the plane through three
-/// points; either may change with time through a table whose rows are interpolated linearly
-/// (held at the first and last row outside them).
-struct WaterSpec {
-  bool enabled = false;
-  double unit_weight = 9810.0;  // N/m^3
-  /// x, y of the plane's three points (m); empty: a level surface.
+/// A phreatic surface of [water] (docs/scene-format.md "Water"): z = level, the plane through three
+/// points, or a triangulated surface through more; any may change with time through a table whose
+/// rows are interpolated linearly (held at the first and last row outside them).
+struct WaterSurfaceSpec {
+  /// x, y of the surface's points (m): none, a level surface; three, the plane through them;
+  /// more, the surface linear on each triangle of `triangles` (sim/water.h).
   std::vector<std::array<double, 2>> points;
+  /// With four points or more: their triangulation in plan (geometry/plan_triangulation.h),
+  /// counter-clockwise; empty: the Delaunay triangulation, made when the water is applied.
+  std::vector<std::array<int, 3>> triangles;
   /// Rows of the table, increasing in time (s); one row: a surface that does not move.
   std::vector<double> times;
-  /// Per row: the level (one height), or the heights of the three points (m).
+  /// Per row: the level (one height), or the heights of the points (m).
   std::vector<std::vector<double>> heights;
+  /// No water: the faces this surface covers carry no pressure.
+  bool dry = false;
+};
+
+/// A [[water.joint]]: its own surface on the faces of some joint planes.
+struct WaterJointSpec {
+  std::string name;  // a [[joint]] or a [[rock_mass.plane]] / joint set name
+  WaterSurfaceSpec surface;
+  std::vector<int> planes;  // indices into Setup::joint_planes
+  int line = 0;
+};
+
+/// [water]: the unit weight of water and the phreatic surface (docs/scene-format.md "Water"); the
+/// surface of the base WaterSurfaceSpec acts on every joint face but those of `joints`' planes.
+struct WaterSpec : WaterSurfaceSpec {
+  bool enabled = false;
+  double unit_weight = 9810.0;  // N/m^3
+  std::vector<WaterJointSpec> joints;
   int line = 0;
 };
 
@@ -337,5 +356,7 @@ using setup::RockMassInfo;
 using setup::SeismicSpec;
 using setup::ShapeSpec;
 using setup::unknownContactModel;
+using setup::WaterJointSpec;
 using setup::WaterSpec;
+using setup::WaterSurfaceSpec;
 }  // namespace polydem::io

@@ -2,18 +2,111 @@
 #include "polydem/sim/water.h"
 
 #include <algorithm>
-#include <array>
+#include <optional>
+
+#include "polydem/core/error.h"
+#include "polydem/geometry/plan_triangulation.h"
 
 namespace polydem::sim {
 
 namespace {
 
-// The heights of the table at `time` (the level, or the three points' heights), linear between
-// rows; no allocation, as it runs every step.
-std::array<double, 3> heightsAt(const setup::WaterSpec& water, double time) {
+// The triangles of a surface through four points or more: as given, else Delaunay's.
+std::vector<geometry::PlanTriangle> trianglesOf(const setup::WaterSurfaceSpec& spec) {
+  if (!spec.triangles.empty()) return spec.triangles;
+  auto t = geometry::delaunayTriangulation(spec.points);
+  if (!t.error.empty()) throw InputError("", 0, "[water] points: " + t.error);
+  return std::move(t.triangles);
+}
+
+// One surface at one time, and its pressure about one point (a block's centroid).
+class SurfaceNow {
+ public:
+  SurfaceNow(const setup::WaterSurfaceSpec& spec, double unit_weight, double time)
+      : dry_(spec.dry), unit_weight_(unit_weight) {
+    if (dry_) return;
+    if (spec.points.size() <= 3) {
+      plane_ = phreaticSurface(spec, time);
+      return;
+    }
+    std::vector<double> z;
+    surfaceHeights(spec, time, z);
+    const auto triangles = trianglesOf(spec);
+    partition_.emplace(spec.points, triangles);
+    for (std::size_t c = 0; c < partition_->cellCount(); ++c) {
+      cell_planes_.push_back(partition_->plane(c, z));
+    }
+    cell_pressure_.resize(cell_planes_.size());
+  }
+
+  bool dry() const { return dry_; }
+
+  void about(const Vec3& c) {
+    if (dry_) return;
+    if (!partition_) {
+      pressure_ = hydrostaticPressure(plane_, unit_weight_, c);
+      return;
+    }
+    for (std::size_t k = 0; k < cell_planes_.size(); ++k) {
+      cell_pressure_[k] = hydrostaticPressure(cell_planes_[k], unit_weight_, c);
+    }
+  }
+
+  geometry::PressureResultant on(std::span<const Vec3> vertices, std::span<const int> face,
+                                 const Vec3& normal) const {
+    if (!partition_) return geometry::pressureResultant(vertices, face, normal, pressure_);
+    return partition_->resultant(vertices, face, normal, cell_pressure_);
+  }
+
+ private:
+  bool dry_;
+  double unit_weight_;
+  PhreaticSurface plane_;  // a level or three points
+  geometry::LinearPressure pressure_;
+  std::optional<geometry::PlanPartition> partition_;  // four points or more
+  std::vector<PhreaticSurface> cell_planes_;
+  std::vector<geometry::LinearPressure> cell_pressure_;
+};
+
+// The [water] surfaces at one time: the global one (0) and each [[water.joint]]'s (1, 2, ...),
+// and which acts on the faces of each joint plane.
+class WaterNow {
+ public:
+  WaterNow(const setup::WaterSpec& water, double time) {
+    surfaces_.emplace_back(water, water.unit_weight, time);
+    for (std::size_t j = 0; j < water.joints.size(); ++j) {
+      surfaces_.emplace_back(water.joints[j].surface, water.unit_weight, time);
+      for (const int plane : water.joints[j].planes) {
+        const auto k = static_cast<std::size_t>(plane);
+        if (surface_of_plane_.size() <= k) surface_of_plane_.resize(k + 1, 0);
+        surface_of_plane_[k] = j + 1;
+      }
+    }
+  }
+
+  void about(const Vec3& c) {
+    for (auto& s : surfaces_) s.about(c);
+  }
+
+  // The surface on the faces of joint plane `plane`, nullptr where they are dry.
+  const SurfaceNow* on(int plane) const {
+    const auto k = static_cast<std::size_t>(plane);
+    const SurfaceNow& s = surfaces_[k < surface_of_plane_.size() ? surface_of_plane_[k] : 0];
+    return s.dry() ? nullptr : &s;
+  }
+
+ private:
+  std::vector<SurfaceNow> surfaces_;
+  std::vector<std::size_t> surface_of_plane_;
+};
+
+}  // namespace
+
+void surfaceHeights(const setup::WaterSurfaceSpec& water, double time, std::vector<double>& z) {
+  // The rows to blend, linear between them; held at the first and last.
   const auto& t = water.times;
-  std::size_t lo = 0, hi = 0;  // rows to blend, and the weight of `hi`
-  double s = 0.0;
+  std::size_t lo = 0, hi = 0;
+  double s = 0.0;  // the weight of row `hi`
   if (time >= t.back()) {
     lo = hi = t.size() - 1;
   } else if (time > t.front()) {
@@ -21,17 +114,15 @@ std::array<double, 3> heightsAt(const setup::WaterSpec& water, double time) {
     lo = hi - 1;  // t[lo] <= time < t[hi]
     s = (time - t[lo]) / (t[hi] - t[lo]);
   }
-  std::array<double, 3> z{};
-  for (std::size_t i = 0; i < water.heights[lo].size() && i < z.size(); ++i) {
+  z.resize(water.heights[lo].size());
+  for (std::size_t i = 0; i < z.size(); ++i) {
     z[i] = water.heights[lo][i] + s * (water.heights[hi][i] - water.heights[lo][i]);
   }
-  return z;
 }
 
-}  // namespace
-
-PhreaticSurface phreaticSurface(const setup::WaterSpec& water, double time) {
-  const std::array<double, 3> z = heightsAt(water, time);
+PhreaticSurface phreaticSurface(const setup::WaterSurfaceSpec& water, double time) {
+  std::vector<double> z;
+  surfaceHeights(water, time, z);
   PhreaticSurface s;
   if (water.points.empty()) {
     s.height = z[0];
@@ -60,6 +151,16 @@ geometry::LinearPressure hydrostaticPressure(const PhreaticSurface& surface, dou
   return pressure;
 }
 
+geometry::PressureResultant waterOnFace(const setup::WaterSurfaceSpec& surface, double unit_weight,
+                                        double time, std::span<const Vec3> vertices,
+                                        std::span<const int> face, const Vec3& normal,
+                                        const Vec3& c) {
+  SurfaceNow now(surface, unit_weight, time);
+  if (now.dry()) return {};
+  now.about(c);
+  return now.on(vertices, face, normal);
+}
+
 void faceWaterPressures(const setup::WaterSpec& water, double time,
                         const geometry::BodyShape& shape, std::span<const Vec3> vertices,
                         std::span<const Vec3> normals, const Vec3& centroid,
@@ -67,11 +168,13 @@ void faceWaterPressures(const setup::WaterSpec& water, double time,
   const auto& faces = shape.polyhedron.faces();
   out.assign(faces.size(), 0.0);
   if (shape.face_plane.empty()) return;
-  const auto pressure =
-      hydrostaticPressure(phreaticSurface(water, time), water.unit_weight, centroid);
+  WaterNow now(water, time);
+  now.about(centroid);
   for (std::size_t f = 0; f < faces.size(); ++f) {
     if (shape.face_plane[f] < 0) continue;
-    const auto r = geometry::pressureResultant(vertices, faces[f].vertices, normals[f], pressure);
+    const SurfaceNow* surface = now.on(shape.face_plane[f]);
+    if (!surface) continue;
+    const auto r = surface->on(vertices, faces[f].vertices, normals[f]);
     out[f] = r.load / faces[f].area;
   }
 }
@@ -79,20 +182,21 @@ void faceWaterPressures(const setup::WaterSpec& water, double time,
 void addWaterForces(const setup::WaterSpec& water, double time, const particles::ShapeTable& shapes,
                     const particles::ParticleStorage& particles,
                     std::span<dynamics::ForceAccumulator> forces) {
-  const PhreaticSurface surface = phreaticSurface(water, time);
-  const double gw = water.unit_weight;
+  WaterNow now(water, time);
   for (std::size_t i = 0; i < forces.size(); ++i) {
     const auto& p = particles[i];
     const geometry::BodyShape& shape = shapes[p.shape];
     if (!p.isFree() || shape.face_plane.empty()) continue;
     // p(x) = gamma_w (z_surface(x, y) - z), about the block's centroid.
-    const auto pressure = hydrostaticPressure(surface, gw, particles.placedPosition(i));
+    now.about(particles.placedPosition(i));
     const auto vertices = particles.worldVertices(i);
     const auto normals = particles.worldFaceNormals(i);
     const auto& faces = shape.polyhedron.faces();
     for (std::size_t f = 0; f < faces.size(); ++f) {
       if (shape.face_plane[f] < 0) continue;
-      const auto r = geometry::pressureResultant(vertices, faces[f].vertices, normals[f], pressure);
+      const SurfaceNow* surface = now.on(shape.face_plane[f]);
+      if (!surface) continue;
+      const auto r = surface->on(vertices, faces[f].vertices, normals[f]);
       if (r.load > 0.0) forces[i].addPair(r.force, r.moment);
     }
   }

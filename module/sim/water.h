@@ -2,7 +2,10 @@
 // block that lies on a joint plane, the hydrostatic pressure p = gamma_w (z_surface(x, y) - z)
 // where it is positive, integrated exactly over the submerged part of the face
 // (geometry/face_pressure.h), open joint or closed. Faces on no joint plane (the slope face, the
-// region's boundary) carry none.
+// region's boundary) carry none. The surface is a level, the plane through three points, or a
+// surface through more points, linear on each triangle of their triangulation in plan and
+// continued beyond their hull at the height of its nearest point (geometry/plan_partition.h);
+// a [[water.joint]] gives the faces of its planes a surface of their own, or none (dry).
 //
 // The water force is applied to the blocks as a load, next to gravity, so the contact forces the
 // joint law computes are the effective ones: the law sees the effective normal stress
@@ -17,22 +20,29 @@
 
 #include "polydem/dynamics/monitors.h"
 #include "polydem/geometry/face_pressure.h"
+#include "polydem/geometry/plan_partition.h"
 #include "polydem/particles/particle_storage.h"
 #include "polydem/setup/setup.h"
 
 namespace polydem::sim {
 
-/// The phreatic surface at one time: z = height + slope_x (x - x0) + slope_y (y - y0).
-struct PhreaticSurface {
-  double x0 = 0.0, y0 = 0.0;
-  double height = 0.0;  // m at (x0, y0)
-  double slope_x = 0.0, slope_y = 0.0;
-  double at(double x, double y) const { return height + slope_x * (x - x0) + slope_y * (y - y0); }
-};
+/// A plane phreatic surface at one time: z = height + slope_x (x - x0) + slope_y (y - y0).
+using PhreaticSurface = geometry::PlanPlane;
 
-/// The surface of `water` at `time`: the table's rows interpolated linearly, the first or last
-/// row held outside them.
-PhreaticSurface phreaticSurface(const setup::WaterSpec& water, double time);
+/// The level or three-point surface of `water` at `time`: the table's rows interpolated
+/// linearly, the first or last row held outside them.
+PhreaticSurface phreaticSurface(const setup::WaterSurfaceSpec& water, double time);
+
+/// The heights of the surface's points (or its level) at `time`, as phreaticSurface, into `z`.
+void surfaceHeights(const setup::WaterSurfaceSpec& water, double time, std::vector<double>& z);
+
+/// The resultant of the water pressure of `surface` at `time` on one face: the polygon
+/// vertices[face[k]] with outward `normal`, moments about `c`; zero for a dry surface. What
+/// addWaterForces applies, for a caller that wants one face.
+geometry::PressureResultant waterOnFace(const setup::WaterSurfaceSpec& surface, double unit_weight,
+                                        double time, std::span<const Vec3> vertices,
+                                        std::span<const int> face, const Vec3& normal,
+                                        const Vec3& c);
 
 /// The hydrostatic pressure below `surface`, p(x) = unit_weight (z_surface(x, y) - z), written
 /// about the point c.

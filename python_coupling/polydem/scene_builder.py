@@ -26,7 +26,7 @@ _SECTION_KEYS = {
     "fos": ("interactions", "f_min", "f_max", "resolution", "max_time", "time_cap",
             "settle_time", "force_ratio", "speed_decay", "local_damping", "speed_limit",
             "displacement_limit", "check_every", "label_prefix", "reduce_bolts"),
-    "water": ("unit_weight", "level", "points", "table"),
+    "water": ("unit_weight", "level", "points", "table", "joint"),
     "seismic": ("kh", "azimuth", "kv", "record", "record_x", "record_y", "record_z", "time_step",
                 "units", "scale"),
 }
@@ -178,8 +178,12 @@ class Scene(Bodies):
     def set_water(self, **settings):
         """[water] (water pressure on the joint faces, docs/scene-format.md "Water in the
         joints"): unit_weight [N/m^3], and the phreatic surface: level [m], or points (three
-        [x, y, z]), or table (rows [time, level]), or points as [x, y] with a table of rows
-        [time, z1, z2, z3]. None removes a key; water=None (the property) removes the table."""
+        [x, y, z]: a plane; more: a surface triangulated in plan), or table (rows [time, level]),
+        or points as [x, y] with a table of rows [time, z1 .. zN]. joint: a list of dicts, each
+        {"joint": NAME, and its own level, points, table, or "dry": True} ([[water.joint]]: a
+        surface on the faces of that [[joint]], plane or joint set); with joint, the global
+        surface may be left out (dry elsewhere). None removes a key; water=None (the property)
+        removes the table."""
         return self._set("water", settings)
 
     @property

@@ -125,15 +125,34 @@ py::list checks(const Scene& s) {
   return out;
 }
 
+// One phreatic surface of [water] as a dict: points, triangles, times, heights, dry.
+void putSurface(const setup::WaterSurfaceSpec& w, py::dict& d) {
+  py::list points;
+  for (const auto& p : w.points) points.append(py::make_tuple(p[0], p[1]));
+  d["points"] = points;
+  py::list triangles;
+  for (const auto& t : w.triangles) triangles.append(py::make_tuple(t[0], t[1], t[2]));
+  d["triangles"] = triangles;
+  d["times"] = w.times;
+  d["heights"] = w.heights;
+  d["dry"] = w.dry;
+}
+
 py::object water(const Scene& s) {
   if (!s.water.enabled) return py::none();
   py::dict d;
   d["unit_weight"] = s.water.unit_weight;
-  py::list points;
-  for (const auto& p : s.water.points) points.append(py::make_tuple(p[0], p[1]));
-  d["points"] = points;
-  d["times"] = s.water.times;
-  d["heights"] = s.water.heights;
+  putSurface(s.water, d);
+  py::list joints;
+  for (const auto& j : s.water.joints) {
+    py::dict e;
+    e["joint"] = j.name;
+    putSurface(j.surface, e);
+    e["planes"] = j.planes;
+    e["line"] = j.line;
+    joints.append(e);
+  }
+  d["joints"] = joints;
   d["line"] = s.water.line;
   return d;
 }
@@ -354,8 +373,11 @@ replaces the scene's whole stop condition: the other one is cleared.)")
           "Whether the run starts with the initial-equilibrium stage.")
       .def_property_readonly("water", &water,
                              "[water] as read, in SI units: a dict (unit_weight [N/m^3], points "
-                             "(x, y of the plane's three points; empty: a level surface), times "
-                             "[s], heights [m] per time), or None without water.")
+                             "(x, y of the surface's points; empty: a level surface), triangles "
+                             "(their triangulation in plan, with four points or more), times "
+                             "[s], heights [m] per time, dry (no global surface), joints (one "
+                             "dict per [[water.joint]]: joint, its surface's keys, planes: "
+                             "indices of the joint planes)), or None without water.")
       .def_property_readonly("bolts", &bolts,
                              "The [[bolt]]s as read, in SI units: a list of dicts (name, start, "
                              "direction (unit), length [m], axial_stiffness [N/m], axial_yield "

@@ -10,7 +10,13 @@ largest pressure; a face wholly above carries 0; a face the surface cuts carries
 0 and the largest pressure on it. The base and the crack must be among the wet faces. The XDMF
 collection names the attribute; a VTK run of the same scene carries it as cell data.
 
-Usage: water_pressure_snapshot_test.py POLYDEM MODE SCENE WORKDIR (MODE: planar-crack)
+surface: W-PLANAR-CRACK-SURFACE, the same on its surface through seven points: over the free
+block it is the plane through the points with x >= 0 (the crack's and the toe's).
+drained: W-PLANAR-CRACK-DRAINED, the same, and the faces of the joints [[water.joint]] makes dry
+carry 0 (only the crack is wet).
+
+Usage: water_pressure_snapshot_test.py POLYDEM MODE SCENE WORKDIR (MODE: planar-crack, surface,
+drained)
 """
 import os
 import tomllib
@@ -21,12 +27,16 @@ import numpy as np
 from scene_test_util import expect, main_by_mode, quantity, run
 
 
-def surface(water):
-    """z_s(x, y) of the scene's [water] (a level, or the plane through three points)."""
+def surface(water, points=None):
+    """z_s(x, y) of the scene's [water] (a level, or the plane through three points: those of
+    [water], or the first three of `points` not on one line)."""
     if "level" in water:
         level = float(str(water["level"]).split()[0])
         return lambda x, y: level
-    (x0, y0, z0), (x1, y1, z1), (x2, y2, z2) = water["points"]
+    points = points or water["points"]
+    (x0, y0, z0), (x1, y1, z1) = points[:2]
+    (x2, y2, z2) = next(p for p in points[2:]
+                        if (x1 - x0) * (p[1] - y0) - (y1 - y0) * (p[0] - x0) != 0)
     normal = np.cross([x1 - x0, y1 - y0, z1 - z0], [x2 - x0, y2 - y0, z2 - z0])
     return lambda x, y: z0 - (normal[0] * (x - x0) + normal[1] * (y - y0)) / normal[2]
 
@@ -56,11 +66,18 @@ def faces_of(path):
     return faces, fixed, joint, pressure, unit
 
 
-def check_planar_crack(polydem, scene_file, workdir):
+def check_planar_crack(polydem, scene_file, workdir, mode="planar-crack"):
     scene = tomllib.load(open(scene_file, "rb"))
     water = scene["water"]
     gamma = quantity(water.get("unit_weight", 9810.0), {"N/m^3": 1.0, "kN/m^3": 1e3})
-    z_s = surface(water)
+    if mode == "surface":
+        assert len(water["points"]) > 3
+        z_s = surface(water, [p for p in water["points"] if p[0] >= 0])
+    else:
+        z_s = surface(water)
+    names = [j["name"] for j in scene["joint"]]
+    dry = {names.index(j["joint"]) for j in water.get("joint", []) if j.get("dry")}
+    assert (mode == "drained") == bool(dry), "drained: some joint dry"
     run([polydem, "run", scene_file, "--out", "xdmf", "--steps", "2", "--quiet"], workdir)
     snapshots = sorted(os.listdir(os.path.join(workdir, "xdmf", "snapshots")))
     faces, fixed, joint, pressure, unit = faces_of(
@@ -74,7 +91,7 @@ def check_planar_crack(polydem, scene_file, workdir):
         expected = gamma * (z_s(centroid[0], centroid[1]) - centroid[2])
         peak = gamma * max(head.max(), 0.0)
         tol = 1e-9 * max(peak, 1.0)
-        if fixed[k] or joint[k] < 0 or head.max() <= 0:
+        if fixed[k] or joint[k] < 0 or head.max() <= 0 or joint[k] in dry:
             expect(pressure[k] == 0.0, f"face {k} (fixed {fixed[k]}, joint {joint[k]}, highest "
                    f"head {head.max():.4g} m) carries {pressure[k]} Pa, expected 0")
         elif head.min() >= -1e-12:
@@ -86,13 +103,18 @@ def check_planar_crack(polydem, scene_file, workdir):
         else:
             expect(0.0 < pressure[k] < peak, f"face {k}, cut by the surface: {pressure[k]} Pa "
                    f"not between 0 and {peak} Pa")
-    expect(wet >= 2, f"{wet} wholly wet joint faces, expected the base and the crack")
+    expected_wet = 1 if dry else 2
+    expect(wet >= expected_wet, f"{wet} wholly wet joint faces, expected {expected_wet}")
+    if dry:
+        dry_faces = sum(1 for k in range(len(faces)) if not fixed[k] and joint[k] in dry)
+        expect(dry_faces >= 1, "no face of the free block on the drained joint")
 
     with open(os.path.join(workdir, "xdmf", "snapshots.xmf")) as f:
         expect('Name="pressure"' in f.read(), "snapshots.xmf has no attribute 'pressure'")
     vtk_scene = os.path.join(workdir, "vtk.toml")
     with open(scene_file) as f, open(vtk_scene, "w") as out:
-        out.write(f.read().replace("[water]", '[output]\nsnapshot_format = "vtk"\n\n[water]', 1))
+        out.write(f.read().replace("\n[water]\n",
+                                  '\n[output]\nsnapshot_format = "vtk"\n\n[water]\n', 1))
     run([polydem, "run", vtk_scene, "--out", "vtk", "--steps", "2", "--quiet"], workdir)
     pieces = [p for p in os.listdir(os.path.join(workdir, "vtk", "snapshots"))
               if p.startswith("particles_") and p.endswith(".vtp")]
@@ -101,4 +123,6 @@ def check_planar_crack(polydem, scene_file, workdir):
 
 
 if __name__ == "__main__":
-    main_by_mode({"planar-crack": check_planar_crack})
+    main_by_mode({"planar-crack": check_planar_crack,
+                  "surface": lambda *a: check_planar_crack(*a, mode="surface"),
+                  "drained": lambda *a: check_planar_crack(*a, mode="drained")})

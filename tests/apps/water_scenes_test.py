@@ -12,6 +12,15 @@ wedge SCENE: W-WEDGE, `polydem fos`: F within 2 % of Hoek and Bray's vector meth
   integrated over its faces on A and B, clipped at the level, triangle by triangle at the
   centroid (exact for a linear pressure), independently of polydem's integration.
 
+surface SCENE: W-PLANAR-CRACK-SURFACE, `polydem fos`: the phreatic surface through more than three
+  points, Hoek and Bray's plane over the block (level points on the crack x = 0, the rest on the
+  plane through them and the toe) and any surface behind the crack (x < 0, over fixed rock): F
+  within 2 % of Hoek and Bray's formula with the z_w of the crack's points.
+
+drained SCENE: W-PLANAR-CRACK-DRAINED, `polydem fos`: Hoek and Bray's surface (three points) with
+  the base joint dry ([[water.joint]] dry = true): F within 2 % of the formula with U = 0; and the
+  same with no global surface and the crack alone given the level z_w ([[water.joint]]).
+
 rising SCENE: W-RISING-WATER, `polydem run`: the water in the crack rises by the scene's table;
   the block must start to slide (move 1/1000 of its base's length) when the table's level is
   within 5 % of the z_w where Hoek and Bray's F(z_w) = 1 (solved by bisection).
@@ -52,9 +61,10 @@ def planar_geometry(scene):
     return g
 
 
-def hoek_bray(g, z_w):
-    """Hoek and Bray's planar F with a water-filled tension crack (water to z_w above its foot)."""
-    u = g["gamma_w"] * z_w * g["area"] / 2
+def hoek_bray(g, z_w, uplift=True):
+    """Hoek and Bray's planar F with a water-filled tension crack (water to z_w above its foot),
+    with the uplift on the base or (uplift False) the base drained."""
+    u = g["gamma_w"] * z_w * g["area"] / 2 if uplift else 0.0
     v = g["gamma_w"] * z_w**2 / 2 * g["width"]
     w, psi = g["weight"], g["psi"]
     resisting = g["cohesion"] * g["area"] + (w * math.cos(psi) - u - v * math.sin(psi)) * math.tan(g["phi"])
@@ -96,6 +106,58 @@ def check_planar_crack(polydem, scene_file, workdir):
         print(f"crack {name} (z_w = {z_w} m): F = {f_measured}, expected {expected:.4f} "
               f"({error:.2%}, tolerance 2%)")
         expect(error <= 0.02, f"crack {name}: F = {f_measured}, expected {expected:.4f} within 2%")
+
+
+def check_surface(polydem, scene_file, workdir):
+    """The points: those on the crack (x = 0) at one level z_w, those over the block (x >= 0) on
+    the plane through the crack's level and the toe, the others behind the crack."""
+    scene = tomllib.load(open(scene_file, "rb"))
+    g = planar_geometry(scene)
+    points = scene["water"]["points"]
+    assert len(points) > 3, "a surface through more than three points"
+    crack = [p for p in points if p[0] == 0]
+    assert len(crack) >= 2 and len({p[2] for p in crack}) == 1, "level points on the crack"
+    assert {p[1] for p in crack} >= {-g["width"] / 2, g["width"] / 2}, "across the crack's width"
+    z_w = crack[0][2]
+    (x1, z1) = g["toe"]
+    on_plane = lambda p: math.isclose(p[2], z_w + (z1 - z_w) * p[0] / x1, abs_tol=1e-12)
+    front = [p for p in points if p[0] > 0]
+    assert all(on_plane(p) for p in front), "Hoek and Bray's plane over the block"
+    assert {(p[0], p[1]) for p in front} >= {(x1, -g["width"] / 2), (x1, g["width"] / 2)}, \
+        "the surface covers the block up to its face"
+    expected = hoek_bray(g, z_w)
+    f_measured = fos(polydem, scene_file, workdir, "fos")
+    error = abs(f_measured - expected) / expected
+    print(f"surface of {len(points)} points (z_w = {z_w} m): F = {f_measured}, expected "
+          f"{expected:.4f} ({error:.2%}, tolerance 2%)")
+    expect(error <= 0.02, f"surface: F = {f_measured}, expected {expected:.4f} within 2%")
+
+
+def crack_only(text, z_w):
+    """The scene text with no global surface and the crack alone given the level z_w."""
+    start, end = text.index("\npoints = "), text.index("[fos]")
+    return text[:start] + f'\n\n[[water.joint]]\njoint = "crack"\nlevel = {z_w!r}\n\n' + text[end:]
+
+
+def check_drained(polydem, scene_file, workdir):
+    text = open(scene_file).read()
+    scene = tomllib.loads(text)
+    g = planar_geometry(scene)
+    z_w = crack_water_level(scene, g)
+    joints = scene["water"]["joint"]
+    assert [(j["joint"], j.get("dry")) for j in joints] == [("base", True)], "the base drained"
+    expected = hoek_bray(g, z_w, uplift=False)
+    variant = os.path.join(workdir, "crack-only.toml")
+    with open(variant, "w") as f:
+        f.write(crack_only(text, z_w))
+    water = tomllib.load(open(variant, "rb"))["water"]
+    assert "points" not in water and water["joint"] == [{"joint": "crack", "level": z_w}]
+    for name, scene_path in (("base drained", scene_file), ("crack alone", variant)):
+        f_measured = fos(polydem, scene_path, workdir, "fos-" + name.replace(" ", "-"))
+        error = abs(f_measured - expected) / expected
+        print(f"{name} (z_w = {z_w} m, U = 0): F = {f_measured}, expected {expected:.4f} "
+              f"({error:.2%}, tolerance 2%)")
+        expect(error <= 0.02, f"{name}: F = {f_measured}, expected {expected:.4f} within 2%")
 
 
 # --- W-RISING-WATER ---------------------------------------------------------------------------
@@ -244,4 +306,5 @@ def check_wedge(polydem, scene_file, workdir):
 
 
 if __name__ == "__main__":
-    main_by_mode({"planar-crack": check_planar_crack, "wedge": check_wedge, "rising": check_rising})
+    main_by_mode({"planar-crack": check_planar_crack, "wedge": check_wedge, "rising": check_rising,
+                  "surface": check_surface, "drained": check_drained})

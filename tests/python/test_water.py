@@ -4,7 +4,8 @@ and the water lifts a block: a block on a horizontal joint under a level 1.5 tim
 head starts to rise at g / 2 (the uplift gamma_w h A on its base, the only joint face it has; its
 top and sides are the region's faces and carry none), and as its base rises the uplift falls by
 gamma_w A per metre: m z'' = gamma_w A (h - z) - W, a harmonic motion, v = (g / 2) sin(w t) / w
-with w^2 = gamma_w A / m.
+with w^2 = gamma_w A / m. The same level given as a surface through five points lifts it alike;
+with the base joint dry ([[water.joint]], set_water(joint=...)) it moves as with no water at all.
 """
 import math
 import os
@@ -61,6 +62,55 @@ class Water(unittest.TestCase):
         s.set_water(unit_weight=9810, level=None, table=[[1, 0.5], [0.5, 1.0]])
         with self.assertRaisesRegex(polydem.InputError, "times must increase"):
             s.build()
+
+    def test_surface_through_points_and_joints(self):
+        s = block_on_joint(1.0)
+        corners = [[-1, -1, 1.0], [1, -1, 1.0], [1, 1, 1.5], [-1, 1, 1.5], [0, 0, 2.0]]
+        s.set_water(level=None, points=corners, joint=[{"joint": "base", "dry": True}])
+        built = s.build().water
+        self.assertEqual(len(built["points"]), 5)
+        self.assertEqual(len(built["triangles"]), 4)
+        self.assertEqual(built["heights"], [[1.0, 1.0, 1.5, 1.5, 2.0]])
+        self.assertEqual([(j["joint"], j["dry"]) for j in built["joints"]], [("base", True)])
+        s.set_water(points=[[-1, -1], [1, -1], [1, 1], [-1, 1]], table=[[0, 1, 1, 2, 2]])
+        self.assertEqual(s.build().water["heights"], [[1.0, 1.0, 2.0, 2.0]])
+        s.set_water(table=[[0, 1, 1, 2]])
+        with self.assertRaisesRegex(polydem.InputError, r"\[water\] table\[0\].*z1 \.\. z4"):
+            s.build()
+        s.set_water(table=None, points=None, joint=[{"joint": "bedding", "level": 1.0}])
+        with self.assertRaisesRegex(polydem.InputError, r"\[\[water.joint\]\] #1 joint.*'bedding'"):
+            s.build()
+        s.set_water(points=[[0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 0, 2]], joint=None)
+        with self.assertRaisesRegex(polydem.InputError, "points 2 and 4 lie at one place"):
+            s.build()
+
+    def run_block(self, scene):
+        sim = polydem.Simulation(scene.build())
+        sim.run()
+        p = sim.particles()
+        free = [i for i, f in enumerate(p["flags"]) if not f & polydem.FLAG_FIXED]
+        self.assertEqual(len(free), 1)
+        return sim, p["velocity"][free[0], 2]
+
+    def test_surface_through_points_lifts_like_the_level(self):
+        gamma_w, area, mass = 9810.0, 4.0, RHO * 4.0
+        level = 1.5 * RHO * G * 1.0 / gamma_w
+        s = block_on_joint(level)
+        # The level as a surface through five points (four triangles), over the block and beyond.
+        s.set_water(level=None, points=[[-2, -2, level], [2, -2, level], [2, 2, level],
+                                        [-2, 2, level], [0.3, -0.2, level]])
+        sim, vz = self.run_block(s)
+        t = sim.time - 0.5 * sim.dt
+        w = math.sqrt(gamma_w * area / mass)
+        expected = 0.5 * G * math.sin(w * t) / w
+        self.assertAlmostEqual(vz, expected, delta=1e-6 * expected)
+        # The base drained: no water force at all, the same bits as without water.
+        s.set_water(joint=[{"joint": "base", "dry": True}])
+        _, vz_dry = self.run_block(s)
+        s.water = None
+        _, vz_none = self.run_block(s)
+        self.assertEqual(vz_dry, vz_none)
+        self.assertLess(vz_dry, 0.5 * expected)
 
     def test_uplift_lifts_a_block(self):
         # gamma_w h A = 1.5 rho g (1 m) A: the block starts to rise at g / 2.
