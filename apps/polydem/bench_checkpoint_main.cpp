@@ -6,6 +6,7 @@
 #include "polydem/checkpoint/checkpoint.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
+#include "polydem/hdf5/library.h"
 
 int main(int argc, char** argv) {
   polydem::mpi::Environment env(argc, argv);

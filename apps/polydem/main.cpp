@@ -12,6 +12,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
+#include "polydem/hdf5/library.h"
 #include "polydem/output/output_file.h"
 #include "polydem/run/run_checkpoint.h"
 

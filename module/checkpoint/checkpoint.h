@@ -109,12 +109,6 @@ CheckpointSummary verifyCheckpoint(const std::filesystem::path& path, MPI_Comm c
 /// The summary as text: one "key: value" line each, then the datasets with their checksums.
 std::string formatCheckpointSummary(const CheckpointSummary& summary);
 
-/// Closes the HDF5 library before MPI_Finalize, quietly. HDF5 1.10 keeps internal objects it
-/// cannot release after it has read damaged metadata, and its own shutdown at MPI_Finalize would
-/// then print "HDF5: infinite loop closing library" after polydem's error message; with its
-/// error printing off it says nothing. Call once, after the last HDF5 use of the process.
-void closeHdf5Library();
-
 // --- files in a checkpoint directory (not collective: call on one rank)
 // ---------------------------
 

@@ -10,6 +10,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/hdf5/checksum.h"
 #include "polydem/hdf5/hdf5_types.h"
+#include "polydem/hdf5/library.h"
 
 namespace polydem::io::h5 {
 

@@ -16,6 +16,7 @@
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
+#include "polydem/hdf5/library.h"
 
 namespace polydem::python {
 
