@@ -11,7 +11,7 @@ namespace polydem::sim {
 
 namespace {
 
-io::ShapeSpec shape(std::string name, std::vector<Vec3> vertices) {
+setup::ShapeSpec shape(std::string name, std::vector<Vec3> vertices) {
   return {std::move(name), std::move(vertices), 0};
 }
 
@@ -25,12 +25,12 @@ std::vector<Vec3> centred(std::vector<Vec3> v) {
 
 }  // namespace
 
-io::Scene makePileScene(const PileOptions& o) {
+setup::Setup makePileScene(const PileOptions& o) {
   if (o.particles < 1 || o.layers < 1) throw Error("pile: particles and layers must be >= 1");
   if (o.floor_width != 0 && !(o.floor_width >= 1)) {
     throw Error("pile: the floor width must be 0 (walls) or at least 1 (times the pile's)");
   }
-  io::Scene s;
+  setup::Setup s;
   s.file = "<generated P-PILE>";
   s.id = "P-PILE";
   s.title = "pile of convex polyhedra settling in a box";
@@ -90,7 +90,7 @@ io::Scene makePileScene(const PileOptions& o) {
   std::normal_distribution<double> gauss;
   for (std::int64_t i = 0; i < o.particles; ++i) {
     const std::int64_t ix = i % side, iy = (i / side) % side, iz = i / (side * side);
-    io::ParticleSpec p;
+    setup::ParticleSpec p;
     p.uid = uid++;
     p.shape = cubes ? 0 : static_cast<int>(i % wall_shape);
     p.material = 0;
@@ -107,13 +107,13 @@ io::Scene makePileScene(const PileOptions& o) {
   return s;
 }
 
-Uid addPileBox(io::Scene& s, double width, double height, double rim, bool walls, Uid uid) {
+Uid addPileBox(setup::Setup& s, double width, double height, double rim, bool walls, Uid uid) {
   const int floor = static_cast<int>(s.shapes.size());
   const double t = kPileBoxThickness;
   s.shapes.push_back(shape(
       "floor", geometry::shapes::box(Vec3(-rim, -rim, -t), Vec3(width + rim, width + rim, 0))));
   auto fixed = [&](int shape_index, const Vec3& offset) {
-    io::ParticleSpec p;
+    setup::ParticleSpec p;
     p.uid = uid++;
     p.shape = shape_index;
     p.material = 0;

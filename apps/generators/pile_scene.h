@@ -29,7 +29,7 @@ struct PileOptions {
                                // and the default [domain] box
 };
 
-io::Scene makePileScene(const PileOptions& options);
+setup::Setup makePileScene(const PileOptions& options);
 
 /// Thickness of the P-PILE box's floor and walls, m.
 inline constexpr double kPileBoxThickness = 1.0;
@@ -38,6 +38,6 @@ inline constexpr double kPileBoxThickness = 1.0;
 /// the shapes floor (reaching `rim` beyond the footprint on every side), wall_x and wall_y, and
 /// their fixed particles with uids from `uid` on; with `walls`, four walls up to `height` and the
 /// [domain] box just around them, else the floor alone. Returns the next free uid.
-Uid addPileBox(io::Scene& s, double width, double height, double rim, bool walls, Uid uid);
+Uid addPileBox(setup::Setup& s, double width, double height, double rim, bool walls, Uid uid);
 
 }  // namespace polydem::sim

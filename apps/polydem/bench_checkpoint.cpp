@@ -45,13 +45,12 @@ struct RawField {
 /// returns its byte buffer (a reference into `out`: reserve first).
 template <typename T>
 std::vector<std::byte>& addField(std::vector<RawField>& out, const char* name, std::size_t cols) {
-  out.push_back(
-      {name, io::h5::Type<T>::mem(), io::h5::Type<T>::file(), cols, sizeof(T), {}, nullptr});
+  out.push_back({name, hdf5::Type<T>::mem(), hdf5::Type<T>::file(), cols, sizeof(T), {}, nullptr});
   return out.back().bytes;
 }
 
 struct Sample {
-  io::CheckpointData data;
+  sim::CheckpointData data;
   std::vector<RawField> particle_fields, pair_fields;
   std::uint64_t particles = 0, pairs = 0, payload_bytes = 0;  // global
 };
@@ -85,7 +84,7 @@ Sample makeSample(std::int64_t particles, int per_particle, MPI_Comm comm) {
   const int rank = mpi::rank(comm), ranks = mpi::size(comm);
   const std::int64_t begin = particles * rank / ranks, end = particles * (rank + 1) / ranks;
   Sample s;
-  io::CheckpointData& d = s.data;
+  sim::CheckpointData& d = s.data;
   d.code_version = version();
   d.scene_file = "bench.toml";
   d.scene_toml = "# synthetic checkpoint benchmark\n";
@@ -95,7 +94,7 @@ Sample makeSample(std::int64_t particles, int per_particle, MPI_Comm comm) {
   for (std::int64_t i = 0; i < d.step; ++i) time.add(d.dt);
   d.time_digits = time.digits();
   d.time = time.value();
-  io::CheckpointShape cube;
+  sim::CheckpointShape cube;
   cube.name = "cube";
   for (int i = 0; i < 8; ++i)
     cube.vertices.emplace_back(i & 1 ? 0.5 : -0.5, i & 2 ? 0.5 : -0.5, i & 4 ? 0.5 : -0.5);
@@ -391,7 +390,7 @@ int benchCheckpoint(int argc, char** argv) {
   const int repeat = static_cast<int>(args.integer("repeat", 3, 1));
   const auto json_path = args.value("json");
   const bool keep = args.flag("keep");
-  io::CheckpointIoOptions options;
+  hdf5::CheckpointIoOptions options;
   // A round of at least one byte and at most a TiB (a size_t holds it).
   options.round_bytes = static_cast<std::size_t>(
       args.number("round-mib", static_cast<double>(options.round_bytes) / (1 << 20),
@@ -425,9 +424,10 @@ int benchCheckpoint(int argc, char** argv) {
     std::uint64_t file_bytes = 0;
     for (int k = 0; k < repeat; ++k) {
       t.write.push_back(
-          timed(comm, [&] { io::writeCheckpoint(checkpoint, s.data, comm, options); }));
+          timed(comm, [&] { checkpoint::writeCheckpoint(checkpoint, s.data, comm, options); }));
       t.raw_write.push_back(timed(comm, [&] { rawWrite(raw, s, comm, true); }));
-      t.read.push_back(timed(comm, [&] { (void)io::readCheckpoint(checkpoint, comm, options); }));
+      t.read.push_back(
+          timed(comm, [&] { (void)checkpoint::readCheckpoint(checkpoint, comm, options); }));
       t.raw_read.push_back(timed(comm, [&] { rawRead(raw, s, comm); }));
       removeFile(raw, comm);
       t.raw_write_noflush.push_back(timed(comm, [&] { rawWrite(raw, s, comm, false); }));

@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
   polydem::mpi::Environment env(argc, argv);
   try {
     const int status = polydem::app::benchCheckpoint(argc - 1, argv + 1);
-    polydem::io::closeHdf5Library();
+    polydem::hdf5::closeHdf5Library();
     return status;
   } catch (const polydem::app::UsageError& e) {
     polydem::log::error(e.what());

@@ -29,7 +29,7 @@ struct Timed {
 };
 
 // One round: `warmup` steps, then `steps` timed ones; the contact phase from the timing pool.
-Timed round(const io::Scene& scene, std::int64_t warmup, std::int64_t steps) {
+Timed round(const setup::Setup& scene, std::int64_t warmup, std::int64_t steps) {
   sim::Simulation sim(scene, MPI_COMM_WORLD);
   for (std::int64_t i = 0; i < warmup; ++i) sim.step();
   sim.loop().timing().clear();
@@ -51,7 +51,7 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-nlohmann::json compare(const std::string& name, io::Scene scene, std::int64_t warmup,
+nlohmann::json compare(const std::string& name, setup::Setup scene, std::int64_t warmup,
                        std::int64_t steps, int rounds) {
   std::vector<double> contact[2], step[2];
   Timed last[2];
@@ -117,7 +117,7 @@ int benchContactModel(int argc, char** argv) {
   nlohmann::json out = nlohmann::json::array();
   out.push_back(compare(cat("dense pack, ", pile.particles, " cubes"), sim::makePileScene(pile), 5,
                         steps, rounds));
-  io::Scene rockslide = io::readScene(demo);
+  setup::Setup rockslide = scene::readScene(demo);
   rockslide.kernel = pile.kernel;
   out.push_back(
       compare("demo rock slide (" + rockslide.id + ")", rockslide, 2000, 50 * steps, rounds));

@@ -74,7 +74,7 @@ ccd_t ccdSettings() {
 using Resolver = std::function<bool(std::size_t, Vec3&, double&)>;
 
 Resolver kernelResolver(const contact::Kernel& kernel, const PairSet& set,
-                        std::vector<contact::PairState>& states, bool cold) {
+                        std::vector<particles::PairState>& states, bool cold) {
   return [&kernel, &set, &states, cold](std::size_t i, Vec3& point, double& depth) {
     const contact::Contact c = kernel.collide(set.a[i], set.b[i], cold ? nullptr : &states[i]);
     point = c.point;
@@ -135,7 +135,7 @@ double pass(const Resolver& resolve, std::size_t n) {
 struct Measurement {
   Row row;
   const PairSet* set = nullptr;
-  std::unique_ptr<std::vector<contact::PairState>> states;
+  std::unique_ptr<std::vector<particles::PairState>> states;
   Resolver resolve;
   int repeats = 1;
   std::vector<double> rates;
@@ -329,7 +329,7 @@ std::vector<Measurement> prepareMeasurements(
         m.row.set = set.name;
         m.row.states = kernel ? (cold ? "cold" : "warm") : "none";
         m.set = &set;
-        m.states = std::make_unique<std::vector<contact::PairState>>(set.size());
+        m.states = std::make_unique<std::vector<particles::PairState>>(set.size());
         m.resolve = kernel ? kernelResolver(*kernel, set, *m.states, cold)
                            : ccdResolver(name == kCcdMpr, set);
         checkRow(m);

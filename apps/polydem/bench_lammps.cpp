@@ -51,7 +51,7 @@ double normalDashpot() {
 
 // The data file: each free cube as a rounded polyhedron (its vertices turned into the world
 // frame, as LAMMPS reads them; a cube's inertia is isotropic, so that it needs no turning).
-std::string lammpsData(const io::Scene& scene, const PileBenchOptions& o, std::int64_t& bodies) {
+std::string lammpsData(const setup::Setup& scene, const PileBenchOptions& o, std::int64_t& bodies) {
   const double half = 0.5 - kRounding, width = pileBoxWidth(o);
   const double mass = kPileDensity * 1.0, inertia = mass / 6.0;  // unit cube: m a^2 / 6
   std::ostringstream atoms, body;
@@ -128,7 +128,7 @@ long long childrenPeakKb() {
   return usage.ru_maxrss;
 }
 
-std::optional<PileResult> runLammps(const io::Scene& scene, const PileBenchOptions& o,
+std::optional<PileResult> runLammps(const setup::Setup& scene, const PileBenchOptions& o,
                                     const std::string& exe, const std::filesystem::path& dir) {
   std::int64_t bodies = 0;
   std::ofstream(dir / "data.pile") << lammpsData(scene, o, bodies);
@@ -218,7 +218,7 @@ int benchLammps(int argc, char** argv) {
 
   std::int64_t settle_steps = 0;
   bool reached = false;
-  const io::Scene scene = settledPile(o, settle_steps, reached);
+  const setup::Setup scene = settledPile(o, settle_steps, reached);
   std::printf(
       "P-LAMMPS: %lld randomly turned unit cubes in a box, settled by polydem in %lld steps "
       "(force ratio %s 1e-3); then %lld steps (after %lld untimed) from rest in each code, dt %g "

@@ -29,7 +29,7 @@ namespace polydem::app {
 namespace {
 
 // The caller's setup: its particle and shape lists.
-std::uint64_t callerSetupBytes(const io::Scene& scene) {
+std::uint64_t callerSetupBytes(const setup::Setup& scene) {
   std::uint64_t bytes = capacityBytes(scene.particles) + capacityBytes(scene.shapes);
   for (const auto& s : scene.shapes) bytes += capacityBytes(s.vertices);
   return bytes;
@@ -75,7 +75,7 @@ int benchMemory(int argc, char** argv) {
   pile.layers = args.integer("layers", 10, 1);
   pile.gap = args.number("gap", -0.001);
   const std::string model = args.value("contact-model", "sub-contacts");
-  if (const auto e = io::unknownContactModel(model); !e.empty()) {
+  if (const auto e = setup::unknownContactModel(model); !e.empty()) {
     throw UsageError("--contact-model: " + e);
   }
   const std::int64_t steps = args.integer("steps", 20, 0, Args::kInt64Max);
@@ -83,7 +83,7 @@ int benchMemory(int argc, char** argv) {
   args.rejectUnknown();
   log::setLevel(log::Level::kWarning);
 
-  io::Scene scene = sim::makePileScene(pile);
+  setup::Setup scene = sim::makePileScene(pile);
   scene.contact_model = model;
   const std::uint64_t caller = callerSetupBytes(scene);
   std::uint64_t caller_sum = 0;

@@ -30,8 +30,8 @@ std::int64_t side(const PileBenchOptions& o) {
 
 // Turned unit cubes on a lattice whose pitch keeps their bounding spheres apart, above a floor
 // between four walls (the P-PILE box).
-io::Scene boxScene(const PileBenchOptions& o) {
-  io::Scene s;
+setup::Setup boxScene(const PileBenchOptions& o) {
+  setup::Setup s;
   s.file = "<generated peer comparison>";
   s.id = "P-PEER";
   s.title = "randomly turned unit cubes settled in a box";
@@ -55,7 +55,7 @@ io::Scene boxScene(const PileBenchOptions& o) {
   std::normal_distribution<double> gauss;
   for (std::int64_t i = 0; i < o.particles; ++i) {
     const std::int64_t ix = i % n, iy = (i / n) % n, iz = i / (n * n);
-    io::ParticleSpec p;
+    setup::ParticleSpec p;
     p.uid = uid++;
     p.shape = 0;
     p.material = 0;
@@ -78,7 +78,7 @@ double threadSeconds() {
 
 PileBenchOptions parsePileOptions(Args& args, const std::string& peer_flag) {
   PileBenchOptions o;
-  o.models = io::kContactModels;
+  o.models = setup::kContactModels;
   o.particles = args.integer("particles", o.particles, 1);
   o.layers = args.integer("layers", o.layers, 1);
   o.settle = args.integer("settle", o.settle, 1, Args::kInt64Max);
@@ -87,7 +87,7 @@ PileBenchOptions parsePileOptions(Args& args, const std::string& peer_flag) {
   if (const auto k = args.value("kernels")) o.kernels = split(*k, ',');
   if (const auto m = args.value("contact-models")) o.models = split(*m, ',');
   for (const auto& m : o.models) {
-    if (const auto e = io::unknownContactModel(m); !e.empty()) {
+    if (const auto e = setup::unknownContactModel(m); !e.empty()) {
       throw UsageError("--contact-models: " + e);
     }
   }
@@ -104,8 +104,8 @@ double pileBoxWidth(const PileBenchOptions& o) {
   return static_cast<double>(side(o)) * kPitch;
 }
 
-io::Scene settledPile(const PileBenchOptions& o, std::int64_t& steps_taken, bool& reached) {
-  io::Scene scene = boxScene(o);
+setup::Setup settledPile(const PileBenchOptions& o, std::int64_t& steps_taken, bool& reached) {
+  setup::Setup scene = boxScene(o);
   scene.equilibrium.enabled = true;
   scene.equilibrium.force_ratio = 1e-3;
   scene.equilibrium.max_steps = o.settle;
@@ -128,7 +128,7 @@ io::Scene settledPile(const PileBenchOptions& o, std::int64_t& steps_taken, bool
   return scene;
 }
 
-PileResult runPolydemPile(io::Scene scene, const std::string& kernel, const std::string& model,
+PileResult runPolydemPile(setup::Setup scene, const std::string& kernel, const std::string& model,
                           const PileBenchOptions& o) {
   scene.kernel = kernel;
   scene.contact_model = model;

@@ -45,7 +45,7 @@ double pileBoxWidth(const PileBenchOptions& o);
 
 /// The settled pile: the scene with the free cubes where polydem's equilibrium stage left them,
 /// at rest; `steps_taken` and `reached` say how the stage ended.
-io::Scene settledPile(const PileBenchOptions& o, std::int64_t& steps_taken, bool& reached);
+setup::Setup settledPile(const PileBenchOptions& o, std::int64_t& steps_taken, bool& reached);
 
 /// One code's timed run.
 struct PileResult {
@@ -58,7 +58,7 @@ struct PileResult {
 
 /// polydem's run of the settled pile with `kernel` and `model`: o.steps steps timed (CPU time of
 /// this thread) after o.warmup.
-PileResult runPolydemPile(io::Scene scene, const std::string& kernel, const std::string& model,
+PileResult runPolydemPile(setup::Setup scene, const std::string& kernel, const std::string& model,
                           const PileBenchOptions& o);
 
 /// `override` if given and present, else `name` on the PATH; empty if neither.

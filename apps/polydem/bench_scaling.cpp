@@ -46,7 +46,7 @@ std::vector<int> parseRanks(Args& args, int world) {
   return out;
 }
 
-Measurement measure(const io::Scene& scene, MPI_Comm comm, std::int64_t warmup,
+Measurement measure(const setup::Setup& scene, MPI_Comm comm, std::int64_t warmup,
                     std::int64_t steps) {
   sim::Simulation sim(scene, comm);
   for (std::int64_t i = 0; i < warmup; ++i) sim.step();
@@ -85,7 +85,7 @@ Measurement measure(const io::Scene& scene, MPI_Comm comm, std::int64_t warmup,
 }
 
 /// The 1-rank scene on every launched rank at once; the mean time of those runs.
-Measurement measureControl(const io::Scene& scene, std::int64_t warmup, std::int64_t steps) {
+Measurement measureControl(const setup::Setup& scene, std::int64_t warmup, std::int64_t steps) {
   MPI_Barrier(MPI_COMM_WORLD);
   Measurement m = measure(scene, MPI_COMM_SELF, warmup, steps);
   double sum = 0.0;
@@ -186,7 +186,7 @@ int benchScaling(int argc, char** argv) {
   pile.shapes = args.value("shapes", "mixed");
   pile.kernel = args.value("kernel", "gjk-epa-ipm");
   const std::string model = args.value("contact-model", "sub-contacts");
-  if (const auto e = io::unknownContactModel(model); !e.empty()) {
+  if (const auto e = setup::unknownContactModel(model); !e.empty()) {
     throw UsageError("--contact-model: " + e);
   }
   pile.layers = args.integer("layers", 10, 1);
@@ -204,7 +204,7 @@ int benchScaling(int argc, char** argv) {
   auto sceneFor = [&](int ranks) {
     sim::PileOptions o = pile;
     if (per_rank > 0) o.particles = per_rank * ranks;
-    io::Scene scene = sim::makePileScene(o);
+    setup::Setup scene = sim::makePileScene(o);
     scene.contact_model = model;
     scene.domain.overlap_exchange = overlap;
     return scene;

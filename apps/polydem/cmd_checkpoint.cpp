@@ -20,8 +20,9 @@ int checkpointCommand(int argc, char** argv) {
     return args.flag("help") ? 0 : 2;
   }
   args.rejectUnknown();
-  const io::CheckpointSummary summary = io::verifyCheckpoint(words[1], MPI_COMM_WORLD);
-  if (mpi::rank() == 0) std::printf("%s", io::formatCheckpointSummary(summary).c_str());
+  const checkpoint::CheckpointSummary summary =
+      checkpoint::verifyCheckpoint(words[1], MPI_COMM_WORLD);
+  if (mpi::rank() == 0) std::printf("%s", checkpoint::formatCheckpointSummary(summary).c_str());
   return 0;
 }
 

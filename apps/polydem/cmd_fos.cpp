@@ -68,18 +68,18 @@ std::string programPath() {
 
 // The scene and its settings as the stopped search in DIR/fos.json ran them; refuses a scene
 // file that changed since.
-io::Scene resumedScene(const FosRun& run, const std::string& dir) {
+setup::Setup resumedScene(const FosRun& run, const std::string& dir) {
   if (run.complete) {
     throw UsageError(dir + "/fos.json is complete: there is nothing to resume");
   }
-  io::Scene scene = io::readScene(run.scene_path);
+  setup::Setup scene = scene::readScene(run.scene_path);
   if (const std::string now = sceneHash(scene.text); now != run.scene_hash) {
     throw InputError(run.scene_path, 0,
                      cat("the scene file changed since the trials in ", dir,
                          "/fos.json were run (hash ", run.scene_hash, ", now ", now,
                          "): they would not be this scene's; run polydem fos on it afresh"));
   }
-  io::FosSpec& f = scene.fos;
+  setup::FosSpec& f = scene.fos;
   f.f_min = run.f_min;
   f.f_max = run.f_max;
   f.resolution = run.resolution;
@@ -91,7 +91,7 @@ io::Scene resumedScene(const FosRun& run, const std::string& dir) {
 
 // The scene with the command line's settings over its [fos] and [simulation].
 // A factor of safety is a static measure: an acceleration record would shake every trial.
-void refuseRecord(const io::Scene& scene) {
+void refuseRecord(const setup::Setup& scene) {
   if (scene.seismic.record_time.empty()) return;
   throw InputError(scene.file, scene.seismic.line,
                    "[seismic] record: polydem fos finds a static factor of safety and cannot run "
@@ -99,16 +99,16 @@ void refuseRecord(const io::Scene& scene) {
                    "run the record with polydem run");
 }
 
-io::Scene sceneFromCommandLine(Args& args) {
+setup::Setup sceneFromCommandLine(Args& args) {
   const auto resolution = args.value("resolution");
   const auto f_min = args.value("f-min");
   const auto f_max = args.value("f-max");
   const auto max_time = args.value("max-time");
   const auto kernel = args.value("kernel");
   const auto contact_model = args.value("contact-model");
-  io::Scene scene = io::readScene(args.positional()[0]);
+  setup::Setup scene = scene::readScene(args.positional()[0]);
   refuseRecord(scene);
-  io::FosSpec& f = scene.fos;
+  setup::FosSpec& f = scene.fos;
   if (resolution) f.resolution = args.number("resolution", 0.0);
   if (f_min) f.f_min = args.number("f-min", 0.0);
   if (f_max) f.f_max = args.number("f-max", 0.0);
@@ -122,13 +122,13 @@ io::Scene sceneFromCommandLine(Args& args) {
     scene.kernel = *kernel;
   }
   if (contact_model) {
-    if (const auto e = io::unknownContactModel(*contact_model); !e.empty()) throw UsageError(e);
+    if (const auto e = setup::unknownContactModel(*contact_model); !e.empty()) throw UsageError(e);
     scene.contact_model = *contact_model;
   }
   return scene;
 }
 
-void printResult(const io::Scene& scene, const sim::FosResult& result) {
+void printResult(const setup::Setup& scene, const run::FosResult& result) {
   const auto factor = result.factor();
   if (!result.complete) {
     std::printf("search %s; bracket so far: stable at F = %s, failed at F = %s\n",
@@ -151,7 +151,7 @@ void printResult(const io::Scene& scene, const sim::FosResult& result) {
   if (!result.note.empty()) std::printf("note: %s\n", result.note.c_str());
 }
 
-void printMechanism(const sim::FosMechanism& m) {
+void printMechanism(const run::FosMechanism& m) {
   std::printf(
       "mechanism: %s (failed trial at F = %s; blocks moved up to %s m in the %s s after "
       "its decision; %s)\n",
@@ -160,8 +160,8 @@ void printMechanism(const sim::FosMechanism& m) {
 }
 
 // The mechanism of the smallest failed trial, when the search found one (collective).
-std::optional<sim::FosMechanism> mechanismOf(
-    const io::Scene& scene, const sim::FosCriterion& criterion, const sim::FosResult& result,
+std::optional<run::FosMechanism> mechanismOf(
+    const setup::Setup& scene, const run::FosCriterion& criterion, const run::FosResult& result,
     const std::string& out, const std::function<void(sim::Simulation&)>& then = nullptr) {
   if (!result.complete || !result.failed) return std::nullopt;
   const auto failed = std::find_if(result.trials.begin(), result.trials.end(),
@@ -171,8 +171,8 @@ std::optional<sim::FosMechanism> mechanismOf(
                 " again, with snapshots, into ", out, "/mechanism"));
   const log::Level level = log::level();
   log::setLevel(std::min(level, log::Level::kWarning));  // no run chatter from the trial
-  sim::FosMechanism m =
-      sim::runFosMechanism(scene, *failed, criterion, out + "/mechanism", MPI_COMM_WORLD, then);
+  run::FosMechanism m =
+      run::runFosMechanism(scene, *failed, criterion, out + "/mechanism", MPI_COMM_WORLD, then);
   log::setLevel(level);
   if (!m.same_bits) {
     log::warning(cat("mechanism: the rerun of the trial at F = ", num(m.factor),
@@ -200,7 +200,7 @@ int fosCommand(int argc, char** argv) {
   const bool runout = args.flag("runout");
   const RunoutOptions runout_options = runoutOptions(args, "runout-");
   std::string out;
-  io::Scene scene;
+  setup::Setup scene;
   std::optional<FosRun> prior;
   if (resume) {
     out = *resume;
@@ -220,11 +220,11 @@ int fosCommand(int argc, char** argv) {
     throw UsageError(cat("--ranks-per-trial ", per_trial, " must divide the ", ranks, " ranks"));
   }
   if (quiet) log::setLevel(log::Level::kWarning);
-  const sim::FosCriterion criterion = sim::fosCriterion(scene);
-  std::optional<sim::RunoutSettings> runout_settings;
+  const run::FosCriterion criterion = run::fosCriterion(scene);
+  std::optional<run::RunoutSettings> runout_settings;
   if (runout) runout_settings = runoutSettings(scene, runout_options, out + "/runout");
   // One search per folder, as for polydem run: a second one into DIR is refused on every rank.
-  const io::OutputLock lock(out, MPI_COMM_WORLD);
+  const output::OutputLock lock(out, MPI_COMM_WORLD);
   const int groups = ranks / static_cast<int>(per_trial);
   if (prior && prior->result.groups != groups) {
     log::warning(
@@ -232,13 +232,13 @@ int fosCommand(int argc, char** argv) {
             ": the factors tried from here differ from those of an uninterrupted "
             "search (the same factor of safety within the resolution, not the same bits)"));
   }
-  const io::FosSpec& f = scene.fos;
+  const setup::FosSpec& f = scene.fos;
   log::info(cat("fos: ", scene.id, " (", scene.file, "), kernel ", scene.kernel, ", contact model ",
                 scene.contact_model, "; F in [", num(f.f_min), ", ", num(f.f_max), "] to ",
                 num(f.resolution), "; ", groups, " trial(s) at a time on ", per_trial,
                 " rank(s) each", prior ? cat("; continuing ", out, "/fos.json") : std::string()));
   log::info("criterion: " + criterion.describe());
-  const sim::FosResult result = sim::findFactorOfSafety(scene, criterion, groups, MPI_COMM_WORLD,
+  const run::FosResult result = run::findFactorOfSafety(scene, criterion, groups, MPI_COMM_WORLD,
                                                         prior ? &prior->result : nullptr);
   const std::string resume_command =
       result.complete ? std::string()
@@ -246,7 +246,7 @@ int fosCommand(int argc, char** argv) {
                             per_trial != 1 ? cat(" --ranks-per-trial ", per_trial) : "");
   // Rank 0 writes the files; a failure (a full disk) is agreed, so that every rank ends with
   // the same message and status 1 instead of one rank aborting the others.
-  std::optional<sim::RunoutResult> run_on;
+  std::optional<run::RunoutResult> run_on;
   std::function<void(sim::Simulation&)> then;
   if (runout_settings) {
     then = [&](sim::Simulation& failing) {
@@ -255,7 +255,7 @@ int fosCommand(int argc, char** argv) {
       run_on = runOutFrom(failing, scene, *runout_settings);
     };
   }
-  const std::optional<sim::FosMechanism> mechanism =
+  const std::optional<run::FosMechanism> mechanism =
       mechanismOf(scene, criterion, result, out, then);
   std::string error;
   if (mpi::rank() == 0) {
@@ -276,7 +276,7 @@ int fosCommand(int argc, char** argv) {
       error = e.what();
     }
   }
-  io::throwIfAnyRankFailed(error, MPI_COMM_WORLD);
+  output::throwIfAnyRankFailed(error, MPI_COMM_WORLD);
   if (mpi::rank() == 0) {
     log::info("wrote " + out + "/fos.json, fos_trials.csv, fos.svg" +
               (mechanism ? ", mechanism/ (snapshots, series.csv, blocks.csv, frames.png)" : ""));

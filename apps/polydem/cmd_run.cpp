@@ -25,7 +25,7 @@ std::string programPath() {
 }
 
 /// The picture of a finished run (rank 0; the others wait, so that mpirun ends after it).
-void pictureOf(const sim::RunOptions& options, const PictureOptions& picture) {
+void pictureOf(const run::RunOptions& options, const PictureOptions& picture) {
   if (mpi::rank(MPI_COMM_WORLD) == 0) {
     plotSeries(options.out_dir);
     if (!options.snapshots) {
@@ -86,7 +86,7 @@ int runCommand(int argc, char** argv) {
         "--restart they hold the continued part of the run only\n");
     return args.flag("help") ? 0 : 2;
   }
-  sim::RunOptions options;
+  run::RunOptions options;
   options.out_dir = args.value("out", "");
   if (options.out_dir.empty()) throw UsageError("polydem run needs --out DIR");
   if (const auto v = args.value("steps"))
@@ -136,14 +136,14 @@ int runCommand(int argc, char** argv) {
   if (restart) {
     std::optional<std::string> scene_file;
     if (!args.positional().empty()) scene_file = args.positional()[0];
-    const auto result = sim::continueRun(*restart, scene_file, options, MPI_COMM_WORLD);
+    const auto result = run::continueRun(*restart, scene_file, options, MPI_COMM_WORLD);
     if (picture) pictureOf(options, picture_options);
     return check && !result.stopped_early() && !result.all_checks_pass() ? 3 : 0;
   }
   const std::string path = args.positional()[0];
-  options.scene_text = io::readSceneText(path);
-  const io::Scene scene = io::parseScene(options.scene_text, path);
-  const auto result = sim::runScene(scene, options, MPI_COMM_WORLD);
+  options.scene_text = scene::readSceneText(path);
+  const setup::Setup scene = scene::parseScene(options.scene_text, path);
+  const auto result = run::runScene(scene, options, MPI_COMM_WORLD);
   if (picture || scene.output.picture) pictureOf(options, picture_options);
   return check && !result.stopped_early() && !result.all_checks_pass() ? 3 : 0;
 }

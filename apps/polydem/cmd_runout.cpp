@@ -45,7 +45,7 @@ std::string programPath() {
 }
 
 // The result's files and line (rank 0), agreed failure on every rank.
-void report(const std::string& out, const sim::RunoutResult& r) {
+void report(const std::string& out, const run::RunoutResult& r) {
   const std::string resume = r.checkpoint.empty() ? std::string()
                                                   : cat("mpirun -n ", mpi::size(), " ",
                                                         programPath(), " runout --resume ", out);
@@ -59,7 +59,7 @@ void report(const std::string& out, const sim::RunoutResult& r) {
       error = e.what();
     }
   }
-  io::throwIfAnyRankFailed(error, MPI_COMM_WORLD);
+  output::throwIfAnyRankFailed(error, MPI_COMM_WORLD);
 }
 
 }  // namespace
@@ -91,33 +91,33 @@ int runoutCommand(int argc, char** argv) {
     const std::string out = *resume;
     args.rejectUnknown();
     const std::string file = out + "/runout.h5";
-    const io::CheckpointData data = io::readCheckpoint(file, MPI_COMM_WORLD);
-    io::Scene scene = io::parseScene(data.scene_toml, data.scene_file);
-    sim::prepareContinuation(data, file, scene);
-    sim::RunoutSettings settings;
-    const sim::RunoutProgress progress = sim::runoutStateFrom(data.run_state, file, settings);
+    const sim::CheckpointData data = checkpoint::readCheckpoint(file, MPI_COMM_WORLD);
+    setup::Setup scene = scene::parseScene(data.scene_toml, data.scene_file);
+    run::prepareContinuation(data, file, scene);
+    run::RunoutSettings settings;
+    const run::RunoutProgress progress = run::runoutStateFrom(data.run_state, file, settings);
     settings.dir = out;
     settings.scene_text = data.scene_toml;
     settings.scene_file = data.scene_file;
-    const io::OutputLock lock(out, MPI_COMM_WORLD);
+    const output::OutputLock lock(out, MPI_COMM_WORLD);
     sim::Simulation sim(scene, data, file, MPI_COMM_WORLD);
-    report(out, sim::runRunout(sim, settings, progress));
+    report(out, run::runRunout(sim, settings, progress));
     return 0;
   }
   const std::string out = args.value("out", "");
   if (out.empty()) throw UsageError("polydem runout needs --out DIR");
   const RunoutOptions options = runoutOptions(args, "");
   args.rejectUnknown();
-  const io::Scene scene = io::readScene(args.positional()[0]);
-  const sim::RunoutSettings settings = runoutSettings(scene, options, out);
-  const io::OutputLock lock(out, MPI_COMM_WORLD);
+  const setup::Setup scene = scene::readScene(args.positional()[0]);
+  const run::RunoutSettings settings = runoutSettings(scene, options, out);
+  const output::OutputLock lock(out, MPI_COMM_WORLD);
   sim::Simulation sim(scene, MPI_COMM_WORLD);
   sim.runEquilibrium();
   log::info(cat("runout: ", scene.id, " (", scene.file, ") until at rest or ",
                 num(settings.time_cap), " s, into ", out));
-  sim::RunoutProgress progress;
+  run::RunoutProgress progress;
   progress.start_time = sim.time();
-  report(out, sim::runRunout(sim, settings, progress));
+  report(out, run::runRunout(sim, settings, progress));
   return 0;
 }
 

@@ -28,7 +28,7 @@ json optional(const std::optional<double>& v) {
   return v ? json(*v) : json();
 }
 
-json criterionJson(const sim::FosCriterion& c) {
+json criterionJson(const run::FosCriterion& c) {
   return {{"description", c.describe()},
           {"max_time", c.max_time},
           {"time_cap", c.time_cap},
@@ -47,7 +47,7 @@ json criterionJson(const sim::FosCriterion& c) {
           {"label_prefix", c.label_prefix}};
 }
 
-json trialJson(const sim::FosTrial& t) {
+json trialJson(const run::FosTrial& t) {
   json history = json::array();
   for (const auto& s : t.history) {
     history.push_back(
@@ -73,12 +73,12 @@ json trialJson(const sim::FosTrial& t) {
 
 // Each reduced [[joint]] with its strength and, when F is known, the strength the reduction
 // gives it at F (read back from the reduced scene, so that it is whatever the joint's law does).
-json jointsJson(const io::Scene& scene, const std::optional<double>& f) {
-  const std::optional<io::Scene> at_f =
-      f ? std::optional<io::Scene>(sim::reduceStrength(scene, *f)) : std::nullopt;
+json jointsJson(const setup::Setup& scene, const std::optional<double>& f) {
+  const std::optional<setup::Setup> at_f =
+      f ? std::optional<setup::Setup>(run::reduceStrength(scene, *f)) : std::nullopt;
   json joints = json::array();
-  for (const int k : sim::reducedJoints(scene)) {
-    const io::JointSpec& j = scene.joints[k];
+  for (const int k : run::reducedJoints(scene)) {
+    const setup::JointSpec& j = scene.joints[k];
     const dynamics::JointLawInfo& info = dynamics::jointLaw(j.law.law);
     json e = {{"name", j.name}, {"law", j.lawName()}};
     // Each parameter that strength reduction scales, with its value at F (json null until F is
@@ -103,7 +103,7 @@ json jointsJson(const io::Scene& scene, const std::optional<double>& f) {
   return joints;
 }
 
-json mechanismJson(const sim::FosMechanism& m, const std::string& picture) {
+json mechanismJson(const run::FosMechanism& m, const std::string& picture) {
   json blocks = json::array();
   for (const auto& b : m.blocks) {
     blocks.push_back(
@@ -144,15 +144,15 @@ json mechanismJson(const sim::FosMechanism& m, const std::string& picture) {
           {"slip", slips},
           {"blocks", blocks},
           {"thresholds",
-           {{"move_share_of_largest", sim::kMoveShare},
-            {"rest_fraction_of_size", sim::kRestFraction},
-            {"run_on_fraction_of_size", sim::kRunOnFraction},
-            {"rotation_share", sim::kRotationShare},
-            {"pivot_slip_share", sim::kPivotSlipShare}}}};
+           {{"move_share_of_largest", run::kMoveShare},
+            {"rest_fraction_of_size", run::kRestFraction},
+            {"run_on_fraction_of_size", run::kRunOnFraction},
+            {"rotation_share", run::kRotationShare},
+            {"pivot_slip_share", run::kPivotSlipShare}}}};
 }
 
-json fosJson(const io::Scene& scene, const sim::FosCriterion& c, const sim::FosResult& r,
-             const std::string& resume_command, const sim::FosMechanism* mechanism,
+json fosJson(const setup::Setup& scene, const run::FosCriterion& c, const run::FosResult& r,
+             const std::string& resume_command, const run::FosMechanism* mechanism,
              const std::string& picture) {
   particles::MaterialTable table;
   for (const auto& m : scene.materials) table.add(m);
@@ -160,7 +160,7 @@ json fosJson(const io::Scene& scene, const sim::FosCriterion& c, const sim::FosR
   table.finalize();
   const std::optional<double> f = r.factor();
   json pairs = json::array();
-  for (const auto& [a, b] : sim::reducedPairs(scene)) {
+  for (const auto& [a, b] : run::reducedPairs(scene)) {
     const auto& p = table.pair(a, b);
     const json phi = f ? json(reducedFrictionAngle(p.friction_angle, *f)) : json();
     pairs.push_back({{"name", scene.materials[a].name + "/" + scene.materials[b].name},
@@ -222,8 +222,8 @@ json fosJson(const io::Scene& scene, const sim::FosCriterion& c, const sim::FosR
   return j;
 }
 
-sim::FosTrial trialFromJson(const json& j) {
-  sim::FosTrial t;
+run::FosTrial trialFromJson(const json& j) {
+  run::FosTrial t;
   t.factor = j.at("factor").get<double>();
   t.outcome = j.at("outcome").get<std::string>();
   t.mean_displacement = j.at("displacement").get<double>();
@@ -247,7 +247,7 @@ sim::FosTrial trialFromJson(const json& j) {
   return t;
 }
 
-std::string trialsCsv(const sim::FosResult& r) {
+std::string trialsCsv(const run::FosResult& r) {
   std::ostringstream out;
   out << "trial,factor,outcome,time,mean_displacement,mean_speed,max_speed,force_ratio,"
          "max_reach_fraction\n";
@@ -263,8 +263,8 @@ std::string trialsCsv(const sim::FosResult& r) {
 }
 
 // A line plot of each trial's mean displacement against time, as SVG.
-std::string displacementSvg(const io::Scene& scene, const sim::FosCriterion& c,
-                            const sim::FosResult& r) {
+std::string displacementSvg(const setup::Setup& scene, const run::FosCriterion& c,
+                            const run::FosResult& r) {
   const double w = 720, h = 440, left = 70, right = 170, top = 40, bottom = 50;
   double t_max = 0.0, d_max = c.displacement_limit.value_or(0.0);
   for (const auto& t : r.trials) {
@@ -349,7 +349,7 @@ FosRun readFosRun(const std::string& dir) {
     run.kernel = j.at("kernel").get<std::string>();
     run.contact_model = j.at("contact_model").get<std::string>();
     run.complete = j.at("complete").get<bool>();
-    sim::FosResult& r = run.result;
+    run::FosResult& r = run.result;
     r.rounds_complete = j.at("rounds_complete").get<int>();
     r.groups = j.at("groups").get<int>();
     for (const json& t : j.at("trials")) r.trials.push_back(trialFromJson(t));
@@ -363,11 +363,11 @@ double reducedFrictionAngle(double phi_deg, double factor) {
   return radToDeg(std::atan(std::tan(degToRad(phi_deg)) / factor));
 }
 
-std::vector<std::string> criticalStrengthLines(const io::Scene& scene, double factor) {
-  const io::Scene at_f = sim::reduceStrength(scene, factor);
+std::vector<std::string> criticalStrengthLines(const setup::Setup& scene, double factor) {
+  const setup::Setup at_f = run::reduceStrength(scene, factor);
   std::vector<std::string> lines;
-  for (const int k : sim::reducedJoints(scene)) {
-    const io::JointSpec &j = scene.joints[k], &c = at_f.joints[k];
+  for (const int k : run::reducedJoints(scene)) {
+    const setup::JointSpec &j = scene.joints[k], &c = at_f.joints[k];
     const dynamics::JointLawInfo& info = dynamics::jointLaw(j.law.law);
     std::string line = cat("joint '", j.name, "' (", j.lawName(), "):");
     const char* separator = " ";
@@ -390,7 +390,7 @@ std::vector<std::string> criticalStrengthLines(const io::Scene& scene, double fa
   for (const auto& m : scene.materials) table.add(m);
   for (const auto& i : scene.interactions) table.setInteraction(i.a, i.b, i.properties);
   table.finalize();
-  for (const auto& [a, b] : sim::reducedPairs(scene)) {
+  for (const auto& [a, b] : run::reducedPairs(scene)) {
     const double phi = table.pair(a, b).friction_angle;
     lines.push_back(cat("pair ", scene.materials[a].name, "/", scene.materials[b].name,
                         ": friction angle ", num(reducedFrictionAngle(phi, factor)), " deg (",
@@ -399,15 +399,15 @@ std::vector<std::string> criticalStrengthLines(const io::Scene& scene, double fa
   return lines;
 }
 
-void writeFosFiles(const std::string& dir, const io::Scene& scene,
-                   const sim::FosCriterion& criterion, const sim::FosResult& result,
-                   const std::string& resume_command, const sim::FosMechanism* mechanism,
+void writeFosFiles(const std::string& dir, const setup::Setup& scene,
+                   const run::FosCriterion& criterion, const run::FosResult& result,
+                   const std::string& resume_command, const run::FosMechanism* mechanism,
                    const std::string& picture) {
-  io::createDirectories(dir);
-  io::writeJsonAtomic(dir + "/fos.json",
-                      fosJson(scene, criterion, result, resume_command, mechanism, picture));
-  io::writeFileAtomic(dir + "/fos_trials.csv", trialsCsv(result));
-  io::writeFileAtomic(dir + "/fos.svg", displacementSvg(scene, criterion, result));
+  output::createDirectories(dir);
+  output::writeJsonAtomic(dir + "/fos.json",
+                          fosJson(scene, criterion, result, resume_command, mechanism, picture));
+  output::writeFileAtomic(dir + "/fos_trials.csv", trialsCsv(result));
+  output::writeFileAtomic(dir + "/fos.svg", displacementSvg(scene, criterion, result));
 }
 
 }  // namespace polydem::app

@@ -16,14 +16,14 @@ namespace polydem::app {
 /// Writes the three files into `dir` (created if needed), each atomically. Rank 0 only.
 /// `resume_command`: how to continue a search a signal stopped (empty when complete);
 /// `mechanism`: that of the smallest failed trial, if it was run; `picture`: its PNG ("" none).
-void writeFosFiles(const std::string& dir, const io::Scene& scene,
-                   const sim::FosCriterion& criterion, const sim::FosResult& result,
-                   const std::string& resume_command, const sim::FosMechanism* mechanism,
+void writeFosFiles(const std::string& dir, const setup::Setup& scene,
+                   const run::FosCriterion& criterion, const run::FosResult& result,
+                   const std::string& resume_command, const run::FosMechanism* mechanism,
                    const std::string& picture);
 
 /// The critical strength of each reduced joint and pair at `factor`, one line each, for the
 /// console: "joint 'base': friction angle 19.8 deg (25 deg / F), cohesion 7.7 kPa (...)".
-std::vector<std::string> criticalStrengthLines(const io::Scene& scene, double factor);
+std::vector<std::string> criticalStrengthLines(const setup::Setup& scene, double factor);
 
 /// A hash of a scene file's text, 16 hex digits: fos.json keeps it so that a continued search
 /// runs the scene its trials ran.
@@ -38,7 +38,7 @@ struct FosRun {
   std::optional<double> max_time;
   std::string kernel, contact_model;
   bool complete = false;
-  sim::FosResult result;
+  run::FosResult result;
 };
 /// Throws InputError naming DIR/fos.json if it is missing, unreadable or lacks a field.
 FosRun readFosRun(const std::string& dir);

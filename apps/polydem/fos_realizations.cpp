@@ -48,7 +48,7 @@ std::string sceneFileOf(const std::string& dir, std::int64_t index) {
   return dir + name;
 }
 
-std::string resultLine(const sim::RealizationResult& r, std::size_t done, std::int64_t asked) {
+std::string resultLine(const run::RealizationResult& r, std::size_t done, std::int64_t asked) {
   return cat("realization ", r.index, " (", done, " of ", asked,
              "): ", r.factor ? cat("F = ", num(*r.factor)) : r.outcome, ", ", r.trials, " trials, ",
              num(r.wall_seconds), " s wall, group ", r.group);
@@ -68,8 +68,8 @@ void printSummary(const StudySummary& s, std::int64_t asked, bool complete) {
 
 // The study so far in DIR: the finished realizations of this scene and seed. A folder that holds
 // another scene's study is refused.
-std::vector<sim::RealizationResult> previousResults(const std::string& out,
-                                                    const io::Study& study) {
+std::vector<run::RealizationResult> previousResults(const std::string& out,
+                                                    const scene::Study& study) {
   const auto previous = previousStudy(out);
   if (!previous) return {};
   if (previous->first != sceneHash(study.text) || previous->second != study.seed) {
@@ -102,9 +102,9 @@ int fosRealizationsCommand(int argc, char** argv) {
   }
   if (quiet) log::setLevel(log::Level::kWarning);
   const auto start = std::chrono::steady_clock::now();
-  const io::Study study = io::readStudy(args.positional()[0]);
-  const io::OutputLock lock(out, MPI_COMM_WORLD);
-  std::vector<sim::RealizationResult> done = previousResults(out, study);
+  const scene::Study study = scene::readStudy(args.positional()[0]);
+  const output::OutputLock lock(out, MPI_COMM_WORLD);
+  std::vector<run::RealizationResult> done = previousResults(out, study);
   std::set<std::int64_t> finished;
   for (const auto& r : done) finished.insert(r.index);
   std::vector<std::int64_t> todo;
@@ -123,13 +123,14 @@ int fosRealizationsCommand(int argc, char** argv) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   // After every round rank 0 rewrites the state (atomically) and the finished scene files.
-  const auto round_done = [&](const std::vector<sim::RealizationResult>& round) {
+  const auto round_done = [&](const std::vector<run::RealizationResult>& round) {
     std::string error;
     if (mpi::rank() == 0) {
       try {
-        io::createDirectories(out + "/scenes");
+        output::createDirectories(out + "/scenes");
         for (const auto& r : round) {
-          io::writeFileAtomic(sceneFileOf(out, r.index), io::drawRealization(study, r.index).text);
+          output::writeFileAtomic(sceneFileOf(out, r.index),
+                                  scene::drawRealization(study, r.index).text);
           done.push_back(r);
           log::info(resultLine(r, done.size(), asked));
         }
@@ -141,16 +142,16 @@ int fosRealizationsCommand(int argc, char** argv) {
         error = e.what();
       }
     }
-    io::throwIfAnyRankFailed(error, MPI_COMM_WORLD);
+    output::throwIfAnyRankFailed(error, MPI_COMM_WORLD);
   };
   if (mpi::rank() == 0) {
     // The study's identity first: a study stopped before its first round continues too.
     writeRealizationsJson(out, study, asked, false, summarize(done), elapsed(), command);
   }
-  const bool complete = sim::runRealizations(study, todo, groups, MPI_COMM_WORLD, round_done);
+  const bool complete = run::runRealizations(study, todo, groups, MPI_COMM_WORLD, round_done);
   std::string error;
   if (mpi::rank() == 0) {
-    std::vector<sim::RealizationResult> asked_for;
+    std::vector<run::RealizationResult> asked_for;
     for (const auto& r : done) {
       if (r.index < asked) asked_for.push_back(r);
     }
@@ -166,7 +167,7 @@ int fosRealizationsCommand(int argc, char** argv) {
     if (error.empty() && complete) plotRealizations(out);
     if (error.empty() && !complete) std::printf("to continue: %s\n", command.c_str());
   }
-  io::throwIfAnyRankFailed(error, MPI_COMM_WORLD);
+  output::throwIfAnyRankFailed(error, MPI_COMM_WORLD);
   return 0;
 }
 

@@ -111,12 +111,12 @@ int main(int argc, char** argv) {
   // these and SIGINT into fos.json with the trials so far. The handlers go in before MPI starts and
   // before any file is read, so that no moment of the start-up is left in which a signal would end
   // the job with nothing written.
-  if (argc >= 2 && std::strcmp(argv[1], "run") == 0) polydem::sim::installStopSignals();
-  if (argc >= 2 && std::strcmp(argv[1], "runout") == 0) polydem::sim::installStopSignals();
-  if (argc >= 2 && std::strcmp(argv[1], "fos") == 0) polydem::sim::installStopSignals(true);
+  if (argc >= 2 && std::strcmp(argv[1], "run") == 0) polydem::run::installStopSignals();
+  if (argc >= 2 && std::strcmp(argv[1], "runout") == 0) polydem::run::installStopSignals();
+  if (argc >= 2 && std::strcmp(argv[1], "fos") == 0) polydem::run::installStopSignals(true);
   polydem::mpi::Environment env(argc, argv);
   const int status = dispatch(argc, argv);
   reportStatus(status);
-  polydem::io::closeHdf5Library();  // before MPI_Finalize (env's destructor), without noise
+  polydem::hdf5::closeHdf5Library();  // before MPI_Finalize (env's destructor), without noise
   return status;
 }

@@ -24,7 +24,7 @@ const std::vector<std::string> kTrailing = {
     "outcome", "factor_of_safety", "stable",       "failed", "f_min",       "f_max",
     "fails",   "trials",           "wall_seconds", "group",  "trial_hashes"};
 
-std::vector<std::string> header(const io::Study& study) {
+std::vector<std::string> header(const scene::Study& study) {
   std::vector<std::string> h = kLeading;
   for (const std::string& c : study.columns()) h.push_back(c);
   h.insert(h.end(), kTrailing.begin(), kTrailing.end());
@@ -54,7 +54,7 @@ json optionalJson(const std::optional<double>& v) {
 
 }  // namespace
 
-StudySummary summarize(const std::vector<sim::RealizationResult>& results) {
+StudySummary summarize(const std::vector<run::RealizationResult>& results) {
   StudySummary s;
   s.count = results.size();
   double sum = 0.0;
@@ -84,10 +84,10 @@ StudySummary summarize(const std::vector<sim::RealizationResult>& results) {
   return s;
 }
 
-std::vector<sim::RealizationResult> readRealizationsCsv(const std::string& dir,
-                                                        const io::Study& study) {
+std::vector<run::RealizationResult> readRealizationsCsv(const std::string& dir,
+                                                        const scene::Study& study) {
   const std::string path = dir + "/realizations.csv";
-  std::vector<sim::RealizationResult> out;
+  std::vector<run::RealizationResult> out;
   if (!std::filesystem::exists(path)) return out;
   std::ifstream in(path);
   if (!in) throw InputError(path, 0, "cannot read it");
@@ -106,7 +106,7 @@ std::vector<sim::RealizationResult> readRealizationsCsv(const std::string& dir,
       throw InputError(path, number, cat("expected ", expected.size(), " cells, got ", c.size()));
     }
     try {
-      sim::RealizationResult r;
+      run::RealizationResult r;
       r.index = std::stoll(c[0]);
       r.seed = std::stoull(c[1], nullptr, 16);
       for (std::size_t k = 0; k < inputs; ++k) r.values.push_back(std::stod(c[2 + k]));
@@ -132,8 +132,8 @@ std::vector<sim::RealizationResult> readRealizationsCsv(const std::string& dir,
   return out;
 }
 
-void writeRealizationsCsv(const std::string& dir, const io::Study& study,
-                          const std::vector<sim::RealizationResult>& results) {
+void writeRealizationsCsv(const std::string& dir, const scene::Study& study,
+                          const std::vector<run::RealizationResult>& results) {
   std::ostringstream s;
   const std::vector<std::string> h = header(study);
   for (std::size_t k = 0; k < h.size(); ++k) s << (k ? "," : "") << h[k];
@@ -151,14 +151,14 @@ void writeRealizationsCsv(const std::string& dir, const io::Study& study,
     }
     s << "\n";
   }
-  io::writeFileAtomic(dir + "/realizations.csv", s.str());
+  output::writeFileAtomic(dir + "/realizations.csv", s.str());
 }
 
-void writeRealizationsJson(const std::string& dir, const io::Study& study, std::int64_t asked,
+void writeRealizationsJson(const std::string& dir, const scene::Study& study, std::int64_t asked,
                            bool complete, const StudySummary& s, double wall_seconds,
                            const std::string& command) {
   json inputs = json::array();
-  for (const io::RandomInput& in : study.inputs) {
+  for (const scene::RandomInput& in : study.inputs) {
     json e = {{"parameter", in.parameter}, {"distribution", in.distribution}};
     if (in.distribution == "normal" || in.distribution == "lognormal" ||
         in.distribution == "truncated") {
@@ -190,7 +190,7 @@ void writeRealizationsJson(const std::string& dir, const io::Study& study, std::
       {"wall_seconds", wall_seconds},
       {"command", command},
   };
-  io::writeFileAtomic(dir + "/realizations.json", j.dump(2) + "\n");
+  output::writeFileAtomic(dir + "/realizations.json", j.dump(2) + "\n");
 }
 
 std::optional<std::pair<std::string, std::uint64_t>> previousStudy(const std::string& dir) {

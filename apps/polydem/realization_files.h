@@ -24,20 +24,20 @@ struct StudySummary {
   std::optional<double> pof, pof_se;  // P(F < 1) and its binomial standard error
 };
 
-StudySummary summarize(const std::vector<sim::RealizationResult>& results);
+StudySummary summarize(const std::vector<run::RealizationResult>& results);
 
 /// The finished realizations in DIR/realizations.csv (none if it does not exist). InputError
 /// naming the file and line for a file this study did not write (other columns, a bad row).
-std::vector<sim::RealizationResult> readRealizationsCsv(const std::string& dir,
-                                                        const io::Study& study);
+std::vector<run::RealizationResult> readRealizationsCsv(const std::string& dir,
+                                                        const scene::Study& study);
 
 /// Rewrites DIR/realizations.csv atomically with `results` (sorted by index).
-void writeRealizationsCsv(const std::string& dir, const io::Study& study,
-                          const std::vector<sim::RealizationResult>& results);
+void writeRealizationsCsv(const std::string& dir, const scene::Study& study,
+                          const std::vector<run::RealizationResult>& results);
 
 /// Writes DIR/realizations.json: the scene, its hash, the seed, the count asked for, whether the
 /// study is complete, the summary and the wall time.
-void writeRealizationsJson(const std::string& dir, const io::Study& study, std::int64_t asked,
+void writeRealizationsJson(const std::string& dir, const scene::Study& study, std::int64_t asked,
                            bool complete, const StudySummary& s, double wall_seconds,
                            const std::string& command);
 

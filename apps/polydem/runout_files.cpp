@@ -32,7 +32,7 @@ std::string earlierRows(const std::string& path, double before) {
   return rows;
 }
 
-std::string seriesCsv(const sim::RunoutResult& r, const std::string& earlier) {
+std::string seriesCsv(const run::RunoutResult& r, const std::string& earlier) {
   std::ostringstream out;
   out << "time,mean_displacement,mean_speed,speed_ratio\n" << earlier;
   for (const auto& s : r.series) {
@@ -44,9 +44,9 @@ std::string seriesCsv(const sim::RunoutResult& r, const std::string& earlier) {
 
 }  // namespace
 
-sim::RunoutSettings runoutSettings(const io::Scene& scene, const RunoutOptions& options,
+run::RunoutSettings runoutSettings(const setup::Setup& scene, const RunoutOptions& options,
                                    const std::string& dir) {
-  sim::RunoutSettings s;
+  run::RunoutSettings s;
   const std::optional<double> cap = options.time_cap ? options.time_cap : scene.end_time;
   if (!cap || !(*cap > 0.0)) {
     throw UsageError(cat("the run-on of ", scene.file,
@@ -62,7 +62,7 @@ sim::RunoutSettings runoutSettings(const io::Scene& scene, const RunoutOptions& 
   return s;
 }
 
-std::string runOnDynamics(const io::Scene& scene) {
+std::string runOnDynamics(const setup::Setup& scene) {
   std::string materials;
   for (const auto& m : scene.materials) {
     materials +=
@@ -76,32 +76,32 @@ std::string runOnDynamics(const io::Scene& scene) {
              "reduced strengths and static local damping");
 }
 
-sim::RunoutResult runOutFrom(sim::Simulation& failing, const io::Scene& scene,
-                             const sim::RunoutSettings& settings) {
+run::RunoutResult runOutFrom(sim::Simulation& failing, const setup::Setup& scene,
+                             const run::RunoutSettings& settings) {
   // The failing state handed over as a checkpoint in memory, continued with the scene's own
   // strengths and damping (the stored scene is the one written: a restart continues the same).
-  sim::RunoutProgress progress;
+  run::RunoutProgress progress;
   progress.start_time = failing.time();
   // Its periodic checkpoints go into DIR/runout, which exists before the first one.
   if (!settings.dir.empty() && mpi::rank(failing.comm()) == 0) {
     std::filesystem::create_directories(settings.dir);
   }
   MPI_Barrier(failing.comm());
-  const io::CheckpointData data = failing.checkpoint(
-      settings.scene_text, settings.scene_file, sim::runoutStateJson(progress, settings, scene));
+  const sim::CheckpointData data = failing.checkpoint(
+      settings.scene_text, settings.scene_file, run::runoutStateJson(progress, settings, scene));
   sim::Simulation runout(scene, data, "the failed trial's state", failing.comm());
-  return sim::runRunout(runout, settings, progress);
+  return run::runRunout(runout, settings, progress);
 }
 
-json runoutJson(const sim::RunoutResult& r, const std::string& resume_command,
+json runoutJson(const run::RunoutResult& r, const std::string& resume_command,
                 const std::string& picture) {
-  const sim::RunoutDeposit& d = r.deposit;
+  const run::RunoutDeposit& d = r.deposit;
   return {
       {"at_rest", r.at_rest},
       {"stopped_by", r.stopped_by},
       {"rest_criterion",
-       cat("every free block's speed (|v| + |w| R) below ", num(sim::kRestSpeed),
-           " sqrt(g s), s its size V^(1/3), at ", sim::kRestChecks, " checks in a row")},
+       cat("every free block's speed (|v| + |w| R) below ", num(run::kRestSpeed),
+           " sqrt(g s), s its size V^(1/3), at ", run::kRestChecks, " checks in a row")},
       {"time", r.time},
       {"steps", r.steps},
       {"state_hash", BitHasher::hex(r.state_hash)},
@@ -110,7 +110,7 @@ json runoutJson(const sim::RunoutResult& r, const std::string& resume_command,
       {"free_blocks", d.free_blocks},
       {"failed_volume", d.failed_volume},
       {"failed_criterion", cat("free blocks whose centroid moved at least ",
-                               num(sim::kMovedFraction), " of their size from the scene's start")},
+                               num(run::kMovedFraction), " of their size from the scene's start")},
       {"direction", {d.direction.x(), d.direction.y()}},
       {"toe_start", d.toe_start},
       {"front_end", d.front_end},
@@ -133,24 +133,24 @@ json runoutJson(const sim::RunoutResult& r, const std::string& resume_command,
       {"resume", resume_command.empty() ? json() : json(resume_command)}};
 }
 
-json writeRunoutFiles(const std::string& dir, const sim::RunoutResult& r,
+json writeRunoutFiles(const std::string& dir, const run::RunoutResult& r,
                       const std::string& resume_command) {
   namespace fs = std::filesystem;
   fs::create_directories(dir);
   const std::string series = dir + "/runout_series.csv";
   const std::string earlier =
       r.series.empty() ? std::string() : earlierRows(series, r.series.front().time);
-  io::writeFileAtomic(series, seriesCsv(r, earlier));
-  io::writeFileAtomic(dir + "/thickness.csv", sim::thicknessCsv(r.deposit));
+  output::writeFileAtomic(series, seriesCsv(r, earlier));
+  output::writeFileAtomic(dir + "/thickness.csv", run::thicknessCsv(r.deposit));
   // The figures first: the picture's title reads them.
-  io::writeFileAtomic(dir + "/runout.json", runoutJson(r, resume_command, "").dump(2) + "\n");
+  output::writeFileAtomic(dir + "/runout.json", runoutJson(r, resume_command, "").dump(2) + "\n");
   const std::string picture = r.deposit.cells.empty() ? std::string() : plotThickness(dir);
   const json j = runoutJson(r, resume_command, picture);
-  io::writeFileAtomic(dir + "/runout.json", j.dump(2) + "\n");
+  output::writeFileAtomic(dir + "/runout.json", j.dump(2) + "\n");
   return j;
 }
 
-void addRunout(const std::string& fos_dir, const sim::RunoutResult& r, int ranks,
+void addRunout(const std::string& fos_dir, const run::RunoutResult& r, int ranks,
                const std::string& dynamics) {
   const std::string dir = fos_dir + "/runout";
   const std::string resume = r.checkpoint.empty()
@@ -163,14 +163,14 @@ void addRunout(const std::string& fos_dir, const sim::RunoutResult& r, int ranks
   std::ifstream in(path);
   json fos = json::parse(in);
   fos["runout"] = j;
-  io::writeFileAtomic(path, fos.dump(2) + "\n");
+  output::writeFileAtomic(path, fos.dump(2) + "\n");
   std::printf("%s\n", runoutLine(r, dir).c_str());
   std::printf("runout dynamics: %s\n", dynamics.c_str());
   if (!resume.empty()) std::printf("to continue the runout: %s\n", resume.c_str());
 }
 
-std::string runoutLine(const sim::RunoutResult& r, const std::string& dir) {
-  const sim::RunoutDeposit& d = r.deposit;
+std::string runoutLine(const run::RunoutResult& r, const std::string& dir) {
+  const run::RunoutDeposit& d = r.deposit;
   return cat("runout: ", r.at_rest ? "at rest" : "NOT at rest", " after ", num(r.time), " s (",
              r.stopped_by, "); ", d.failed_blocks, " of ", d.free_blocks,
              " blocks failed; runout distance ", num(d.runout), " m, largest block travel ",

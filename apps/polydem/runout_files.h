@@ -31,34 +31,34 @@ struct RunoutOptions {
 RunoutOptions runoutOptions(Args& args, const std::string& prefix);
 
 /// The settings of a run-on of `scene` into `dir` (UsageError without a time cap).
-sim::RunoutSettings runoutSettings(const io::Scene& scene, const RunoutOptions& options,
+run::RunoutSettings runoutSettings(const setup::Setup& scene, const RunoutOptions& options,
                                    const std::string& dir);
 
 /// The strengths and damping a run-on of `scene` uses, in words: the scene's own (per material:
 /// friction angle, cohesion, local and normal damping; its [[interaction]]s and [[joint]]s as
 /// written), not the fos trials' reduced strengths and static local damping.
-std::string runOnDynamics(const io::Scene& scene);
+std::string runOnDynamics(const setup::Setup& scene);
 
 /// Continues the failing state of `failing` (a fos trial's simulation, at reduced strength and
 /// the static solution's damping) with `scene` as written: its strengths and damping (collective).
-sim::RunoutResult runOutFrom(sim::Simulation& failing, const io::Scene& scene,
-                             const sim::RunoutSettings& settings);
+run::RunoutResult runOutFrom(sim::Simulation& failing, const setup::Setup& scene,
+                             const run::RunoutSettings& settings);
 
 /// runout.json's content.
-nlohmann::json runoutJson(const sim::RunoutResult& r, const std::string& resume_command,
+nlohmann::json runoutJson(const run::RunoutResult& r, const std::string& resume_command,
                           const std::string& picture);
 
 /// Writes runout.json, thickness.csv, runout_series.csv (appended to the rows before this part
 /// when continued) and thickness.png into `dir`; returns runout.json's content. Rank 0 only.
-nlohmann::json writeRunoutFiles(const std::string& dir, const sim::RunoutResult& r,
+nlohmann::json writeRunoutFiles(const std::string& dir, const run::RunoutResult& r,
                                 const std::string& resume_command);
 
 /// `polydem fos --runout`: the run-on's files into FOS_DIR/runout, its figures into
 /// FOS_DIR/fos.json under "runout", and its line on the console. Rank 0 only.
-void addRunout(const std::string& fos_dir, const sim::RunoutResult& r, int ranks,
+void addRunout(const std::string& fos_dir, const run::RunoutResult& r, int ranks,
                const std::string& dynamics);
 
 /// One line for the console.
-std::string runoutLine(const sim::RunoutResult& r, const std::string& dir);
+std::string runoutLine(const run::RunoutResult& r, const std::string& dir);
 
 }  // namespace polydem::app

@@ -24,8 +24,8 @@ constexpr int kSteps = 2000;
 constexpr double kHeight = 5.0;
 constexpr polydem::Uid kLifted = 2;
 
-polydem::io::Scene twoFallingCubes() {
-  polydem::io::Scene scene;
+polydem::setup::Setup twoFallingCubes() {
+  polydem::setup::Setup scene;
   scene.file = "<force_operator example>";
   scene.dt = kDt;
   scene.steps = kSteps;
@@ -41,7 +41,7 @@ polydem::io::Scene twoFallingCubes() {
   scene.shapes.push_back(
       {"cube", polydem::geometry::shapes::box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5)), 0});
   for (polydem::Uid uid : {polydem::Uid{1}, kLifted}) {
-    polydem::io::ParticleSpec p;
+    polydem::setup::ParticleSpec p;
     p.uid = uid;
     p.shape = 0;
     p.material = 0;

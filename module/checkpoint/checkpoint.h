@@ -34,7 +34,7 @@
 #include "polydem/setup/setup.h"
 #include "polydem/sim/saved_state.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 
 /// Version of the file layout. Version 2 added sub-contacts (/subcontacts) and the joint
 /// stiffnesses (jkn/jks columns), version 3 the whole-file digest (hdf5/file_digest.h),
@@ -50,21 +50,11 @@ inline constexpr int kCheckpointFormatVersion = 6;
 inline constexpr int kOldestReadableCheckpointVersion = 1;
 inline constexpr int kFirstDigestCheckpointVersion = 3;
 
-// The data a checkpoint holds is the engine's saved state (sim/saved_state.h): the engine fills
-// and restores it; this module only stores and verifies it.
-using sim::CheckpointData;
-using sim::CheckpointDomain;
-using sim::CheckpointShape;
-using sim::CheckpointStage;
-using sim::shapeMismatch;
-using sim::shapeRecords;
-using sim::toString;
-
 /// Writes `data` to `path` (collective; see the top of this file). Throws CheckpointError on every
 /// rank if any rank fails (invalid data, I/O error, rename); `path` is then left as it was.
 /// `path` must be new, an empty file or a polydem checkpoint (checkpointTarget).
-void writeCheckpoint(const std::filesystem::path& path, const CheckpointData& data, MPI_Comm comm,
-                     const CheckpointIoOptions& options = {});
+void writeCheckpoint(const std::filesystem::path& path, const sim::CheckpointData& data,
+                     MPI_Comm comm, const hdf5::CheckpointIoOptions& options = {});
 
 /// The file a checkpoint for `path` is written to (collective): `path` itself if nothing has that
 /// name, or it is an empty regular file or a polydem checkpoint (replaced); for a symbolic link,
@@ -74,8 +64,8 @@ void writeCheckpoint(const std::filesystem::path& path, const CheckpointData& da
 std::filesystem::path checkpointTarget(const std::filesystem::path& path, MPI_Comm comm);
 
 /// Reads and verifies `path` (collective; see the top of this file).
-CheckpointData readCheckpoint(const std::filesystem::path& path, MPI_Comm comm,
-                              const CheckpointIoOptions& options = {});
+sim::CheckpointData readCheckpoint(const std::filesystem::path& path, MPI_Comm comm,
+                                   const hdf5::CheckpointIoOptions& options = {});
 
 /// What `polydem checkpoint info` prints; the same on every rank.
 struct CheckpointSummary {
@@ -87,7 +77,7 @@ struct CheckpointSummary {
   std::uint64_t scene_hash = 0;
   std::int64_t step = 0;
   double time = 0.0, dt = 0.0;
-  CheckpointStage stage = CheckpointStage::kMain;
+  sim::CheckpointStage stage = sim::CheckpointStage::kMain;
   std::int64_t equilibrium_steps = 0;
   bool equilibrium_reached = false;
   std::int64_t particles = 0;             // all particles in the file
@@ -101,7 +91,7 @@ struct CheckpointSummary {
   /// Kinetic energy of the free particles (translation + rotation, J) from the stored leapfrog
   /// velocities, which lag the positions by dt/2; an exact sum, the same on any rank count.
   double kinetic_energy = 0.0;
-  std::vector<CheckpointDatasetInfo> datasets;
+  std::vector<hdf5::CheckpointDatasetInfo> datasets;
 };
 
 /// Reads `path`, verifies every dataset and summarises it (collective). Throws CheckpointError.
@@ -158,4 +148,4 @@ std::vector<TemporaryCheckpointFile> listTemporaryCheckpoints(const std::filesys
 std::vector<TemporaryCheckpointFile> removeStaleTemporaryCheckpoints(
     const std::filesystem::path& dir);
 
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

@@ -15,7 +15,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 
 namespace {
 
@@ -163,4 +163,4 @@ std::vector<TemporaryCheckpointFile> removeStaleTemporaryCheckpoints(const fs::p
   return files;
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

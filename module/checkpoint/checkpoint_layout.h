@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace polydem::io::layout {
+namespace polydem::checkpoint::layout {
 
 struct Dataset {
   const char* name;
@@ -158,4 +158,4 @@ inline constexpr std::size_t kSubRowBytes = 3 * 8 + 8 * 8;  // pair, feature, 2 
 /// Rows of a table packed (or unpacked) and hashed together, so that the block stays in cache.
 inline constexpr std::uint64_t kBlockRows = 4096;
 
-}  // namespace polydem::io::layout
+}  // namespace polydem::checkpoint::layout

@@ -15,7 +15,7 @@
 #include "polydem/hdf5/file_digest.h"
 #include "polydem/hdf5/hdf5_file.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 
 namespace {
 
@@ -36,11 +36,11 @@ Vec3 vec3At(const double* v) {
 
 }  // namespace
 
-std::optional<std::string> stepTimeProblem(const CheckpointData& d) {
+std::optional<std::string> stepTimeProblem(const sim::CheckpointData& d) {
   if (d.step < 0 || d.equilibrium_steps < 0) {
     return cat("step ", d.step, " or equilibrium_steps ", d.equilibrium_steps, " is negative");
   }
-  if (d.stage == CheckpointStage::kEquilibrium && d.equilibrium_steps != d.step) {
+  if (d.stage == sim::CheckpointStage::kEquilibrium && d.equilibrium_steps != d.step) {
     return cat("equilibrium stage at step ", d.step, " but equilibrium_steps is ",
                d.equilibrium_steps);
   }
@@ -63,7 +63,7 @@ namespace {
 /// One column of a table being read: its dataset and the buffer of one round.
 template <typename T>
 struct ReadColumn {
-  ReadColumn(h5::File& f, const layout::Dataset& d, std::uint64_t total, std::size_t cols_)
+  ReadColumn(hdf5::File& f, const layout::Dataset& d, std::uint64_t total, std::size_t cols_)
       : dataset(f.open<T>(d.name, total, cols_)), cols(cols_) {}
   const T* row(std::size_t i) const { return buffer.data() + i * cols; }
   void read(std::uint64_t first_row, std::uint64_t rows) {
@@ -74,16 +74,16 @@ struct ReadColumn {
     dataset.hash(row(from), first_row, count);
   }
 
-  h5::Dataset dataset;
+  hdf5::Dataset dataset;
   std::size_t cols;
   std::vector<T> buffer;
 };
 
 class Reader {
  public:
-  explicit Reader(h5::File& file) : f_(file), comm_(file.comm()) {}
+  explicit Reader(hdf5::File& file) : f_(file), comm_(file.comm()) {}
 
-  CheckpointData run() {
+  sim::CheckpointData run() {
     readRoot();
     readRun();
     readShapes();
@@ -99,7 +99,7 @@ class Reader {
 
  private:
   /// Thrown where every rank finds the same problem (replicated data); distributed problems go
-  /// through h5::agree.
+  /// through hdf5::agree.
   CheckpointError inconsistent(const std::string& what) const {
     return CheckpointError(f_.context(what));
   }
@@ -153,7 +153,7 @@ class Reader {
   void verifyDigest() {
     digest_ = f_.digest();
     if (d_.format_version < kFirstDigestCheckpointVersion) return;
-    const auto stored = f_.readAttribute<std::uint64_t>("/", kDigestAttribute);
+    const auto stored = f_.readAttribute<std::uint64_t>("/", hdf5::kDigestAttribute);
     if (stored != digest_.digest) {
       throw inconsistent(cat("the file was changed after it was written: its whole-file digest is ",
                              BitHasher::hex(stored), " but its groups, datasets and attributes ",
@@ -168,8 +168,9 @@ class Reader {
   void refuseUnread() const {
     const auto& read = f_.datasets();
     for (const auto& path : digest_.datasets) {
-      const bool known = std::any_of(
-          read.begin(), read.end(), [&](const CheckpointDatasetInfo& d) { return d.name == path; });
+      const bool known =
+          std::any_of(read.begin(), read.end(),
+                      [&](const hdf5::CheckpointDatasetInfo& d) { return d.name == path; });
       if (!known) {
         throw inconsistent(cat("dataset ", path, " is not part of a version ",
                                kCheckpointFormatVersion, " checkpoint (inconsistent data)"));
@@ -185,7 +186,7 @@ class Reader {
     std::copy(digits.begin(), digits.end(), d_.time_digits.begin());
     const auto stage = f_.readAttribute<std::int32_t>("/run", "stage");
     if (stage != 0 && stage != 1) throw inconsistent(cat("/run: stage ", stage, " is not 0 or 1"));
-    d_.stage = static_cast<CheckpointStage>(stage);
+    d_.stage = static_cast<sim::CheckpointStage>(stage);
     d_.equilibrium_steps = f_.readAttribute<std::int64_t>("/run", "equilibrium_steps");
     d_.equilibrium_reached = f_.readAttribute<std::uint8_t>("/run", "equilibrium_reached") != 0;
     const double exact = ExactSum::fromDigits(d_.time_digits).value();
@@ -198,7 +199,7 @@ class Reader {
     d_.scene_toml = f_.readText(layout::kSceneToml.name);
     d_.scene_file = f_.readStringAttribute("/scene", "file_name");
     d_.scene_hash = f_.readAttribute<std::uint64_t>("/scene", "hash");
-    if (checksumOfBytes(d_.scene_toml) != d_.scene_hash) {
+    if (hdf5::checksumOfBytes(d_.scene_toml) != d_.scene_hash) {
       throw inconsistent("/scene: the scene text does not match its hash");
     }
   }
@@ -229,7 +230,7 @@ class Reader {
                                    : std::vector<std::int32_t>{};
 
     for (std::uint64_t s = 0; s < n; ++s) {
-      CheckpointShape shape;
+      sim::CheckpointShape shape;
       shape.name = names[s];
       const auto v0 = static_cast<std::size_t>(vertex_offset[s]);
       const auto v1 = static_cast<std::size_t>(vertex_offset[s + 1]);
@@ -289,7 +290,7 @@ class Reader {
     const auto ijks =
         joints ? table<double>(layout::kInteractionJks, k) : std::vector<double>(k, 0.0);
     for (std::uint64_t i = 0; i < k; ++i) {
-      Scene::Interaction in;
+      setup::Setup::Interaction in;
       in.a = pairs[2 * i];
       in.b = pairs[2 * i + 1];
       if (in.a < 0 || static_cast<std::uint64_t>(in.a) >= n || in.b < 0 ||
@@ -351,12 +352,12 @@ class Reader {
   /// Each round is hashed and handed to unpack(from, count) (buffer rows [from, from + count),
   /// which the caller appends) block by block, while each block is in cache.
   template <typename Unpack, typename... Columns>
-  void stream(std::uint64_t prefix, const h5::Slice& slice, std::size_t row_bytes, Unpack unpack,
+  void stream(std::uint64_t prefix, const hdf5::Slice& slice, std::size_t row_bytes, Unpack unpack,
               Columns&... columns) {
     const bool rank0 = mpi::rank(comm_) == 0;
     const std::size_t round_bytes = f_.options().round_bytes;
-    auto run = [&](const h5::Slice& part, bool hashed) {
-      const h5::Rounds rounds(part, row_bytes, round_bytes);
+    auto run = [&](const hdf5::Slice& part, bool hashed) {
+      const hdf5::Rounds rounds(part, row_bytes, round_bytes);
       for (std::uint64_t k = 0; k < rounds.count; ++k) {
         const std::uint64_t b = rounds.begin(k), e = rounds.end(k);
         (columns.read(part.offset + b, e - b), ...);
@@ -367,9 +368,9 @@ class Reader {
         }
       }
     };
-    run(h5::Slice{0, prefix, slice.total, prefix}, rank0);
+    run(hdf5::Slice{0, prefix, slice.total, prefix}, rank0);
     run(slice, true);
-    h5::Dataset* all[] = {&columns.dataset...};
+    hdf5::Dataset* all[] = {&columns.dataset...};
     f_.finish(all);
   }
 
@@ -381,7 +382,7 @@ class Reader {
           cat("/particles: replicated_count ", replicated_, " exceeds the ", n, " particles"));
     }
     const int rank = mpi::rank(comm_), ranks = mpi::size(comm_);
-    h5::Slice slice = h5::readerSlice(n - replicated_, rank, ranks);
+    hdf5::Slice slice = hdf5::readerSlice(n - replicated_, rank, ranks);
     slice.offset += replicated_;
     slice.total = n;
     ReadColumn<std::uint64_t> uid(f_, layout::kUid, n, 1);
@@ -428,12 +429,12 @@ class Reader {
     stream(replicated_, slice, layout::kParticleRowBytes, unpack, uid, shape, material, flags,
            driver, position, orientation, velocity, momentum);
     if (problem) problem = f_.context("/particles: " + *problem + " (inconsistent data)");
-    h5::agree(problem, comm_);
+    hdf5::agree(problem, comm_);
   }
 
   void readContacts() {
     const std::uint64_t m = rows(layout::kPair);
-    const h5::Slice slice = h5::readerSlice(m, mpi::rank(comm_), mpi::size(comm_));
+    const hdf5::Slice slice = hdf5::readerSlice(m, mpi::rank(comm_), mpi::size(comm_));
     ReadColumn<std::uint64_t> pair(f_, layout::kPair, m, 2);
     ReadColumn<double> shear(f_, layout::kShearForce, m, 3);
     ReadColumn<double> normal(f_, layout::kNormal, m, 3);
@@ -466,12 +467,12 @@ class Reader {
     };
     stream(0, slice, layout::kPairRowBytes, unpack, pair, shear, normal, warm_direction, warm_point,
            warm_valid, reserved, touching);
-    h5::agree(problem, comm_);
+    hdf5::agree(problem, comm_);
   }
 
   void readSubContacts() {
     const std::uint64_t m = rows(layout::kSubPair);
-    const h5::Slice slice = h5::readerSlice(m, mpi::rank(comm_), mpi::size(comm_));
+    const hdf5::Slice slice = hdf5::readerSlice(m, mpi::rank(comm_), mpi::size(comm_));
     ReadColumn<std::uint64_t> pair(f_, layout::kSubPair, m, 2);
     ReadColumn<std::uint64_t> feature(f_, layout::kSubFeature, m, 1);
     ReadColumn<double> shear(f_, layout::kSubShearForce, m, 3);
@@ -505,32 +506,32 @@ class Reader {
       stream(0, slice, layout::kSubRowBytes - particles::kMaxLawHistory * 8, unpack, pair, feature,
              shear, normal);
     }
-    h5::agree(problem, comm_);
+    hdf5::agree(problem, comm_);
   }
 
-  h5::File& f_;
+  hdf5::File& f_;
   MPI_Comm comm_;
-  CheckpointData d_;
-  FileDigest digest_;
+  sim::CheckpointData d_;
+  hdf5::FileDigest digest_;
   std::uint64_t replicated_ = 0;
 };
 
 }  // namespace
 
-CheckpointData readCheckpointVerified(const std::filesystem::path& path, MPI_Comm comm,
-                                      const CheckpointIoOptions& options,
-                                      std::vector<CheckpointDatasetInfo>* datasets) {
-  const h5::ErrorSilencer silence;
-  h5::File file = h5::File::open(path, comm, options);
-  CheckpointData data = Reader(file).run();
+sim::CheckpointData readCheckpointVerified(const std::filesystem::path& path, MPI_Comm comm,
+                                           const hdf5::CheckpointIoOptions& options,
+                                           std::vector<hdf5::CheckpointDatasetInfo>* datasets) {
+  const hdf5::ErrorSilencer silence;
+  hdf5::File file = hdf5::File::open(path, comm, options);
+  sim::CheckpointData data = Reader(file).run();
   if (datasets) *datasets = file.datasets();
   file.close();
   return data;
 }
 
-CheckpointData readCheckpoint(const std::filesystem::path& path, MPI_Comm comm,
-                              const CheckpointIoOptions& options) {
+sim::CheckpointData readCheckpoint(const std::filesystem::path& path, MPI_Comm comm,
+                                   const hdf5::CheckpointIoOptions& options) {
   return readCheckpointVerified(path, comm, options, nullptr);
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

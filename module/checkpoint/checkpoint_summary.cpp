@@ -11,13 +11,14 @@
 #include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 
 namespace {
 
 /// Kinetic energy of one free particle: translation plus rotation, 1/2 L . w with
 /// w = R diag(1 / (density I_k)) R^T L (body-frame principal moments I_k per unit density).
-double kineticEnergy(const particles::Particle& p, const CheckpointShape& shape, double density) {
+double kineticEnergy(const particles::Particle& p, const sim::CheckpointShape& shape,
+                     double density) {
   const double mass = density * shape.volume;
   const Mat3 r = p.orientation.toRotationMatrix();
   const Vec3 body_l = r.transpose() * p.angular_momentum;
@@ -29,7 +30,7 @@ double kineticEnergy(const particles::Particle& p, const CheckpointShape& shape,
 
 CheckpointSummary verifyCheckpoint(const std::filesystem::path& path, MPI_Comm comm) {
   CheckpointSummary s;
-  const CheckpointData d = readCheckpointVerified(path, comm, {}, &s.datasets);
+  const sim::CheckpointData d = readCheckpointVerified(path, comm, {}, &s.datasets);
   s.file = path.string();
   s.format_version = d.format_version;
   s.digest = d.digest;
@@ -95,7 +96,7 @@ std::string formatCheckpointSummary(const CheckpointSummary& s) {
       << "step: " << s.step << "\n"
       << "time: " << shortest(s.time) << " s\n"
       << "dt: " << shortest(s.dt) << " s\n"
-      << "stage: " << toString(s.stage) << " (equilibrium steps " << s.equilibrium_steps
+      << "stage: " << sim::toString(s.stage) << " (equilibrium steps " << s.equilibrium_steps
       << (s.equilibrium_reached ? ", reached" : ", not reached") << ")\n"
       << "particles: " << s.particles << " (" << s.replicated_particles << " fixed or driven)\n"
       << "pair histories: " << s.pairs << " (" << s.touching_pairs << " touching)\n"
@@ -114,4 +115,4 @@ std::string formatCheckpointSummary(const CheckpointSummary& s) {
   return out.str();
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

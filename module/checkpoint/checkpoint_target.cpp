@@ -15,7 +15,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/hdf5/hdf5_file.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 
 namespace {
 
@@ -23,12 +23,12 @@ namespace fs = std::filesystem;
 
 /// Whether `file` is an HDF5 file whose root attribute `format` is polydem's (any version).
 bool isPolydemCheckpoint(const fs::path& file) {
-  const h5::ErrorSilencer silence;
-  const h5::Handle f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  const hdf5::ErrorSilencer silence;
+  const hdf5::Handle f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (f.get() < 0 || H5Aexists(f.get(), "format") <= 0) return false;
-  const h5::Handle a(H5Aopen(f.get(), "format", H5P_DEFAULT), H5Aclose);
+  const hdf5::Handle a(H5Aopen(f.get(), "format", H5P_DEFAULT), H5Aclose);
   if (a.get() < 0) return false;
-  const h5::Handle t(H5Aget_type(a.get()), H5Tclose);
+  const hdf5::Handle t(H5Aget_type(a.get()), H5Tclose);
   if (t.get() < 0 || H5Tget_class(t.get()) != H5T_STRING || H5Tis_variable_str(t.get()) != 0) {
     return false;
   }
@@ -72,7 +72,7 @@ fs::path checkpointTarget(const fs::path& path, MPI_Comm comm) {
       problem = "checkpoint " + path.string() + ": " + p;
     }
   }
-  h5::agree(problem, comm);
+  hdf5::agree(problem, comm);
   std::string text = target.string();
   std::uint64_t length = text.size();
   MPI_Bcast(&length, 1, MPI_UINT64_T, 0, comm);
@@ -81,4 +81,4 @@ fs::path checkpointTarget(const fs::path& path, MPI_Comm comm) {
   return text;
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

@@ -17,7 +17,7 @@
 #include "polydem/core/test_pause.h"
 #include "polydem/hdf5/hdf5_file.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 
 namespace {
 
@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 using particles::Particle;
 
 /// Problems with the caller's data on this rank (checked before any file is touched).
-std::optional<std::string> invalidData(const CheckpointData& data, int rank) {
+std::optional<std::string> invalidData(const sim::CheckpointData& data, int rank) {
   const auto shapes = static_cast<std::int32_t>(data.shapes.size());
   const auto materials = static_cast<std::int32_t>(data.materials.size());
   for (const Particle& p : data.particles) {
@@ -84,7 +84,7 @@ std::optional<std::string> invalidData(const CheckpointData& data, int rank) {
 
 /// Bytes the file will take, about: every dataset's payload (the replicated tables are small) and
 /// room for HDF5's metadata. Collective.
-std::uint64_t estimatedBytes(const CheckpointData& data, MPI_Comm comm) {
+std::uint64_t estimatedBytes(const sim::CheckpointData& data, MPI_Comm comm) {
   std::uint64_t mine = data.particles.size() * layout::kParticleRowBytes +
                        data.pair_keys.size() * layout::kPairRowBytes +
                        data.sub_keys.size() * layout::kSubRowBytes;
@@ -129,25 +129,25 @@ void syncDirectory(const fs::path& dir) {
 
 }  // namespace
 
-void writeCheckpoint(const fs::path& requested, const CheckpointData& data, MPI_Comm comm,
-                     const CheckpointIoOptions& options) {
+void writeCheckpoint(const fs::path& requested, const sim::CheckpointData& data, MPI_Comm comm,
+                     const hdf5::CheckpointIoOptions& options) {
   const fs::path path =
       checkpointTarget(requested, comm);  // nothing but a new file or a checkpoint
-  const h5::ErrorSilencer silence;
+  const hdf5::ErrorSilencer silence;
   const int rank = mpi::rank(comm);
   std::optional<std::string> problem = invalidData(data, rank);
   if (problem) problem = "checkpoint " + path.string() + ": " + *problem;
-  h5::agree(problem, comm);
+  hdf5::agree(problem, comm);
   problem = noRoomFor(estimatedBytes(data, comm), path, rank);
   if (problem) problem = "checkpoint " + path.string() + ": " + *problem;
-  h5::agree(problem, comm);
+  hdf5::agree(problem, comm);
   std::int64_t pid = ::getpid();
   MPI_Bcast(&pid, 1, MPI_INT64_T, 0, comm);
   const fs::path temporary = path.string() + ".tmp." + std::to_string(pid);
 
   std::optional<std::string> failure;
   try {
-    h5::File file = h5::File::create(temporary, comm, options, path.string());
+    hdf5::File file = hdf5::File::create(temporary, comm, options, path.string());
     if (rank == 0) testPause("checkpoint-write");  // test hook (core/test_pause.h)
     writeContents(file, data);
     file.close();  // H5Fflush (MPI_File_sync) and H5Fclose
@@ -169,7 +169,7 @@ void writeCheckpoint(const fs::path& requested, const CheckpointData& data, MPI_
     }
     if (failure) fs::remove(temporary, ec);
   }
-  h5::agree(rank == 0 ? failure : std::nullopt, comm);
+  hdf5::agree(rank == 0 ? failure : std::nullopt, comm);
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

@@ -11,13 +11,13 @@
 #include "polydem/hdf5/checksum.h"
 #include "polydem/hdf5/file_digest.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 
 namespace {
 
 using particles::Particle;
 
-h5::Info info(const layout::Dataset& d) {
+hdf5::Info info(const layout::Dataset& d) {
   return {d.units, d.description};
 }
 
@@ -32,7 +32,7 @@ struct Header {
   std::uint8_t equilibrium_reached = 0;
   std::uint64_t scene_hash = 0, replicated_particles = 0;
 
-  static Header fromRankZero(const CheckpointData& d, MPI_Comm comm) {
+  static Header fromRankZero(const sim::CheckpointData& d, MPI_Comm comm) {
     SendBuffer out;
     if (mpi::rank(comm) == 0) {
       std::uint64_t replicated = 0;
@@ -45,7 +45,7 @@ struct Header {
       text(d.scene_file);
       out << d.step << d.equilibrium_steps << d.time << d.dt << static_cast<std::int32_t>(d.stage)
           << static_cast<std::int32_t>(d.domain.ranks)
-          << static_cast<std::uint8_t>(d.equilibrium_reached) << checksumOfBytes(d.scene_toml)
+          << static_cast<std::uint8_t>(d.equilibrium_reached) << hdf5::checksumOfBytes(d.scene_toml)
           << replicated;
       for (auto digit : d.time_digits) out << digit;
     }
@@ -73,7 +73,7 @@ struct Header {
 /// One column of a table being written: its dataset and the buffer of one round.
 template <typename T>
 struct Column {
-  Column(h5::File& f, const layout::Dataset& d, std::uint64_t total, std::size_t cols_)
+  Column(hdf5::File& f, const layout::Dataset& d, std::uint64_t total, std::size_t cols_)
       : dataset(f.create<T>(d.name, total, cols_, info(d))), cols(cols_) {}
   T* row(std::size_t i) { return buffer.data() + i * cols; }
   void resize(std::uint64_t rows) { buffer.resize(rows * cols); }
@@ -84,7 +84,7 @@ struct Column {
     dataset.write(buffer.data(), first_row, rows);
   }
 
-  h5::Dataset dataset;
+  hdf5::Dataset dataset;
   std::size_t cols;
   std::vector<T> buffer;
 };
@@ -104,7 +104,7 @@ std::vector<double> column(const auto& items, Getter get) {
 
 class Writer {
  public:
-  Writer(h5::File& file, const CheckpointData& data)
+  Writer(hdf5::File& file, const sim::CheckpointData& data)
       : f_(file),
         data_(data),
         comm_(file.comm()),
@@ -124,7 +124,7 @@ class Writer {
     writeContacts();
     writeSubContacts();
     // Last: the digest covers everything written above (hdf5/file_digest.h).
-    f_.writeAttribute<std::uint64_t>("/", kDigestAttribute, f_.digest().digest);
+    f_.writeAttribute<std::uint64_t>("/", hdf5::kDigestAttribute, f_.digest().digest);
   }
 
  private:
@@ -139,8 +139,8 @@ class Writer {
   /// rank's rows [begin, end) in one pass over a cache-sized block, and the block is hashed while
   /// it is still in cache.
   template <typename Pack, typename... Columns>
-  void stream(const h5::Slice& slice, std::size_t row_bytes, Pack pack, Columns&... columns) {
-    const h5::Rounds rounds(slice, row_bytes, f_.options().round_bytes);
+  void stream(const hdf5::Slice& slice, std::size_t row_bytes, Pack pack, Columns&... columns) {
+    const hdf5::Rounds rounds(slice, row_bytes, f_.options().round_bytes);
     for (std::uint64_t k = 0; k < rounds.count; ++k) {
       const std::uint64_t b = rounds.begin(k), e = rounds.end(k);
       (columns.resize(e - b), ...);
@@ -151,7 +151,7 @@ class Writer {
       }
       (columns.write(slice.offset + b, e - b), ...);
     }
-    h5::Dataset* all[] = {&columns.dataset...};
+    hdf5::Dataset* all[] = {&columns.dataset...};
     f_.finish(all);
   }
 
@@ -171,7 +171,7 @@ class Writer {
     f_.writeAttribute("/run", "time_digits", std::span<const std::int64_t>(h.time_digits));
     f_.writeAttribute("/run", "stage", h.stage);
     f_.writeAttribute("/run", "stage_name",
-                      std::string(toString(static_cast<CheckpointStage>(h.stage))));
+                      std::string(sim::toString(static_cast<sim::CheckpointStage>(h.stage))));
     f_.writeAttribute("/run", "equilibrium_steps", h.equilibrium_steps);
     f_.writeAttribute("/run", "equilibrium_reached", h.equilibrium_reached);
     f_.createGroup("/scene", "the scene file the run was started from");
@@ -250,7 +250,7 @@ class Writer {
     table(layout::kMaterialJkn, column(m, [](const Material& x) { return x.jkn; }), 1);
     table(layout::kMaterialJks, column(m, [](const Material& x) { return x.jks; }), 1);
 
-    using In = Scene::Interaction;
+    using In = setup::Setup::Interaction;
     const auto& in = data_.interactions;
     std::vector<std::int32_t> pairs;
     for (const auto& x : in) pairs.insert(pairs.end(), {x.a, x.b});
@@ -305,7 +305,7 @@ class Writer {
     for (const auto& p : data_.particles) {
       if (!p.isGlobal()) rows.push_back(&p);
     }
-    const h5::Slice slice = h5::writerSlice(rows.size(), comm_);
+    const hdf5::Slice slice = hdf5::writerSlice(rows.size(), comm_);
     const std::uint64_t n = slice.total;
     Column<std::uint64_t> uid(f_, layout::kUid, n, 1);
     Column<std::int32_t> shape(f_, layout::kShape, n, 1);
@@ -342,7 +342,7 @@ class Writer {
   void writeContacts() {
     const auto& keys = data_.pair_keys;
     const auto& h = data_.pair_histories;
-    const h5::Slice slice = h5::writerSlice(h.size(), comm_);
+    const hdf5::Slice slice = hdf5::writerSlice(h.size(), comm_);
     const std::uint64_t m = slice.total;
     Column<std::uint64_t> pair(f_, layout::kPair, m, 2);
     Column<double> shear(f_, layout::kShearForce, m, 3);
@@ -373,7 +373,7 @@ class Writer {
   void writeSubContacts() {
     const auto& keys = data_.sub_keys;
     const auto& h = data_.sub_histories;
-    const h5::Slice slice = h5::writerSlice(h.size(), comm_);
+    const hdf5::Slice slice = hdf5::writerSlice(h.size(), comm_);
     const std::uint64_t m = slice.total;
     Column<std::uint64_t> pair(f_, layout::kSubPair, m, 2);
     Column<std::uint64_t> feature(f_, layout::kSubFeature, m, 1);
@@ -394,18 +394,18 @@ class Writer {
     stream(slice, layout::kSubRowBytes, pack, pair, feature, shear, normal, law_state);
   }
 
-  h5::File& f_;
-  const CheckpointData& data_;
+  hdf5::File& f_;
+  const sim::CheckpointData& data_;
   MPI_Comm comm_;
   int rank_;
   Header header_;
-  h5::ReplicatedBatch batch_;
+  hdf5::ReplicatedBatch batch_;
 };
 
 }  // namespace
 
-void writeContents(h5::File& file, const CheckpointData& data) {
+void writeContents(hdf5::File& file, const sim::CheckpointData& data) {
   Writer(file, data).run();
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

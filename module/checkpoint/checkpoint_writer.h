@@ -5,8 +5,8 @@
 #include "polydem/checkpoint/checkpoint.h"
 #include "polydem/hdf5/hdf5_file.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 
-void writeContents(h5::File& file, const CheckpointData& data);
+void writeContents(hdf5::File& file, const sim::CheckpointData& data);
 
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

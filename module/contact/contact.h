@@ -46,9 +46,6 @@ struct Body {
 Body placeBody(const geometry::ConvexPolyhedron& shape, const Vec3& position, const Mat3& rotation,
                std::vector<Vec3>& storage);
 
-/// The kernel's per-pair memory (warm start) is stored with the pair's history, in particles.
-using particles::PairState;
-
 /// How the force of a contact is to be computed by the contact law.
 enum class ForceModel : std::uint8_t {
   kPenalty,    // f_n = kn * depth along `normal`, acting at `point`
@@ -78,13 +75,14 @@ class Kernel {
   virtual ~Kernel() = default;
   virtual std::string_view name() const = 0;
   /// Resolves the pair (a, b). `state` may be null (no warm start, nothing remembered).
-  virtual Contact collide(const Body& a, const Body& b, PairState* state) const = 0;
+  virtual Contact collide(const Body& a, const Body& b, particles::PairState* state) const = 0;
   /// The same for a caller that replaces the point of face and edge contacts by sub-contacts
   /// (contact/face/face_contact.h): a kernel may skip work that only places the point on such
   /// contacts (the IPM kernels return their base kernel's answer, whose point is right for the
   /// contacts that keep one point: a vertex on a face, crossing edges). Normal and depth are
   /// collide()'s.
-  virtual Contact collideForSubContacts(const Body& a, const Body& b, PairState* state) const {
+  virtual Contact collideForSubContacts(const Body& a, const Body& b,
+                                        particles::PairState* state) const {
     return collide(a, b, state);
   }
 };

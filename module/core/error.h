@@ -38,7 +38,7 @@ class CheckpointError : public Error {
 };
 
 /// Output that cannot be written, raised alike on every rank at the same point (the ranks agree on
-/// it first: io::throwIfAnyRankFailed), so that the apps end with one message and a non-zero
+/// it first: output::throwIfAnyRankFailed), so that the apps end with one message and a non-zero
 /// status on every rank, no rank left waiting and no MPI_Abort: a folder another run holds (its
 /// lock file), a path that is not a regular file, a full disk or another I/O error.
 class OutputError : public Error {

@@ -41,7 +41,7 @@ PairForce subContactForces(const contact::FaceContact& fc,
                            std::span<const particles::SubFeature> old_keys,
                            std::span<const particles::SubHistory> old, const PairKinematics& kin,
                            double m_eff, double dt, const LawCoefficients& k,
-                           std::vector<SubState>& kept) {
+                           std::vector<particles::SubEntry>& kept) {
   SubContactScratch scratch;
   std::vector<particles::SubFeature> keys(fc.subs.size());
   std::vector<particles::SubHistory> entries(fc.subs.size());

@@ -68,9 +68,6 @@ struct PairForce {
   bool sliding = false;  // some sub-contact reached its Coulomb limit
 };
 
-/// One sub-contact's history as it leaves the step.
-using SubState = particles::SubEntry;
-
 /// Working space of subContactForces, one entry per sub-contact, kept by the caller between
 /// pairs so that the law allocates nothing once warm.
 struct SubContactScratch {
@@ -100,7 +97,7 @@ PairForce subContactForces(const contact::FaceContact& fc,
                            std::span<const particles::SubFeature> old_keys,
                            std::span<const particles::SubHistory> old, const PairKinematics& kin,
                            double m_eff, double dt, const LawCoefficients& k,
-                           std::vector<SubState>& kept);
+                           std::vector<particles::SubEntry>& kept);
 
 /// `shear` (tangent to n) turned about the unit normal n by the angle 2 atan(t): the Cayley
 /// form ((1 - t^2) s + 2 t n x s) / (1 + t^2), exactly a rotation without trigonometry; for the

@@ -6,7 +6,7 @@
 #include "polydem/core/state_hash.h"
 #include "polydem/core/strings.h"
 
-namespace polydem::io {
+namespace polydem::hdf5 {
 
 static_assert(std::endian::native == std::endian::little,
               "checkpoint checksums hash the little-endian bytes stored in the file");
@@ -72,4 +72,4 @@ std::uint64_t checksumOfBytes(std::string_view bytes) {
   return checksumFinish(checksumPartial(bytes.data(), bytes.size(), 1, 0), bytes.size());
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::hdf5

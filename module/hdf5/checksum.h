@@ -20,7 +20,7 @@
 #include <span>
 #include <string_view>
 
-namespace polydem::io {
+namespace polydem::hdf5 {
 
 inline constexpr std::uint64_t kChecksumGamma = 0x9e3779b97f4a7c15ULL;
 
@@ -41,4 +41,4 @@ std::uint64_t checksumPartial(std::span<const T> values, std::uint64_t first_ind
 /// Checksum of a whole byte string (e.g. the scene text: its "scene hash").
 std::uint64_t checksumOfBytes(std::string_view bytes);
 
-}  // namespace polydem::io
+}  // namespace polydem::hdf5

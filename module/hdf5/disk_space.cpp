@@ -11,7 +11,7 @@
 
 #include "polydem/core/strings.h"
 
-namespace polydem::io::h5 {
+namespace polydem::hdf5 {
 
 DiskSpace::DiskSpace(DiskSpace&& other) noexcept : fd_(other.fd_), allocated_(other.allocated_) {
   other.fd_ = -1;
@@ -109,4 +109,4 @@ std::string directoryOf(const std::string& path) {
   return parent.empty() ? std::string(".") : parent.string();
 }
 
-}  // namespace polydem::io::h5
+}  // namespace polydem::hdf5

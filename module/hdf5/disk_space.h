@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <string>
 
-namespace polydem::io::h5 {
+namespace polydem::hdf5 {
 
 /// Rank 0's descriptor of the file being written, and the bytes allocated so far.
 class DiskSpace {
@@ -58,4 +58,4 @@ std::string freeSpaceNote(const std::string& dir);
 /// The directory of `path` ("." for a bare file name).
 std::string directoryOf(const std::string& path);
 
-}  // namespace polydem::io::h5
+}  // namespace polydem::hdf5

@@ -7,11 +7,9 @@
 #include "polydem/hdf5/checksum.h"
 #include "polydem/hdf5/hdf5_file.h"
 
-namespace polydem::io {
+namespace polydem::hdf5 {
 
 namespace {
-
-using h5::Handle;
 
 herr_t collectName(hid_t, const char* name, const H5L_info_t*, void* out) {
   static_cast<std::vector<std::string>*>(out)->emplace_back(name);
@@ -39,7 +37,7 @@ class Walker {
  private:
   template <typename Id>
   Id check(Id id, const std::string& what) const {
-    if (id < 0) throw CheckpointError(context_ + what + ": " + h5::hdf5ErrorMessage());
+    if (id < 0) throw CheckpointError(context_ + what + ": " + hdf5::hdf5ErrorMessage());
     return id;
   }
 
@@ -176,4 +174,4 @@ FileDigest fileDigest(hid_t file, const std::string& context) {
   return Walker(file, context).run();
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::hdf5

@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-namespace polydem::io {
+namespace polydem::hdf5 {
 
 inline constexpr const char* kDigestAttribute = "digest";
 
@@ -42,4 +42,4 @@ struct FileDigest {
 /// Walks the open file `file` (HDF5 errors: CheckpointError with `context` in front).
 FileDigest fileDigest(hid_t file, const std::string& context);
 
-}  // namespace polydem::io
+}  // namespace polydem::hdf5

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace polydem::io {
+namespace polydem::hdf5 {
 
 /// Tuning of the parallel I/O.
 struct CheckpointIoOptions {
@@ -32,4 +32,4 @@ struct CheckpointDatasetInfo {
   std::uint64_t checksum = 0;       // stored and recomputed (they agree, or the read failed)
 };
 
-}  // namespace polydem::io
+}  // namespace polydem::hdf5

@@ -9,7 +9,7 @@
 #include "polydem/hdf5/hdf5_file.h"
 #include "polydem/hdf5/hdf5_types.h"
 
-namespace polydem::io::h5 {
+namespace polydem::hdf5 {
 
 namespace {
 
@@ -347,4 +347,4 @@ POLYDEM_H5_INSTANTIATE(std::int32_t)
 POLYDEM_H5_INSTANTIATE(std::uint8_t)
 #undef POLYDEM_H5_INSTANTIATE
 
-}  // namespace polydem::io::h5
+}  // namespace polydem::hdf5

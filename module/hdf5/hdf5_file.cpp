@@ -12,7 +12,7 @@
 #include "polydem/hdf5/hdf5_types.h"
 #include "polydem/hdf5/library.h"
 
-namespace polydem::io::h5 {
+namespace polydem::hdf5 {
 
 namespace {
 
@@ -481,13 +481,13 @@ POLYDEM_H5_INSTANTIATE(std::int32_t)
 POLYDEM_H5_INSTANTIATE(std::uint8_t)
 #undef POLYDEM_H5_INSTANTIATE
 
-}  // namespace polydem::io::h5
+}  // namespace polydem::hdf5
 
-namespace polydem::io {
+namespace polydem::hdf5 {
 
 void closeHdf5Library() {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // H5_term_library reports only if printing is on
   H5close();
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::hdf5

@@ -32,7 +32,7 @@
 #include "polydem/hdf5/file_digest.h"
 #include "polydem/hdf5/file_options.h"
 
-namespace polydem::io::h5 {
+namespace polydem::hdf5 {
 
 /// Owns an HDF5 identifier and releases it with the matching H5?close function.
 class Handle {
@@ -285,4 +285,4 @@ class File {
   std::uint64_t reserved_ = 0;  // bytes allocated on disk (both the same on every rank)
 };
 
-}  // namespace polydem::io::h5
+}  // namespace polydem::hdf5

@@ -11,7 +11,7 @@
 #include "polydem/core/error.h"
 #include "polydem/hdf5/hdf5_file.h"
 
-namespace polydem::io::h5 {
+namespace polydem::hdf5 {
 
 template <typename T>
 struct Type;
@@ -80,4 +80,4 @@ Handle stringType(std::size_t size);
 /// "10 x 3", "a scalar".
 std::string describeDims(const std::vector<std::uint64_t>& dims);
 
-}  // namespace polydem::io::h5
+}  // namespace polydem::hdf5

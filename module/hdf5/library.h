@@ -1,7 +1,7 @@
 // The HDF5 library as a whole: what a program does with it once, at its end.
 #pragma once
 
-namespace polydem::io {
+namespace polydem::hdf5 {
 
 /// Closes the HDF5 library before MPI_Finalize, quietly. HDF5 1.10 keeps internal objects it
 /// cannot release after it has read damaged metadata, and its own shutdown at MPI_Finalize would
@@ -9,4 +9,4 @@ namespace polydem::io {
 /// error printing off it says nothing. Call once, after the last HDF5 use of the process.
 void closeHdf5Library();
 
-}  // namespace polydem::io
+}  // namespace polydem::hdf5

@@ -10,7 +10,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
 
-namespace polydem::io {
+namespace polydem::output {
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), tmp_path_(path_ + ".tmp") {
   file_ = std::fopen(tmp_path_.c_str(), "wb");
@@ -95,4 +95,4 @@ void createDirectories(const std::string& dir) {
   }
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::output

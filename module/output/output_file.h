@@ -13,7 +13,7 @@
 
 #include "polydem/core/error.h"
 
-namespace polydem::io {
+namespace polydem::output {
 
 /// A file written under "<path>.tmp" and renamed to `path` by commit(). Destroyed without
 /// commit() (an exception on the way), it removes the temporary and leaves `path` untouched.
@@ -50,4 +50,4 @@ void throwIfAnyRankFailed(const std::string& error, MPI_Comm comm);
 /// Creates `dir` and its parents if they do not exist; throws polydem::Error naming it otherwise.
 void createDirectories(const std::string& dir);
 
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -17,7 +17,7 @@
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 
-namespace polydem::io {
+namespace polydem::output {
 
 namespace {
 
@@ -229,4 +229,4 @@ OutputLock::~OutputLock() {
   }
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <string>
 
-namespace polydem::io {
+namespace polydem::output {
 
 inline constexpr const char* kOutputLockName = "polydem.lock";
 
@@ -58,4 +58,4 @@ class OutputLock {
   bool created_dir_ = false;
 };
 
-}  // namespace polydem::io
+}  // namespace polydem::output

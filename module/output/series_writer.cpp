@@ -11,7 +11,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/output/output_file.h"
 
-namespace polydem::io {
+namespace polydem::output {
 
 namespace {
 
@@ -155,4 +155,4 @@ void SeriesWriter::close() {
   }
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -20,7 +20,7 @@
 #include <string_view>
 #include <vector>
 
-namespace polydem::io {
+namespace polydem::output {
 
 class SeriesWriter {
  public:
@@ -74,4 +74,4 @@ class SeriesWriter {
 /// Throws polydem::Error unless every name is a valid, unique column name (see above).
 void validateSeriesColumns(const std::vector<std::string>& columns);
 
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -13,14 +13,14 @@
 #include "polydem/output/output_file.h"
 #include "polydem/setup/snapshot_fields.h"
 
-namespace polydem::io {
+namespace polydem::output {
 
 namespace {
 
-using h5::Dataset;
-using h5::File;
-using h5::Info;
-using h5::Slice;
+using hdf5::Dataset;
+using hdf5::File;
+using hdf5::Info;
+using hdf5::Slice;
 
 /// Where this rank's rows of a table go: `runs` of the file's `total` rows, in file order.
 struct Placement {
@@ -60,7 +60,7 @@ std::vector<T> perFace(const PolyhedraBatch& b, F value) {
 }
 
 /// Writes the cell data `name` (a kParticleFields entry) of `b`.
-void putParticleField(File& file, std::vector<Dataset>& open, const SnapshotField& f,
+void putParticleField(File& file, std::vector<Dataset>& open, const setup::SnapshotField& f,
                       const Placement& faces, const PolyhedraBatch& b, int rank) {
   using P = const ParticleFields&;
   const std::string name = f.name;
@@ -119,7 +119,7 @@ std::vector<T> perContact(const ContactBatch& c, F value) {
   return out;
 }
 
-void putContactField(File& file, std::vector<Dataset>& open, const SnapshotField& f,
+void putContactField(File& file, std::vector<Dataset>& open, const setup::SnapshotField& f,
                      const Placement& contacts, const ContactBatch& c, int rank) {
   using R = const ContactRecord&;
   const std::string name = f.name;
@@ -243,13 +243,15 @@ XdmfSnapshotWriter::XdmfSnapshotWriter(std::string dir, MPI_Comm comm, Options o
     : dir_(std::move(dir)), comm_(comm), options_(std::move(options)) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
-  if (options_.fields.empty()) options_.fields = kDefaultParticleFields;
-  if (options_.contact_fields.empty()) options_.contact_fields = kDefaultContactFields;
+  if (options_.fields.empty()) options_.fields = setup::kDefaultParticleFields;
+  if (options_.contact_fields.empty()) options_.contact_fields = setup::kDefaultContactFields;
   for (const auto& f : options_.fields) {
-    if (auto problem = unknownField(kParticleFields, f); !problem.empty()) throw Error(problem);
+    if (auto problem = setup::unknownField(setup::kParticleFields, f); !problem.empty())
+      throw Error(problem);
   }
   for (const auto& f : options_.contact_fields) {
-    if (auto problem = unknownField(kContactFields, f); !problem.empty()) throw Error(problem);
+    if (auto problem = setup::unknownField(setup::kContactFields, f); !problem.empty())
+      throw Error(problem);
   }
   // Every rank must name the same directory: the files are opened collectively, and MPI-IO
   // waits forever on ranks that open different files.
@@ -296,7 +298,7 @@ void XdmfSnapshotWriter::writeFile(const std::string& path, const std::string& t
   // rank count; the contacts in rank order.
   const PolyhedraBatch b = byUid(unsorted);
   const auto place = uidPlacements(b, comm_);
-  const Slice s = h5::writerSlice(c.contacts.size(), comm_);
+  const Slice s = hdf5::writerSlice(c.contacts.size(), comm_);
   const Placement& faces = place[kFaceRow];
   counts.points = place[kPointRow].total;
   counts.faces = faces.total;
@@ -344,10 +346,10 @@ void XdmfSnapshotWriter::writeFile(const std::string& path, const std::string& t
   }
   const Placement contacts = contiguous(s);
 
-  CheckpointIoOptions io;
+  hdf5::CheckpointIoOptions io;
   io.kind = "snapshot";
   io.sync_on_close = false;
-  const h5::ErrorSilencer quiet;  // HDF5's errors become exceptions, not printed stacks
+  const hdf5::ErrorSilencer quiet;  // HDF5's errors become exceptions, not printed stacks
   File file = File::create(tmp, comm_, io, path);
   std::vector<Dataset> open;
   file.createGroup("/mesh", "the faces of all blocks as polygons (XDMF Mixed topology)");
@@ -363,13 +365,13 @@ void XdmfSnapshotWriter::writeFile(const std::string& path, const std::string& t
   put(file, open, "/particles/velocity", particles, 3, velocity, {"m/s", "centroid velocity"});
   file.createGroup("/faces", "the chosen particle fields, one row per face (cell data)");
   for (const auto& name : options_.fields) {
-    putParticleField(file, open, *findField(kParticleFields, name), faces, b, rank_);
+    putParticleField(file, open, *setup::findField(setup::kParticleFields, name), faces, b, rank_);
   }
   file.createGroup("/contacts", "touching contacts: one row per contact point");
   put(file, open, "/contacts/point", contacts, 3, contact_points, {"m", "contact point"});
   put(file, open, "/contacts/vertex", contacts, 1, vertex, {"", "row index (vertex cells)"});
   for (const auto& name : options_.contact_fields) {
-    putContactField(file, open, *findField(kContactFields, name), contacts, c, rank_);
+    putContactField(file, open, *setup::findField(setup::kContactFields, name), contacts, c, rank_);
   }
   std::vector<Dataset*> all;
   for (auto& d : open) all.push_back(&d);
@@ -433,4 +435,4 @@ void XdmfSnapshotWriter::writeCollections() const {
                   xdmfContactCollection(snapshots_, options_.contact_fields));
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -33,7 +33,7 @@
 #include "polydem/output/vtk_writer.h"
 #include "polydem/output/xdmf_writer.h"
 
-namespace polydem::io {
+namespace polydem::output {
 
 inline constexpr int kSnapshotFormatVersion = 1;
 
@@ -76,4 +76,4 @@ class XdmfSnapshotWriter {
   std::map<std::int64_t, XdmfSnapshot> snapshots_;
 };
 
-}  // namespace polydem::io
+}  // namespace polydem::output

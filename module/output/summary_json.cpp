@@ -6,7 +6,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/output/output_file.h"
 
-namespace polydem::io {
+namespace polydem::output {
 
 namespace {
 
@@ -68,4 +68,4 @@ void writeJsonAtomic(const std::string& path, const nlohmann::json& value) {
   writeFileAtomic(path, text);
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -12,9 +12,9 @@
 
 #include "polydem/core/timing_pool.h"
 
-namespace polydem::io {
+namespace polydem::output {
 
-/// The outcome of one check of a scene (io::CheckSpec evaluated on the run).
+/// The outcome of one check of a scene (setup::CheckSpec evaluated on the run).
 struct CheckResult {
   std::string name;
   std::string kind;
@@ -49,4 +49,4 @@ nlohmann::json timingJson(const std::vector<TimingPool::Reduced>& rows, std::int
 /// a rename. Throws polydem::Error naming the path. Not collective: call it on one rank.
 void writeJsonAtomic(const std::string& path, const nlohmann::json& value);
 
-}  // namespace polydem::io
+}  // namespace polydem::output

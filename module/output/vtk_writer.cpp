@@ -10,7 +10,7 @@
 #include "polydem/output/output_file.h"
 #include "polydem/output/vtk_xml.h"
 
-namespace polydem::io {
+namespace polydem::output {
 
 // ---------------------------------------------------------------------------------------------
 // PolyhedraBatch
@@ -391,4 +391,4 @@ void SnapshotWriter::writeCollection(const Collection& collection) const {
   writeFileAtomic(collection.path, text);
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -32,7 +32,7 @@
 
 #include "polydem/core/types.h"
 
-namespace polydem::io {
+namespace polydem::output {
 
 /// The data of one particle in a snapshot. `displacement` is the centroid's displacement since
 /// the start of the run; speed (|velocity|) is added by the writer.
@@ -140,4 +140,4 @@ class SnapshotWriter {
   Collection particles_, contacts_;
 };
 
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -6,7 +6,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/output/output_file.h"
 
-namespace polydem::io::vtk {
+namespace polydem::output::vtk {
 
 namespace {
 
@@ -172,4 +172,4 @@ void writeParallelHeader(const std::string& path, const Piece& piece,
   writeFileAtomic(path, text);
 }
 
-}  // namespace polydem::io::vtk
+}  // namespace polydem::output::vtk

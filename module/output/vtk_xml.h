@@ -17,7 +17,7 @@
 #include <variant>
 #include <vector>
 
-namespace polydem::io::vtk {
+namespace polydem::output::vtk {
 
 using Values =
     std::variant<std::vector<double>, std::vector<std::int64_t>, std::vector<std::uint64_t>,
@@ -75,4 +75,4 @@ void writePiece(const std::string& path, const Piece& piece, bool binary);
 void writeParallelHeader(const std::string& path, const Piece& piece,
                          const std::vector<std::string>& sources);
 
-}  // namespace polydem::io::vtk
+}  // namespace polydem::output::vtk

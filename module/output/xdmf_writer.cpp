@@ -5,7 +5,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/setup/snapshot_fields.h"
 
-namespace polydem::io {
+namespace polydem::output {
 
 namespace {
 
@@ -16,15 +16,15 @@ std::string formatTime(double time) {
 }
 
 /// NumberType and Precision of an XDMF DataItem.
-std::string numberType(FieldType type) {
+std::string numberType(setup::FieldType type) {
   switch (type) {
-    case FieldType::kFloat64:
+    case setup::FieldType::kFloat64:
       return R"(NumberType="Float" Precision="8")";
-    case FieldType::kUInt64:
+    case setup::FieldType::kUInt64:
       return R"(NumberType="UInt" Precision="8")";
-    case FieldType::kInt32:
+    case setup::FieldType::kInt32:
       return R"(NumberType="Int" Precision="4")";
-    case FieldType::kUInt8:
+    case setup::FieldType::kUInt8:
       return R"(NumberType="UChar" Precision="1")";
   }
   return "";
@@ -41,12 +41,12 @@ std::string dims(std::uint64_t rows, int components) {
 }
 
 /// The attributes of a grid: `fields` of `declared`, datasets under `group`, `rows` rows.
-std::string attributes(const std::vector<SnapshotField>& declared,
+std::string attributes(const std::vector<setup::SnapshotField>& declared,
                        const std::vector<std::string>& fields, const char* center,
                        const std::string& file, const std::string& group, std::uint64_t rows) {
   std::string out;
   for (const auto& name : fields) {
-    const SnapshotField* f = findField(declared, name);
+    const setup::SnapshotField* f = setup::findField(declared, name);
     if (!f) continue;  // the scene reader refuses unknown names; nothing to describe
     out += cat("      <Attribute Name=\"", f->name, "\" AttributeType=\"",
                f->components == 1 ? "Scalar" : "Vector", "\" Center=\"", center, "\">\n");
@@ -72,7 +72,7 @@ std::string gridStart(std::int64_t step, double time) {
              formatTime(time), "\"/>\n");
 }
 
-const std::string kFloat = numberType(FieldType::kFloat64);
+const std::string kFloat = numberType(setup::FieldType::kFloat64);
 const std::string kInt64 = R"(NumberType="Int" Precision="8")";
 
 }  // namespace
@@ -87,7 +87,7 @@ std::string xdmfParticleCollection(const std::map<std::int64_t, XdmfSnapshot>& s
     out += "      </Topology>\n      <Geometry GeometryType=\"XYZ\">\n";
     out += dataItem(dims(s.points, 3), kFloat, s.file, "/mesh/points");
     out += "      </Geometry>\n";
-    out += attributes(kParticleFields, fields, "Cell", s.file, "/faces", s.faces);
+    out += attributes(setup::kParticleFields, fields, "Cell", s.file, "/faces", s.faces);
     out += "     </Grid>\n";
   }
   return out + kFooter;
@@ -105,10 +105,10 @@ std::string xdmfContactCollection(const std::map<std::int64_t, XdmfSnapshot>& sn
     out += "      </Topology>\n      <Geometry GeometryType=\"XYZ\">\n";
     out += dataItem(dims(s.contacts, 3), kFloat, s.file, "/contacts/point");
     out += "      </Geometry>\n";
-    out += attributes(kContactFields, fields, "Node", s.file, "/contacts", s.contacts);
+    out += attributes(setup::kContactFields, fields, "Node", s.file, "/contacts", s.contacts);
     out += "     </Grid>\n";
   }
   return out + kFooter;
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace polydem::io {
+namespace polydem::output {
 
 /// What the collections need to know of one snapshot file.
 struct XdmfSnapshot {
@@ -22,14 +22,14 @@ struct XdmfSnapshot {
 };
 
 /// The .xmf of the blocks: for each snapshot (by step) a grid of the faces with the cell data
-/// `fields` (names of io::kParticleFields).
+/// `fields` (names of setup::kParticleFields).
 std::string xdmfParticleCollection(const std::map<std::int64_t, XdmfSnapshot>& snapshots,
                                    const std::vector<std::string>& fields);
 
 /// The .xmf of the contacts: a grid of points (one vertex cell each) with the point data
-/// `fields` (names of io::kContactFields); snapshots without contacts are left out (an empty
+/// `fields` (names of setup::kContactFields); snapshots without contacts are left out (an empty
 /// grid is refused by some readers).
 std::string xdmfContactCollection(const std::map<std::int64_t, XdmfSnapshot>& snapshots,
                                   const std::vector<std::string>& fields);
 
-}  // namespace polydem::io
+}  // namespace polydem::output

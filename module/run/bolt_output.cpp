@@ -11,7 +11,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/output/output_file.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -31,7 +31,7 @@ void writeAtomically(const std::string& path, const std::string& text) {
 
 template <typename T, typename F>
 std::string dataArray(const char* type, const char* name, int components,
-                      const std::vector<BoltLine>& lines, F value) {
+                      const std::vector<sim::BoltLine>& lines, F value) {
   std::ostringstream out;
   out.precision(17);
   out << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\""
@@ -41,8 +41,8 @@ std::string dataArray(const char* type, const char* name, int components,
   return out.str();
 }
 
-std::string polyData(const std::vector<BoltLine>& lines, const std::vector<std::int32_t>& joints,
-                     double time) {
+std::string polyData(const std::vector<sim::BoltLine>& lines,
+                     const std::vector<std::int32_t>& joints, double time) {
   std::ostringstream out;
   out.precision(17);
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"1.0\" "
@@ -65,23 +65,23 @@ std::string polyData(const std::vector<BoltLine>& lines, const std::vector<std::
   for (std::size_t k = 1; k <= lines.size(); ++k) out << ' ' << 2 * k;
   out << "</DataArray>\n      </Lines>\n      <CellData Scalars=\"axial_force\">\n";
   out << dataArray<double>("Float64", "axial_force", 1, lines,
-                           [](const BoltLine& l) { return l.axial_force; });
+                           [](const sim::BoltLine& l) { return l.axial_force; });
   out << dataArray<double>("Float64", "shear_force", 1, lines,
-                           [](const BoltLine& l) { return l.shear_force; });
+                           [](const sim::BoltLine& l) { return l.shear_force; });
   out << dataArray<std::int32_t>("Int32", "bolt", 1, lines,
-                                 [](const BoltLine& l) { return l.bolt; });
+                                 [](const sim::BoltLine& l) { return l.bolt; });
   std::size_t k = 0;
   out << dataArray<std::int32_t>("Int32", "joint", 1, lines,
-                                 [&](const BoltLine&) { return joints[k++]; });
+                                 [&](const sim::BoltLine&) { return joints[k++]; });
   out << dataArray<int>("UInt8", "broken", 1, lines,
-                        [](const BoltLine& l) { return l.broken ? 1 : 0; });
+                        [](const sim::BoltLine& l) { return l.broken ? 1 : 0; });
   out << "      </CellData>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
   return out.str();
 }
 
 }  // namespace
 
-BoltOutput::BoltOutput(const std::string& dir, const Simulation& sim)
+BoltOutput::BoltOutput(const std::string& dir, const sim::Simulation& sim)
     : dir_(dir), root_(mpi::rank(sim.comm()) == 0), any_(!sim.bolts().empty()) {
   if (!any_ || !root_) return;
   std::filesystem::create_directories(dir_ + "/bolts");
@@ -91,9 +91,9 @@ BoltOutput::BoltOutput(const std::string& dir, const Simulation& sim)
   }
 }
 
-void BoltOutput::write(const Simulation& sim) {
+void BoltOutput::write(const sim::Simulation& sim) {
   if (!any_) return;
-  const std::vector<BoltLine> lines = sim.boltLines();  // collective
+  const std::vector<sim::BoltLine> lines = sim.boltLines();  // collective
   // Rank 0 writes alone; a failure (a full disk) ends every rank here, not in the next collective.
   std::string error;
   if (root_) {
@@ -103,10 +103,10 @@ void BoltOutput::write(const Simulation& sim) {
       error = e.what();
     }
   }
-  io::throwIfAnyRankFailed(error, sim.comm());
+  output::throwIfAnyRankFailed(error, sim.comm());
 }
 
-void BoltOutput::writeFiles(const Simulation& sim, const std::vector<BoltLine>& lines) {
+void BoltOutput::writeFiles(const sim::Simulation& sim, const std::vector<sim::BoltLine>& lines) {
   if (first_) {
     // A restart continues the collection: earlier entries up to this time stay.
     std::vector<std::string> keep;
@@ -143,4 +143,4 @@ void BoltOutput::writeCollection() const {
   writeAtomically(dir_ + "/bolts.pvd", out.str());
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

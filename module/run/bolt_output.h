@@ -14,18 +14,18 @@
 
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 class BoltOutput {
  public:
   /// Collective; nothing is written for a scene without bolts. Entries of an existing
   /// DIR/bolts.pvd (a restarted run) are kept up to the first snapshot written here.
-  BoltOutput(const std::string& dir, const Simulation& sim);
+  BoltOutput(const std::string& dir, const sim::Simulation& sim);
   /// The bolts at the current state (collective: gathers the bolted blocks' poses).
-  void write(const Simulation& sim);
+  void write(const sim::Simulation& sim);
 
  private:
-  void writeFiles(const Simulation& sim, const std::vector<BoltLine>& lines);
+  void writeFiles(const sim::Simulation& sim, const std::vector<sim::BoltLine>& lines);
   void writeCollection() const;
 
   std::string dir_;
@@ -36,4 +36,4 @@ class BoltOutput {
   bool first_ = true;
 };
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -13,11 +13,11 @@
 
 #include "polydem/run/checks.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 /// Builds the check for `spec`; throws InputError (the check's line) for a bad parameter.
 using CheckFactory = std::function<std::unique_ptr<Check>(
-    const io::Scene& scene, const io::CheckSpec& spec, Tracker& tracker)>;
+    const setup::Setup& scene, const setup::CheckSpec& spec, Tracker& tracker)>;
 
 /// Adds a kind; throws polydem::Error if `kind` is empty or already registered.
 void registerCheckKind(std::string kind, CheckFactory factory);
@@ -26,4 +26,4 @@ const CheckFactory* findCheckFactory(std::string_view kind);
 /// Every registered kind: the built-in ones first, in docs/scene-format.md's order.
 std::vector<std::string> registeredCheckKinds();
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -14,7 +14,7 @@
 #include "polydem/scene/check_kinds.h"
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -27,7 +27,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // whole truth.
 class Params {
  public:
-  Params(const io::Scene& scene, const io::CheckSpec& spec) : scene_(scene), spec_(spec) {}
+  Params(const setup::Setup& scene, const setup::CheckSpec& spec) : scene_(scene), spec_(spec) {}
 
   [[noreturn]] void fail(const std::string& message) const {
     throw InputError(scene_.file, spec_.line,
@@ -80,15 +80,15 @@ class Params {
 
  private:
   void declared(const std::string& key) const {
-    const io::CheckKind* kind = io::findCheckKind(spec_.kind);
-    if (!kind || !io::findCheckParam(*kind, key)) {
+    const scene::CheckKind* kind = scene::findCheckKind(spec_.kind);
+    if (!kind || !scene::findCheckParam(*kind, key)) {
       throw Error(cat("check kind '", spec_.kind, "' reads '", key,
                       "', which scene/check_kinds.cpp does not declare"));
     }
   }
 
-  const io::Scene& scene_;
-  const io::CheckSpec& spec_;
+  const setup::Setup& scene_;
+  const setup::CheckSpec& spec_;
 };
 
 std::string columnName(const std::string& name) {
@@ -102,14 +102,15 @@ std::string columnName(const std::string& name) {
 // Max (or final) displacement of particles, optionally along a direction.
 class DisplacementCheck : public Check {
  public:
-  DisplacementCheck(const io::Scene& scene, const io::CheckSpec& spec, Tracker& t) : Check(spec) {
+  DisplacementCheck(const setup::Setup& scene, const setup::CheckSpec& spec, Tracker& t)
+      : Check(spec) {
     Params p(scene, spec);
     uids_ = p.particles(t);
     direction_ = p.vector("direction");
     final_ = p.text("at", "max") == "end";
     if (p.text("at", "max") != "max" && !final_) p.fail("'at' must be \"max\" or \"end\"");
   }
-  void observe(const Simulation&, const Tracker& t) override {
+  void observe(const sim::Simulation&, const Tracker& t) override {
     double now = 0.0;
     for (Uid uid : uids_) {
       const int s = t.slot(uid);
@@ -118,7 +119,7 @@ class DisplacementCheck : public Check {
     }
     value_ = final_ ? now : std::max(value_, now);
   }
-  double value(Simulation&) override { return value_; }
+  double value(sim::Simulation&) override { return value_; }
   std::vector<double> state() const override { return {value_}; }
   void restore(const std::vector<double>& v) override { value_ = v.at(0); }
 
@@ -132,12 +133,12 @@ class DisplacementCheck : public Check {
 // Max rotation angle of particles, optionally about an axis only.
 class RotationCheck : public Check {
  public:
-  RotationCheck(const io::Scene& scene, const io::CheckSpec& spec, Tracker& t) : Check(spec) {
+  RotationCheck(const setup::Setup& scene, const setup::CheckSpec& spec, Tracker& t) : Check(spec) {
     Params p(scene, spec);
     uids_ = p.particles(t);
     axis_ = p.vector("axis");
   }
-  void observe(const Simulation&, const Tracker& t) override {
+  void observe(const sim::Simulation&, const Tracker& t) override {
     for (Uid uid : uids_) {
       const int s = t.slot(uid);
       const Quat& q0 = t.initial()[s].orientation;
@@ -145,7 +146,7 @@ class RotationCheck : public Check {
       value_ = std::max(value_, axis_ ? twistAngle(q0, q, *axis_) : rotationAngle(q0, q));
     }
   }
-  double value(Simulation&) override { return value_; }
+  double value(sim::Simulation&) override { return value_; }
   std::vector<double> state() const override { return {value_}; }
   void restore(const std::vector<double>& v) override { value_ = v.at(0); }
 
@@ -158,19 +159,20 @@ class RotationCheck : public Check {
 // Largest drift across `lateral` relative to the final travel along `direction`.
 class LateralDriftCheck : public Check {
  public:
-  LateralDriftCheck(const io::Scene& scene, const io::CheckSpec& spec, Tracker& t) : Check(spec) {
+  LateralDriftCheck(const setup::Setup& scene, const setup::CheckSpec& spec, Tracker& t)
+      : Check(spec) {
     Params p(scene, spec);
     uid_ = p.particles(t).front();
     direction_ = *p.vector("direction", true);
     lateral_ = *p.vector("lateral", true);
   }
-  void observe(const Simulation&, const Tracker& t) override {
+  void observe(const sim::Simulation&, const Tracker& t) override {
     const int s = t.slot(uid_);
     const Vec3 d = t.states()[s].position - t.initial()[s].position;
     drift_ = std::max(drift_, std::abs(d.dot(lateral_)));
     travel_ = d.dot(direction_);
   }
-  double value(Simulation&) override {
+  double value(sim::Simulation&) override {
     note = cat("lateral drift ", drift_, " m over a travel of ", travel_, " m");
     return travel_ > 0 ? drift_ / travel_ : kNaN;
   }
@@ -190,7 +192,7 @@ class LateralDriftCheck : public Check {
 class CurveCheck : public Check {
  public:
   using Curve = std::function<double(double)>;
-  CurveCheck(const io::CheckSpec& spec, Uid uid, Curve analytic, bool velocity, Vec3 direction,
+  CurveCheck(const setup::CheckSpec& spec, Uid uid, Curve analytic, bool velocity, Vec3 direction,
              bool relative_to_final)
       : Check(spec),
         uid_(uid),
@@ -198,7 +200,7 @@ class CurveCheck : public Check {
         velocity_(velocity),
         direction_(direction),
         relative_to_final_(relative_to_final) {}
-  void observe(const Simulation& sim, const Tracker& t) override {
+  void observe(const sim::Simulation& sim, const Tracker& t) override {
     const int s = t.slot(uid_);
     // Positions are at t, leapfrog velocities at t - dt/2: compare each at its own time.
     const double time = velocity_ ? sim.time() - 0.5 * sim.dt() : sim.time();
@@ -208,12 +210,12 @@ class CurveCheck : public Check {
     error_ = std::max(error_, std::abs(numeric_ - exact_));
     scale_ = relative_to_final_ ? std::abs(exact_) : std::max(scale_, std::abs(exact_));
   }
-  double value(Simulation&) override {
+  double value(sim::Simulation&) override {
     note = cat("max |numerical - analytical| = ", error_, ", relative to ",
                relative_to_final_ ? "the final" : "the largest", " analytical value ", scale_);
     return scale_ > 0 ? error_ / scale_ : kNaN;
   }
-  std::vector<std::pair<std::string, double>> seriesColumns(const Simulation&) const override {
+  std::vector<std::pair<std::string, double>> seriesColumns(const sim::Simulation&) const override {
     const std::string base = columnName(spec_.name);
     return {{base, numeric_}, {base + "_analytic", exact_}};
   }
@@ -236,7 +238,8 @@ class CurveCheck : public Check {
 
 // Zhao eqs. 41-42: launched up an incline at u0, decelerated by gravity and friction, then either
 // held by friction (tan(theta) <= mu) or sliding back down. s and u along `direction` (up-slope).
-std::unique_ptr<Check> slidingBlock(const io::Scene& scene, const io::CheckSpec& spec, Tracker& t) {
+std::unique_ptr<Check> slidingBlock(const setup::Setup& scene, const setup::CheckSpec& spec,
+                                    Tracker& t) {
   Params p(scene, spec);
   const Uid uid = p.particles(t).front();
   const double theta = degToRad(p.number("theta"));
@@ -269,7 +272,8 @@ std::unique_ptr<Check> slidingBlock(const io::Scene& scene, const io::CheckSpec&
 }
 
 // Zhao eq. 45: a frictionless wedge sliding down the intersection line of two planes.
-std::unique_ptr<Check> wedgeSlide(const io::Scene& scene, const io::CheckSpec& spec, Tracker& t) {
+std::unique_ptr<Check> wedgeSlide(const setup::Setup& scene, const setup::CheckSpec& spec,
+                                  Tracker& t) {
   Params p(scene, spec);
   const Uid uid = p.particles(t).front();
   const double theta = degToRad(p.number("theta"));
@@ -282,10 +286,11 @@ std::unique_ptr<Check> wedgeSlide(const io::Scene& scene, const io::CheckSpec& s
 // Kinetic energy after the first contact of a particle ends, over the energy just before it began.
 class EnergyRatioCheck : public Check {
  public:
-  EnergyRatioCheck(const io::Scene& scene, const io::CheckSpec& spec, Tracker& t) : Check(spec) {
+  EnergyRatioCheck(const setup::Setup& scene, const setup::CheckSpec& spec, Tracker& t)
+      : Check(spec) {
     uid_ = Params(scene, spec).particles(t).front();
   }
-  void observe(const Simulation&, const Tracker& t) override {
+  void observe(const sim::Simulation&, const Tracker& t) override {
     const auto& s = t.states()[t.slot(uid_)];
     if (phase_ == 0 && s.contacts == 0) before_ = s.kinetic_energy;
     if (phase_ == 0 && s.contacts > 0) phase_ = 1;
@@ -294,7 +299,7 @@ class EnergyRatioCheck : public Check {
       phase_ = 2;
     }
   }
-  double value(Simulation&) override {
+  double value(sim::Simulation&) override {
     if (phase_ < 2) {
       note = phase_ == 0 ? "the particle never touched anything" : "the contact never ended";
       return kNaN;
@@ -318,16 +323,17 @@ class EnergyRatioCheck : public Check {
 // First time a particle that was in contact has no contact left.
 class SeparationCheck : public Check {
  public:
-  SeparationCheck(const io::Scene& scene, const io::CheckSpec& spec, Tracker& t) : Check(spec) {
+  SeparationCheck(const setup::Setup& scene, const setup::CheckSpec& spec, Tracker& t)
+      : Check(spec) {
     uid_ = Params(scene, spec).particles(t).front();
   }
-  void observe(const Simulation& sim, const Tracker& t) override {
+  void observe(const sim::Simulation& sim, const Tracker& t) override {
     const int contacts = t.states()[t.slot(uid_)].contacts;
     if (contacts > 0) touched_ = true;
     // A step's contacts are those of the positions at its start, time() - dt.
     if (touched_ && contacts == 0 && std::isnan(time_)) time_ = sim.time() - sim.dt();
   }
-  double value(Simulation&) override {
+  double value(sim::Simulation&) override {
     if (std::isnan(time_)) note = touched_ ? "still in contact at the end" : "never in contact";
     return time_;
   }
@@ -346,16 +352,16 @@ class SeparationCheck : public Check {
 // Values read at the end of the run.
 class FinalCheck : public Check {
  public:
-  FinalCheck(const io::CheckSpec& spec, std::function<double(Simulation&, std::string&)> f)
+  FinalCheck(const setup::CheckSpec& spec, std::function<double(sim::Simulation&, std::string&)> f)
       : Check(spec), f_(std::move(f)) {}
-  void observe(const Simulation&, const Tracker&) override {}
-  double value(Simulation& sim) override { return f_(sim, note); }
+  void observe(const sim::Simulation&, const Tracker&) override {}
+  double value(sim::Simulation& sim) override { return f_(sim, note); }
 
  private:
-  std::function<double(Simulation&, std::string&)> f_;
+  std::function<double(sim::Simulation&, std::string&)> f_;
 };
 
-double equilibriumSteps(Simulation& sim, std::string& note) {
+double equilibriumSteps(sim::Simulation& sim, std::string& note) {
   if (!sim.scene().equilibrium.enabled) {
     note = "the scene has no [equilibrium] stage";
     return kNaN;
@@ -368,7 +374,7 @@ double equilibriumSteps(Simulation& sim, std::string& note) {
   return static_cast<double>(sim.equilibriumSteps());
 }
 
-double maxContactForce(Simulation& sim, const std::optional<Vec3>& axis, std::string& note) {
+double maxContactForce(sim::Simulation& sim, const std::optional<Vec3>& axis, std::string& note) {
   const Vec3 down = axis ? *axis : sim.scene().gravity.normalized();
   double largest = 0.0, weight = 0.0;
   std::int64_t free_particles = 0;
@@ -396,7 +402,7 @@ double maxContactForce(Simulation& sim, const std::optional<Vec3>& axis, std::st
 
 }  // namespace
 
-Uid uidOfLabel(const io::Scene& scene, const std::string& label) {
+Uid uidOfLabel(const setup::Setup& scene, const std::string& label) {
   for (const auto& p : scene.particles) {
     if (p.label == label) return p.uid;
   }
@@ -411,15 +417,16 @@ struct KindEntry {
 };
 
 // A kind of check whose whole value is read from the simulation at the end.
-CheckFactory atTheEnd(std::function<double(Simulation&, std::string&)> value) {
-  return [value](const io::Scene&, const io::CheckSpec& spec, Tracker&) -> std::unique_ptr<Check> {
+CheckFactory atTheEnd(std::function<double(sim::Simulation&, std::string&)> value) {
+  return [value](const setup::Setup&, const setup::CheckSpec& spec,
+                 Tracker&) -> std::unique_ptr<Check> {
     return std::make_unique<FinalCheck>(spec, value);
   };
 }
 
 template <typename C>
 CheckFactory tracked() {
-  return [](const io::Scene& scene, const io::CheckSpec& spec,
+  return [](const setup::Setup& scene, const setup::CheckSpec& spec,
             Tracker& t) -> std::unique_ptr<Check> { return std::make_unique<C>(scene, spec, t); };
 }
 
@@ -435,17 +442,18 @@ std::vector<KindEntry>& registry() {
       {"separation_time", tracked<SeparationCheck>()},
       {"equilibrium_steps", atTheEnd(equilibriumSteps)},
       {"mean_speed",
-       atTheEnd([](Simulation& sim, std::string&) { return sim.monitors().mean_speed; })},
+       atTheEnd([](sim::Simulation& sim, std::string&) { return sim.monitors().mean_speed; })},
       {"max_speed",
-       atTheEnd([](Simulation& sim, std::string&) { return sim.monitors().max_speed; })},
+       atTheEnd([](sim::Simulation& sim, std::string&) { return sim.monitors().max_speed; })},
       // Touching pairs at the end, each once: cubes pushing their neighbours make new contacts.
-      {"contact_count", atTheEnd([](Simulation& sim, std::string&) {
+      {"contact_count", atTheEnd([](sim::Simulation& sim, std::string&) {
          return static_cast<double>(sim.monitors().contacts);
        })},
       {"max_contact_force",
-       [](const io::Scene& scene, const io::CheckSpec& spec, Tracker&) -> std::unique_ptr<Check> {
+       [](const setup::Setup& scene, const setup::CheckSpec& spec,
+          Tracker&) -> std::unique_ptr<Check> {
          const auto axis = Params(scene, spec).vector("axis");
-         return std::make_unique<FinalCheck>(spec, [axis](Simulation& sim, std::string& note) {
+         return std::make_unique<FinalCheck>(spec, [axis](sim::Simulation& sim, std::string& note) {
            return maxContactForce(sim, axis, note);
          });
        }},
@@ -480,11 +488,11 @@ std::vector<std::string> registeredCheckKinds() {
   return kinds;
 }
 
-std::vector<std::unique_ptr<Check>> makeChecks(const io::Scene& scene, Tracker& tracker) {
+std::vector<std::unique_ptr<Check>> makeChecks(const setup::Setup& scene, Tracker& tracker) {
   std::vector<std::unique_ptr<Check>> checks;
   for (const auto& spec : scene.checks) {
     const CheckFactory* make = findCheckFactory(spec.kind);
-    if (!make) Params(scene, spec).fail("unknown kind; known kinds: " + io::checkKindNames());
+    if (!make) Params(scene, spec).fail("unknown kind; known kinds: " + scene::checkKindNames());
     auto check = (*make)(scene, spec, tracker);
     if (!check) {
       throw Error(cat("check kind '", spec.kind, "' built no check for '", spec.name, "'"));
@@ -494,27 +502,27 @@ std::vector<std::unique_ptr<Check>> makeChecks(const io::Scene& scene, Tracker& 
   return checks;
 }
 
-std::vector<io::CheckResult> evaluateChecks(std::vector<std::unique_ptr<Check>>& checks,
-                                            Simulation& sim) {
-  std::vector<io::CheckResult> results;
+std::vector<output::CheckResult> evaluateChecks(std::vector<std::unique_ptr<Check>>& checks,
+                                                sim::Simulation& sim) {
+  std::vector<output::CheckResult> results;
   for (auto& c : checks) {
     const auto& s = c->spec();
-    io::CheckResult r;
+    output::CheckResult r;
     r.name = s.name;
     r.kind = s.kind;
     r.value = c->value(sim);
-    if (const io::CheckKind* kind = io::findCheckKind(s.kind)) {
-      r.unit = io::storedUnit(io::valueQuantity(*kind, s));
+    if (const scene::CheckKind* kind = scene::findCheckKind(s.kind)) {
+      r.unit = scene::storedUnit(scene::valueQuantity(*kind, s));
     }
     r.expected = s.expected;
     r.tolerance = s.tolerance;
     r.compare = s.compare;
     r.reference = s.reference;
     r.note = c->note;
-    r.pass = io::checkPasses(s.compare, r.value, s.expected, s.tolerance);
+    r.pass = output::checkPasses(s.compare, r.value, s.expected, s.tolerance);
     results.push_back(r);
   }
   return results;
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -4,7 +4,7 @@
 
 #include "polydem/core/mpi_env.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -17,7 +17,7 @@ struct MovedSums {
 
 }  // namespace
 
-void sumContactsByParticle(const Simulation& sim, std::vector<std::int32_t>& count,
+void sumContactsByParticle(const sim::Simulation& sim, std::vector<std::int32_t>& count,
                            std::vector<Vec3>& force) {
   const auto& storage = sim.particles();
   count.assign(storage.localCount(), 0);
@@ -53,4 +53,4 @@ void sumContactsByParticle(const Simulation& sim, std::vector<std::int32_t>& cou
   }
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

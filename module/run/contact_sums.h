@@ -7,7 +7,7 @@
 
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 /// Fills count[i] and force[i] for every local particle i of sim.particles(). The contact
 /// records hold the storage indices of the contact phase, which the exchange at the end of the
@@ -15,7 +15,7 @@ namespace polydem::sim {
 /// contacts are summed, in key order, on the rank that owned it during the contact phase, and
 /// the sums of particles that have since migrated are sent to their new owners. The result is
 /// the same on any rank count. Collective.
-void sumContactsByParticle(const Simulation& sim, std::vector<std::int32_t>& count,
+void sumContactsByParticle(const sim::Simulation& sim, std::vector<std::int32_t>& count,
                            std::vector<Vec3>& force);
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

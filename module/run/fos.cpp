@@ -15,11 +15,11 @@
 #include "polydem/particles/material.h"
 #include "polydem/run/run_checkpoint.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
-particles::MaterialTable materialTable(const io::Scene& scene) {
+particles::MaterialTable materialTable(const setup::Setup& scene) {
   particles::MaterialTable table;
   for (const auto& m : scene.materials) table.add(m);
   for (const auto& i : scene.interactions) table.setInteraction(i.a, i.b, i.properties);
@@ -199,12 +199,12 @@ void takePrior(const FosResult& prior, FosResult& r, std::vector<FosTrial>& cut_
 
 }  // namespace
 
-io::Scene reduceStrength(const io::Scene& scene, double factor) {
+setup::Setup reduceStrength(const setup::Setup& scene, double factor) {
   if (!(factor > 0.0) || !std::isfinite(factor)) {
     throw Error(cat("strength reduction: the factor must be > 0, got ", factor));
   }
   const particles::MaterialTable table = materialTable(scene);
-  io::Scene out = scene;
+  setup::Setup out = scene;
   for (const auto& [a, b] : reducedPairs(scene)) {
     particles::ContactProperties p = table.pair(a, b);
     p.friction_angle = radToDeg(std::atan(std::tan(degToRad(p.friction_angle)) / factor));
@@ -244,7 +244,7 @@ std::optional<double> FosResult::factor() const {
   return 0.5 * (*stable + *failed);
 }
 
-FosResult findFactorOfSafety(const io::Scene& scene, const FosCriterion& criterion, int groups,
+FosResult findFactorOfSafety(const setup::Setup& scene, const FosCriterion& criterion, int groups,
                              MPI_Comm comm, const FosResult* prior) {
   const int ranks = mpi::size(comm), rank = mpi::rank(comm);
   if (groups < 1 || ranks % groups != 0) {
@@ -354,4 +354,4 @@ FosResult findFactorOfSafety(const io::Scene& scene, const FosCriterion& criteri
   return r;
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

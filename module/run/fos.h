@@ -55,25 +55,29 @@
 #include "polydem/sim/saved_state.h"
 
 namespace polydem::sim {
+class Simulation;
+}  // namespace polydem::sim
+
+namespace polydem::run {
 
 /// The scene with the strength of what [fos] reduces (reducedPairs, reducedJoints) divided by
 /// `factor`: each such pair becomes an explicit [[interaction]] with friction angle
 /// atan(tan(phi) / factor) and cohesion c / factor; stiffness and damping are unchanged. Each
 /// such [[joint]] is reduced likewise (its tensile strength too, as cohesion).
-io::Scene reduceStrength(const io::Scene& scene, double factor);
+setup::Setup reduceStrength(const setup::Setup& scene, double factor);
 
 /// What [fos] reduces (run/fos_selection.cpp). Naming `interactions` or `joints` reduces only
 /// what is named; naming neither reduces every material pair and every [[joint]] that a contact
 /// of a free block can use (pairUsable, jointUsable): never one only fixed bodies share.
 /// The material pairs reduced (lower index first).
-std::vector<std::pair<int, int>> reducedPairs(const io::Scene& scene);
+std::vector<std::pair<int, int>> reducedPairs(const setup::Setup& scene);
 /// The [[joint]]s reduced (indices into scene.joints, in [fos] or file order).
-std::vector<int> reducedJoints(const io::Scene& scene);
+std::vector<int> reducedJoints(const setup::Setup& scene);
 /// Whether some contact can be between materials a and b: two particles of these materials, at
 /// least one of them free (fixed and driven bodies never meet each other's forces).
-bool pairUsable(const io::Scene& scene, int a, int b);
+bool pairUsable(const setup::Setup& scene, int a, int b);
 /// Whether some free block has a face on a plane that takes [[joint]] `joint`.
-bool jointUsable(const io::Scene& scene, int joint);
+bool jointUsable(const setup::Setup& scene, int joint);
 
 /// The fewest steps a trial may have (max_time / dt): the contacts' elastic transients, a few
 /// periods of the stiffest contact at the usual 10 to 50 steps a period, must have died out
@@ -108,7 +112,7 @@ struct FosCriterion {
 /// steps, a check_every that leaves the window fewer than kFosMinWindowChecks evaluations, or
 /// an interaction that no contact of the scene can use (no free particle of one of its
 /// materials beside a particle of the other).
-FosCriterion fosCriterion(const io::Scene& scene);
+FosCriterion fosCriterion(const setup::Setup& scene);
 
 struct FosSample {
   double time = 0.0;               // s since the trial's start
@@ -138,8 +142,6 @@ struct FosTrial {
   bool decided() const { return stable() || failed(); }
 };
 
-class Simulation;
-
 /// Watches a trial as it runs (the mechanism of a failed trial, run/fos_mechanism.h): after the
 /// initial equilibrium, after every evaluation of the criterion, and once the trial is decided,
 /// with the simulation in the state the trial's result (and state hash) describes. Not called
@@ -147,14 +149,14 @@ class Simulation;
 class FosTrialObserver {
  public:
   virtual ~FosTrialObserver() = default;
-  virtual void started(Simulation& sim) = 0;
-  virtual void checked(Simulation& sim) = 0;
-  virtual void decided(Simulation& sim, const FosTrial& trial) = 0;
+  virtual void started(sim::Simulation& sim) = 0;
+  virtual void checked(sim::Simulation& sim) = 0;
+  virtual void decided(sim::Simulation& sim, const FosTrial& trial) = 0;
 };
 
 /// The settled state of the unreduced slope every trial starts from (settleForFos).
 struct FosStart {
-  CheckpointData state;  // this rank's part, as Simulation::checkpoint() takes it
+  sim::CheckpointData state;  // this rank's part, as Simulation::checkpoint() takes it
   std::int64_t steps = 0;
   bool reached = false;      // R fell below the stage's force ratio (else: its step cap)
   bool interrupted = false;  // a stop signal ended it: no trial can start from it
@@ -169,17 +171,17 @@ struct FosStart {
 /// steps as a trial is: it ends when a trial would be stable (or R falls below the stage's
 /// threshold), velocities zeroed; `moved` when a trial would have failed. Collective over
 /// `comm`; the same bits on any rank count.
-FosStart settleForFos(const io::Scene& scene, const FosCriterion& criterion, MPI_Comm comm);
+FosStart settleForFos(const setup::Setup& scene, const FosCriterion& criterion, MPI_Comm comm);
 
 /// One trial of `scene` at `factor` on `comm` (collective), from `start` (settleForFos of the
 /// same scene on a communicator of the same size as `comm`). The result is the same bits on any
 /// rank count, wall_seconds and group aside, with or without an observer. A stop signal
 /// received by a rank of `comm` ends it after the current step with outcome "interrupted".
-FosTrial runFosTrial(const io::Scene& scene, const FosStart& start, double factor,
+FosTrial runFosTrial(const setup::Setup& scene, const FosStart& start, double factor,
                      const FosCriterion& criterion, MPI_Comm comm,
                      FosTrialObserver* observer = nullptr);
 /// The same, settling the scene first (the same bits as a trial of a search).
-FosTrial runFosTrial(const io::Scene& scene, double factor, const FosCriterion& criterion,
+FosTrial runFosTrial(const setup::Setup& scene, double factor, const FosCriterion& criterion,
                      MPI_Comm comm, FosTrialObserver* observer = nullptr);
 
 struct FosResult {
@@ -204,7 +206,7 @@ struct FosResult {
 /// every rank returns the whole result). `groups` must divide the rank count. `resolution`,
 /// `f_min`, `f_max` come from the scene's [fos]. `prior`: the result of a search of the same
 /// scene and settings that a signal stopped; its trials are taken as run, not run again.
-FosResult findFactorOfSafety(const io::Scene& scene, const FosCriterion& criterion, int groups,
+FosResult findFactorOfSafety(const setup::Setup& scene, const FosCriterion& criterion, int groups,
                              MPI_Comm comm, const FosResult* prior = nullptr);
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

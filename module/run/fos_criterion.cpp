@@ -7,12 +7,12 @@
 #include "polydem/core/strings.h"
 #include "polydem/run/fos.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
-void checkInteractions(const io::Scene& scene) {
-  const io::FosSpec& f = scene.fos;
+void checkInteractions(const setup::Setup& scene) {
+  const setup::FosSpec& f = scene.fos;
   for (std::size_t i = 0; i < f.interactions.size(); ++i) {
     const auto [a, b] = f.interactions[i];
     if (pairUsable(scene, a, b)) continue;
@@ -28,8 +28,8 @@ void checkInteractions(const io::Scene& scene) {
 }
 
 // A named joint must be one a contact of a free block can take, and something must be reduced.
-void checkJoints(const io::Scene& scene) {
-  const io::FosSpec& f = scene.fos;
+void checkJoints(const setup::Setup& scene) {
+  const setup::FosSpec& f = scene.fos;
   if (!f.joints_named) return;
   if (f.joints.empty() && f.interactions.empty()) {
     throw InputError(scene.file, f.line,
@@ -47,8 +47,8 @@ void checkJoints(const io::Scene& scene) {
 }
 
 // The trial must be long enough to be judged, and the window must hold several evaluations.
-void checkLengths(const io::Scene& scene, const FosCriterion& c) {
-  const io::FosSpec& f = scene.fos;
+void checkLengths(const setup::Setup& scene, const FosCriterion& c) {
+  const setup::FosSpec& f = scene.fos;
   const double dt = scene.dt;
   const double trial_steps = c.max_time / dt;
   if (trial_steps < static_cast<double>(kFosMinTrialSteps)) {
@@ -78,8 +78,8 @@ void checkLengths(const io::Scene& scene, const FosCriterion& c) {
 
 }  // namespace
 
-FosCriterion fosCriterion(const io::Scene& scene) {
-  const io::FosSpec& f = scene.fos;
+FosCriterion fosCriterion(const setup::Setup& scene) {
+  const setup::FosSpec& f = scene.fos;
   FosCriterion c;
   if (!f.max_time) {
     throw InputError(scene.file, f.line,
@@ -125,4 +125,4 @@ std::string FosCriterion::describe() const {
   return s;
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

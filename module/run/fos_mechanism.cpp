@@ -17,7 +17,7 @@
 #include "polydem/run/tracker.h"
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -37,7 +37,7 @@ struct Pose {
 };
 
 // Every particle's pose, by uid, on every rank (collective).
-std::vector<Pose> gatherPoses(const Simulation& sim) {
+std::vector<Pose> gatherPoses(const sim::Simulation& sim) {
   std::vector<PoseRow> mine;
   const auto& storage = sim.particles();
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
@@ -63,7 +63,7 @@ struct ContactRow {
   std::int32_t joint;
 };
 
-std::vector<ContactRow> gatherContacts(const Simulation& sim) {
+std::vector<ContactRow> gatherContacts(const sim::Simulation& sim) {
   std::vector<ContactRow> mine;
   for (const auto& r : sim.contacts().records()) {
     if (!r.touching || !r.a_is_local) continue;
@@ -84,7 +84,7 @@ Vec3 pointDisplacement(const Pose& start, const Pose& now, const Vec3& p) {
 }
 
 // The largest reach / size of the free blocks (collective).
-double largestReachFraction(const Simulation& sim, const std::vector<Pose>& start) {
+double largestReachFraction(const sim::Simulation& sim, const std::vector<Pose>& start) {
   double local = 0.0;
   const auto& storage = sim.particles();
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
@@ -105,7 +105,7 @@ int receivedSignal(MPI_Comm comm) {
   return global;
 }
 
-std::string interactionName(const io::Scene& scene, int joint, int a, int b) {
+std::string interactionName(const setup::Setup& scene, int joint, int a, int b) {
   if (joint >= 0) return scene.joints[joint].name;
   return scene.materials[a].name + "/" + scene.materials[b].name;
 }
@@ -113,7 +113,7 @@ std::string interactionName(const io::Scene& scene, int joint, int a, int b) {
 // The measures of the header, from the poses at the start and the end and the contacts at the end.
 class MechanismMeter {
  public:
-  MechanismMeter(const io::Scene& scene, const std::vector<Pose>& start,
+  MechanismMeter(const setup::Setup& scene, const std::vector<Pose>& start,
                  const std::vector<Pose>& now, const std::vector<ContactRow>& contacts)
       : scene_(scene), start_(start), now_(now), contacts_(contacts) {
     material_.assign(now.size(), -1);
@@ -301,7 +301,7 @@ class MechanismMeter {
     return others.empty() ? s : cat(s, " (", others, ")");
   }
 
-  const io::Scene& scene_;
+  const setup::Setup& scene_;
   const std::vector<Pose>& start_;
   const std::vector<Pose>& now_;
   const std::vector<ContactRow>& contacts_;
@@ -327,11 +327,11 @@ std::string blocksCsv(const FosMechanism& m) {
 // Snapshots and series along the trial, the run-on past its decision, and the measures.
 class MechanismObserver : public FosTrialObserver {
  public:
-  MechanismObserver(const io::Scene& scene, const FosCriterion& c, const FosTrial& failed,
-                    FosMechanism& m, const std::function<void(Simulation&)>& then)
+  MechanismObserver(const setup::Setup& scene, const FosCriterion& c, const FosTrial& failed,
+                    FosMechanism& m, const std::function<void(sim::Simulation&)>& then)
       : scene_(scene), criterion_(c), failed_(failed), m_(m), then_(then) {}
 
-  void started(Simulation& sim) override {
+  void started(sim::Simulation& sim) override {
     t0_ = sim.time();
     const std::vector<std::unique_ptr<Check>> none;
     output_ = std::make_unique<RunOutput>(m_.dir, sim, tracker_,
@@ -339,13 +339,13 @@ class MechanismObserver : public FosTrialObserver {
     snapshot(sim);
   }
 
-  void checked(Simulation& sim) override {
+  void checked(sim::Simulation& sim) override {
     const std::vector<std::unique_ptr<Check>> none;
     output_->writeSeries(sim, tracker_, none);
     if (sim.time() - t0_ >= next_snapshot_) snapshot(sim);
   }
 
-  void decided(Simulation& sim, const FosTrial& trial) override {
+  void decided(sim::Simulation& sim, const FosTrial& trial) override {
     m_.same_bits = trial.state_hash == failed_.state_hash;
     m_.decided_time = trial.time;
     const std::vector<Pose> at_decision = gatherPoses(sim);
@@ -381,17 +381,17 @@ class MechanismObserver : public FosTrialObserver {
   }
 
  private:
-  void snapshot(Simulation& sim) {
+  void snapshot(sim::Simulation& sim) {
     output_->writeSnapshot(sim);
     ++m_.snapshots;
     next_snapshot_ += criterion_.max_time / kSnapshotsPerMaxTime;
   }
 
-  const io::Scene& scene_;
+  const setup::Setup& scene_;
   const FosCriterion& criterion_;
   const FosTrial& failed_;
   FosMechanism& m_;
-  const std::function<void(Simulation&)>& then_;
+  const std::function<void(sim::Simulation&)>& then_;
   Tracker tracker_;
   std::unique_ptr<RunOutput> output_;
   double t0_ = 0.0, next_snapshot_ = 0.0;
@@ -399,13 +399,13 @@ class MechanismObserver : public FosTrialObserver {
 
 }  // namespace
 
-FosMechanism runFosMechanism(const io::Scene& scene, const FosTrial& failed,
+FosMechanism runFosMechanism(const setup::Setup& scene, const FosTrial& failed,
                              const FosCriterion& criterion, const std::string& dir, MPI_Comm comm,
-                             const std::function<void(Simulation&)>& then) {
+                             const std::function<void(sim::Simulation&)>& then) {
   FosMechanism m;
   m.factor = failed.factor;
   m.dir = dir;
-  io::Scene shown = scene;
+  setup::Setup shown = scene;
   shown.output.snapshot_format = "xdmf";  // what the picture and ParaView read
   MechanismObserver observer(shown, criterion, failed, m, then);
   const FosTrial t = runFosTrial(shown, failed.factor, criterion, comm, &observer);
@@ -417,13 +417,13 @@ FosMechanism runFosMechanism(const io::Scene& scene, const FosTrial& failed,
   std::string error;
   if (mpi::rank(comm) == 0) {
     try {
-      io::writeFileAtomic(dir + "/blocks.csv", blocksCsv(m));
+      output::writeFileAtomic(dir + "/blocks.csv", blocksCsv(m));
     } catch (const Error& e) {
       error = e.what();
     }
   }
-  io::throwIfAnyRankFailed(error, comm);
+  output::throwIfAnyRankFailed(error, comm);
   return m;
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

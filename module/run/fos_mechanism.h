@@ -37,7 +37,7 @@
 #include "polydem/run/fos.h"
 #include "polydem/setup/setup.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 /// A block moves (a contact slips) when its reach (slip) is at least this share of the largest,
 constexpr double kMoveShare = 0.1;
@@ -96,8 +96,8 @@ struct FosMechanism {
 /// series.csv and blocks.csv in `dir`, on past its decision (see above), and measures its
 /// mechanism. Every rank returns the whole result. `then`, if given, gets the simulation at the
 /// end of the run-on (collective): `polydem fos --runout` runs the failure on from there.
-FosMechanism runFosMechanism(const io::Scene& scene, const FosTrial& failed,
+FosMechanism runFosMechanism(const setup::Setup& scene, const FosTrial& failed,
                              const FosCriterion& criterion, const std::string& dir, MPI_Comm comm,
-                             const std::function<void(Simulation&)>& then = nullptr);
+                             const std::function<void(sim::Simulation&)>& then = nullptr);
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -6,7 +6,7 @@
 
 #include "polydem/run/fos.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -16,7 +16,7 @@ bool isFree(const setup::ParticleSpec& p) {
 
 }  // namespace
 
-bool pairUsable(const io::Scene& scene, int a, int b) {
+bool pairUsable(const setup::Setup& scene, int a, int b) {
   bool free_a = false, free_b = false;
   int count_a = 0, count_b = 0;
   for (const auto& p : scene.particles) {
@@ -33,7 +33,7 @@ bool pairUsable(const io::Scene& scene, int a, int b) {
   return count_a >= 1 && count_b >= 1 && (free_a || free_b);
 }
 
-bool jointUsable(const io::Scene& scene, int joint) {
+bool jointUsable(const setup::Setup& scene, int joint) {
   for (const auto& p : scene.particles) {
     if (!isFree(p) || p.shape < 0) continue;
     for (const auto& face : scene.shapes[p.shape].face_planes) {
@@ -46,8 +46,8 @@ bool jointUsable(const io::Scene& scene, int joint) {
   return false;
 }
 
-std::vector<std::pair<int, int>> reducedPairs(const io::Scene& scene) {
-  const io::FosSpec& f = scene.fos;
+std::vector<std::pair<int, int>> reducedPairs(const setup::Setup& scene) {
+  const setup::FosSpec& f = scene.fos;
   if (!f.interactions.empty()) return f.interactions;
   if (f.joints_named) return {};  // only the joints named
   std::vector<std::pair<int, int>> pairs;
@@ -60,8 +60,8 @@ std::vector<std::pair<int, int>> reducedPairs(const io::Scene& scene) {
   return pairs;
 }
 
-std::vector<int> reducedJoints(const io::Scene& scene) {
-  const io::FosSpec& f = scene.fos;
+std::vector<int> reducedJoints(const setup::Setup& scene) {
+  const setup::FosSpec& f = scene.fos;
   if (f.joints_named) return f.joints;
   if (!f.interactions.empty()) return {};  // only the pairs named
   std::vector<int> joints;
@@ -71,4 +71,4 @@ std::vector<int> reducedJoints(const io::Scene& scene) {
   return joints;
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -14,7 +14,7 @@
 #include "polydem/run/run_checkpoint.h"
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -33,7 +33,7 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 // rank: the start poses by uid are summed over the ranks once (each block has one owner).
 class TrialMeter {
  public:
-  TrialMeter(const Simulation& sim, const std::string& label_prefix) {
+  TrialMeter(const sim::Simulation& sim, const std::string& label_prefix) {
     Uid top = 0;
     for (const auto& p : sim.scene().particles) top = std::max(top, p.uid);
     const std::size_t n = top + 1;
@@ -68,7 +68,7 @@ class TrialMeter {
   }
 
   // Collective: the sample at `time` (s since the trial's start) with the force ratio given.
-  FosSample measure(const Simulation& sim, double time, double force_ratio,
+  FosSample measure(const sim::Simulation& sim, double time, double force_ratio,
                     double& max_displacement) const {
     ExactSum displacement, speed;
     double local_max[3] = {0.0, 0.0, 0.0};  // displacement, speed, reach / size
@@ -166,9 +166,9 @@ std::string judge(const std::vector<FosSample>& h, const Peaks& peak, const FosC
 
 }  // namespace
 
-FosStart settleForFos(const io::Scene& scene, const FosCriterion& criterion, MPI_Comm comm) {
+FosStart settleForFos(const setup::Setup& scene, const FosCriterion& criterion, MPI_Comm comm) {
   const auto wall0 = std::chrono::steady_clock::now();
-  io::Scene settle = scene;
+  setup::Setup settle = scene;
   if (!settle.equilibrium.enabled) {
     settle.equilibrium = setup::EquilibriumSpec{};
     settle.equilibrium.enabled = true;
@@ -176,7 +176,7 @@ FosStart settleForFos(const io::Scene& scene, const FosCriterion& criterion, MPI
     settle.equilibrium.max_steps =
         std::max<std::int64_t>(kFosMinTrialSteps, std::llround(criterion.time_cap / scene.dt));
   }
-  Simulation sim(settle, comm);
+  sim::Simulation sim(settle, comm);
   // Judged as a trial is, from where the scene put the blocks: settled when the force ratio
   // falls below the stage's (the stage ends itself) or the blocks have stopped moving; a slope
   // that leaves its place meanwhile (a column that topples whatever its friction) stands at no
@@ -202,7 +202,7 @@ FosStart settleForFos(const io::Scene& scene, const FosCriterion& criterion, MPI
   });
   start.steps = sim.runEquilibrium();
   sim.setStepHook(nullptr);
-  start.interrupted = sim.stage() == Stage::kEquilibrium && !start.moved && !still;
+  start.interrupted = sim.stage() == sim::Stage::kEquilibrium && !start.moved && !still;
   start.reached = sim.equilibriumReached() || still;
   if (!start.interrupted && !start.moved) {
     start.state = sim.checkpoint("", scene.file, "");
@@ -217,7 +217,7 @@ FosStart settleForFos(const io::Scene& scene, const FosCriterion& criterion, MPI
     if (still) {
       // Stopped by the hook, the stage is still open: end it as runEquilibrium does, the main
       // stage at step 0 and time 0, velocities zeroed when the stage says so.
-      start.state.stage = CheckpointStage::kMain;
+      start.state.stage = sim::CheckpointStage::kMain;
       start.state.step = 0;
       start.state.time = 0.0;
       start.state.time_digits = ExactSum().digits();
@@ -236,7 +236,7 @@ FosStart settleForFos(const io::Scene& scene, const FosCriterion& criterion, MPI
   return start;
 }
 
-FosTrial runFosTrial(const io::Scene& scene, const FosStart& start, double factor,
+FosTrial runFosTrial(const setup::Setup& scene, const FosStart& start, double factor,
                      const FosCriterion& criterion, MPI_Comm comm, FosTrialObserver* observer) {
   const auto wall0 = std::chrono::steady_clock::now();
   FosTrial t;
@@ -245,15 +245,15 @@ FosTrial runFosTrial(const io::Scene& scene, const FosStart& start, double facto
     t.outcome = "interrupted";
     return t;
   }
-  io::Scene reduced = reduceStrength(scene, factor);
+  setup::Setup reduced = reduceStrength(scene, factor);
   for (auto& m : reduced.materials) m.local_damping = criterion.local_damping;  // static solution
   reduced.end_time.reset();
   reduced.steps.reset();
-  std::unique_ptr<Simulation> simulation =
-      start.moved ? std::make_unique<Simulation>(reduced, comm)
-                  : std::make_unique<Simulation>(reduced, start.state,
-                                                 "the settled state of " + scene.file, comm);
-  Simulation& sim = *simulation;
+  std::unique_ptr<sim::Simulation> simulation =
+      start.moved ? std::make_unique<sim::Simulation>(reduced, comm)
+                  : std::make_unique<sim::Simulation>(reduced, start.state,
+                                                      "the settled state of " + scene.file, comm);
+  sim::Simulation& sim = *simulation;
   if (start.moved) {  // from the scene as placed, after its own [equilibrium] if it has one
     sim.setStepHook([comm] { return stopRequested(comm); });
     sim.runEquilibrium();
@@ -299,10 +299,10 @@ FosTrial runFosTrial(const io::Scene& scene, const FosStart& start, double facto
   return t;
 }
 
-FosTrial runFosTrial(const io::Scene& scene, double factor, const FosCriterion& criterion,
+FosTrial runFosTrial(const setup::Setup& scene, double factor, const FosCriterion& criterion,
                      MPI_Comm comm, FosTrialObserver* observer) {
   const FosStart start = settleForFos(scene, criterion, comm);
   return runFosTrial(scene, start, factor, criterion, comm, observer);
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

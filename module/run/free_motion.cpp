@@ -8,7 +8,7 @@
 #include "polydem/particles/particle_storage.h"
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 bool matchesPrefix(const std::string& label, const std::string& prefix) {
   if (prefix.empty()) return true;
@@ -16,7 +16,7 @@ bool matchesPrefix(const std::string& label, const std::string& prefix) {
   return label.size() == prefix.size() || label[prefix.size()] == '_';
 }
 
-FreeMotionMeter::FreeMotionMeter(const Simulation& sim, const std::string& label_prefix,
+FreeMotionMeter::FreeMotionMeter(const sim::Simulation& sim, const std::string& label_prefix,
                                  const std::optional<Vec3>& direction)
     : direction_(direction) {
   Uid top = 0;
@@ -33,7 +33,7 @@ FreeMotionMeter::FreeMotionMeter(const Simulation& sim, const std::string& label
   }
 }
 
-FreeMotion FreeMotionMeter::measure(const Simulation& sim) const {
+FreeMotion FreeMotionMeter::measure(const sim::Simulation& sim) const {
   ExactSum displacement, speed;
   double local_max[4] = {0.0, 0.0, 0.0, -INFINITY};  // displacement, speed, angular, front
   std::int64_t count = 0;
@@ -70,4 +70,4 @@ FreeMotion FreeMotionMeter::measure(const Simulation& sim) const {
   return m;
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -15,8 +15,10 @@
 #include "polydem/setup/setup.h"
 
 namespace polydem::sim {
-
 class Simulation;
+}  // namespace polydem::sim
+
+namespace polydem::run {
 
 struct FreeMotion {
   std::int64_t particles = 0;      // free particles measured
@@ -32,10 +34,10 @@ class FreeMotionMeter {
  public:
   /// Measures the free particles of `sim` whose labels start with `label_prefix` (all free ones
   /// when empty), against their start in the scene; `direction` (unit) for front_advance.
-  FreeMotionMeter(const Simulation& sim, const std::string& label_prefix = "",
+  FreeMotionMeter(const sim::Simulation& sim, const std::string& label_prefix = "",
                   const std::optional<Vec3>& direction = std::nullopt);
   /// Collective over the simulation's communicator.
-  FreeMotion measure(const Simulation& sim) const;
+  FreeMotion measure(const sim::Simulation& sim) const;
   /// Free particles selected (the same on every rank).
   std::int64_t selected() const { return selected_; }
 
@@ -52,4 +54,4 @@ class FreeMotionMeter {
 /// `prefix` itself; an empty prefix matches every label.
 bool matchesPrefix(const std::string& label, const std::string& prefix);
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

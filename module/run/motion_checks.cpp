@@ -12,7 +12,7 @@
 #include "polydem/run/free_motion.h"
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -21,7 +21,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The parameters of one check, each read at most once; keys the kind does not know are errors.
 class Keys {
  public:
-  Keys(const io::Scene& scene, const io::CheckSpec& spec, std::set<std::string> known)
+  Keys(const setup::Setup& scene, const setup::CheckSpec& spec, std::set<std::string> known)
       : scene_(scene), spec_(spec) {
     for (const auto& [key, value] : spec.numbers) {
       if (!known.count(key)) fail(cat("unknown parameter '", key, "'"));
@@ -79,8 +79,8 @@ class Keys {
   }
 
  private:
-  const io::Scene& scene_;
-  const io::CheckSpec& spec_;
+  const setup::Setup& scene_;
+  const setup::CheckSpec& spec_;
 };
 
 double pick(const FreeMotion& m, const std::string& quantity) {
@@ -94,7 +94,7 @@ double pick(const FreeMotion& m, const std::string& quantity) {
 
 class FreeMotionCheck : public Check {
  public:
-  FreeMotionCheck(const io::Scene& scene, const io::CheckSpec& spec) : Check(spec) {
+  FreeMotionCheck(const setup::Setup& scene, const setup::CheckSpec& spec) : Check(spec) {
     const Keys k(scene, spec,
                  {"quantity", "label_prefix", "direction", "at", "after", "every", "limit"});
     quantity_ = k.choice("quantity",
@@ -109,12 +109,12 @@ class FreeMotionCheck : public Check {
     after_ = k.number("after", 0.0, 0.0);
     every_ = static_cast<std::int64_t>(k.number("every", 1.0, 1.0));
   }
-  void observe(const Simulation& sim, const Tracker&) override {
+  void observe(const sim::Simulation& sim, const Tracker&) override {
     if (sim.stepCount() % every_ != 0) return;  // the same decision on every rank
     now_ = pick(meter(sim).measure(sim), quantity_);
     record(sim.time());
   }
-  double value(Simulation& sim) override {
+  double value(sim::Simulation& sim) override {
     const FreeMotion m = meter(sim).measure(sim);
     now_ = pick(m, quantity_);
     record(sim.time());
@@ -127,7 +127,7 @@ class FreeMotionCheck : public Check {
       note += cat("; never below ", num(limit_), " after ", after_, " s");
     return first_below_;
   }
-  std::vector<std::pair<std::string, double>> seriesColumns(const Simulation&) const override {
+  std::vector<std::pair<std::string, double>> seriesColumns(const sim::Simulation&) const override {
     std::string name;
     for (char c : spec_.name) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
     return {{name, now_}};
@@ -145,7 +145,7 @@ class FreeMotionCheck : public Check {
     largest_ = std::max(largest_, now_);
     if (std::isnan(first_below_) && now_ < limit_) first_below_ = time;
   }
-  const FreeMotionMeter& meter(const Simulation& sim) {
+  const FreeMotionMeter& meter(const sim::Simulation& sim) {
     if (!meter_) meter_.emplace(sim, prefix_, direction_);
     return *meter_;
   }
@@ -161,7 +161,7 @@ class FreeMotionCheck : public Check {
 // Blocks on a tilting platform: positions and orientations in the platform's frame.
 class TiltFailureCheck : public Check {
  public:
-  TiltFailureCheck(const io::Scene& scene, const io::CheckSpec& spec) : Check(spec) {
+  TiltFailureCheck(const setup::Setup& scene, const setup::CheckSpec& spec) : Check(spec) {
     const Keys k(scene, spec, {"platform", "label_prefix", "measure", "threshold", "reach"});
     const std::string platform = k.text("platform", "");
     if (platform.empty()) k.fail("needs 'platform' (the label of the driven platform)");
@@ -181,7 +181,7 @@ class TiltFailureCheck : public Check {
       if (!p.fixed && p.driver < 0 && matchesPrefix(p.label, prefix_)) blocks_.push_back(p);
     }
   }
-  void observe(const Simulation& sim, const Tracker&) override {
+  void observe(const sim::Simulation& sim, const Tracker&) override {
     if (!std::isnan(value_)) return;  // decided (the same on every rank)
     if (start_.empty()) start(sim);
     const particles::Particle* platform = find(sim, platform_.uid);
@@ -209,7 +209,7 @@ class TiltFailureCheck : public Check {
     note = cat("a block moved ", num(largest), " m against the platform at t = ", num(sim.time()),
                " s, tilt ", num(tilt), " deg; that block turned ", num(rotation), " deg");
   }
-  double value(Simulation&) override {
+  double value(sim::Simulation&) override {
     if (std::isnan(value_)) note = cat("no block moved ", num(reach_), " m against the platform");
     return value_;
   }
@@ -217,7 +217,7 @@ class TiltFailureCheck : public Check {
   void restore(const std::vector<double>& v) override { value_ = v.at(0); }
 
  private:
-  static const particles::Particle* find(const Simulation& sim, Uid uid) {
+  static const particles::Particle* find(const sim::Simulation& sim, Uid uid) {
     const auto& storage = sim.particles();
     for (std::size_t i = 0; i < storage.size(); ++i) {
       if (storage[i].uid == uid) return &storage[i];
@@ -226,17 +226,17 @@ class TiltFailureCheck : public Check {
         cat("tilt_failure: the platform (particle ", uid, ") is not on this rank"));
   }
   // Where the blocks start in the platform's frame, from the scene.
-  void start(const Simulation& sim) {
+  void start(const sim::Simulation& sim) {
     platform0_ = sim.initialOrientation(platform_);
     const Vec3 c0 = sim.initialCentroid(platform_);
-    for (const io::ParticleSpec& b : blocks_) {
+    for (const setup::ParticleSpec& b : blocks_) {
       index_[b.uid] = start_.size();
       start_.emplace_back(platform0_.conjugate() * (sim.initialCentroid(b) - c0),
                           platform0_.conjugate() * sim.initialOrientation(b));
     }
   }
-  io::ParticleSpec platform_;
-  std::vector<io::ParticleSpec> blocks_;
+  setup::ParticleSpec platform_;
+  std::vector<setup::ParticleSpec> blocks_;
   std::string prefix_;
   bool rotation_ = false;
   double reach_ = 0.0;
@@ -250,7 +250,7 @@ class TiltFailureCheck : public Check {
 // front block of a pillar leaves the block behind it when the compression wave reaches it).
 class PairSeparationCheck : public Check {
  public:
-  PairSeparationCheck(const io::Scene& scene, const io::CheckSpec& spec) : Check(spec) {
+  PairSeparationCheck(const setup::Setup& scene, const setup::CheckSpec& spec) : Check(spec) {
     const Keys k(scene, spec, {"particle", "min_force"});
     // Pressing means a normal force above this: contacts that only touch at rest do not count.
     min_force_ = k.number("min_force", 0.0, 0.0);
@@ -268,7 +268,7 @@ class PairSeparationCheck : public Check {
     if (uids[0] == uids[1]) k.fail("needs two different particles");
     key_ = particles::makeKey(uids[0], uids[1]);
   }
-  void observe(const Simulation& sim, const Tracker&) override {
+  void observe(const sim::Simulation& sim, const Tracker&) override {
     if (!std::isnan(time_)) return;
     double pressing = 0.0;
     for (const auto& r : sim.contacts().records()) {
@@ -283,7 +283,7 @@ class PairSeparationCheck : public Check {
                  " pressed on each other until t = ", num(time_), " s");
     }
   }
-  double value(Simulation&) override {
+  double value(sim::Simulation&) override {
     if (std::isnan(time_)) note = pressed_ ? "still pressing at the end" : "they never pressed";
     return time_;
   }
@@ -302,7 +302,7 @@ class PairSeparationCheck : public Check {
 
 }  // namespace
 
-std::unique_ptr<Check> makeMotionCheck(const io::Scene& scene, const io::CheckSpec& spec,
+std::unique_ptr<Check> makeMotionCheck(const setup::Setup& scene, const setup::CheckSpec& spec,
                                        Tracker&) {
   if (spec.kind == "free_motion") return std::make_unique<FreeMotionCheck>(scene, spec);
   if (spec.kind == "tilt_failure") return std::make_unique<TiltFailureCheck>(scene, spec);
@@ -310,4 +310,4 @@ std::unique_ptr<Check> makeMotionCheck(const io::Scene& scene, const io::CheckSp
   return nullptr;
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -17,14 +17,14 @@
 #include "polydem/run/tracker.h"
 #include "polydem/setup/setup.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 /// The check of one of the kinds above, or nullptr when `spec.kind` is none of them. Throws
 /// InputError (the check's line) for a missing or wrong parameter.
-std::unique_ptr<Check> makeMotionCheck(const io::Scene& scene, const io::CheckSpec& spec,
+std::unique_ptr<Check> makeMotionCheck(const setup::Setup& scene, const setup::CheckSpec& spec,
                                        Tracker& tracker);
 
 /// The kinds makeMotionCheck knows, for messages.
 inline constexpr const char* kMotionCheckKinds = "free_motion, tilt_failure, pair_separation";
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -13,7 +13,7 @@
 #include "polydem/run/fos.h"
 #include "polydem/run/run_checkpoint.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -78,7 +78,7 @@ std::vector<RealizationResult> gather(const std::optional<RealizationResult>& mi
 }
 
 // The search's outcome for one realization.
-RealizationResult summarize(const io::Realization& real, const io::Scene& scene,
+RealizationResult summarize(const scene::Realization& real, const setup::Setup& scene,
                             const FosResult& search) {
   RealizationResult r;
   r.index = real.index;
@@ -107,7 +107,7 @@ RealizationResult summarize(const io::Realization& real, const io::Scene& scene,
   return r;
 }
 
-RealizationResult invalid(const io::Realization& real) {
+RealizationResult invalid(const scene::Realization& real) {
   RealizationResult r;
   r.index = real.index;
   r.seed = real.seed;
@@ -133,7 +133,7 @@ std::optional<bool> RealizationResult::fails() const {
   return std::nullopt;
 }
 
-bool runRealizations(const io::Study& study, const std::vector<std::int64_t>& todo, int groups,
+bool runRealizations(const scene::Study& study, const std::vector<std::int64_t>& todo, int groups,
                      MPI_Comm comm,
                      const std::function<void(const std::vector<RealizationResult>&)>& round_done) {
   const int ranks = mpi::size(comm), rank = mpi::rank(comm);
@@ -156,10 +156,10 @@ bool runRealizations(const io::Study& study, const std::vector<std::int64_t>& to
     if (first + static_cast<std::size_t>(group) < todo.size()) {
       const auto start = std::chrono::steady_clock::now();
       log::setLevel(std::min(level, log::Level::kWarning));  // no trial chatter
-      const io::Realization real = io::drawRealization(study, todo[first + group]);
-      std::optional<io::Scene> scene;
+      const scene::Realization real = scene::drawRealization(study, todo[first + group]);
+      std::optional<setup::Setup> scene;
       try {
-        scene = io::realizationScene(study, real);
+        scene = scene::realizationScene(study, real);
       } catch (const InputError& e) {
         // A draw that gives no scene (a rock mass that cannot be cut so): recorded, not run.
         if (mpi::rank(group_comm) == 0) log::rankWarning(e.what());
@@ -180,7 +180,7 @@ bool runRealizations(const io::Study& study, const std::vector<std::int64_t>& to
       log::setLevel(level);
       if (stopped || mpi::rank(group_comm) != 0) mine.reset();  // one copy of each
     }
-    io::throwIfAnyRankFailed(error, comm);
+    output::throwIfAnyRankFailed(error, comm);
     std::vector<RealizationResult> round = gather(mine, comm);
     if (receivedSignal(comm) != 0) {
       // Keep the realizations this round finished before the signal; the others run again.
@@ -194,4 +194,4 @@ bool runRealizations(const io::Study& study, const std::vector<std::int64_t>& to
   return complete;
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

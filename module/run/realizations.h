@@ -16,7 +16,7 @@
 
 #include "polydem/scene/scene_random.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 /// One realization's factor of safety.
 struct RealizationResult {
@@ -45,8 +45,8 @@ struct RealizationResult {
 /// realizations, `round_done` gets the round's results on every rank (in `todo` order).
 /// Returns false when a stop signal ended it (the searches it cut short are dropped, those of the
 /// round that finished are kept). A search that throws ends it on every rank with that error.
-bool runRealizations(const io::Study& study, const std::vector<std::int64_t>& todo, int groups,
+bool runRealizations(const scene::Study& study, const std::vector<std::int64_t>& todo, int groups,
                      MPI_Comm comm,
                      const std::function<void(const std::vector<RealizationResult>&)>& round_done);
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

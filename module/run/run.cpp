@@ -22,11 +22,11 @@
 #include "polydem/sim/balance_figures.h"
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
-nlohmann::json summaryJson(const io::Scene& scene, Simulation& sim, const RunResult& result,
+nlohmann::json summaryJson(const setup::Setup& scene, sim::Simulation& sim, const RunResult& result,
                            timeloop::StopReason reason, const std::vector<TimingPool::Reduced>& t) {
   using nlohmann::json;
   const auto& stats = sim.contactStats();
@@ -53,8 +53,8 @@ nlohmann::json summaryJson(const io::Scene& scene, Simulation& sim, const RunRes
   j["last_step"] = {{"candidate_pairs", stats.candidates}, {"evaluated_pairs", stats.evaluated},
                     {"touching_pairs", stats.touching},    {"not_converged", stats.not_converged},
                     {"degenerate", stats.degenerate},      {"inner_domain", stats.inner_domain}};
-  j["timing"] = io::timingJson(t, result.steps);
-  j["checks"] = io::checksJson(result.checks);
+  j["timing"] = output::timingJson(t, result.steps);
+  j["checks"] = output::checksJson(result.checks);
   j["state_hash"] = result.hash.hex();
   j["state"] = {{"particles_hash", BitHasher::hex(result.hash.particles)},
                 {"history_hash", BitHasher::hex(result.hash.history)},
@@ -71,7 +71,7 @@ std::string unitSuffix(const std::string& unit) {
 
 // One line a check: PASS/FAIL with what the value was compared against, or REPORT for a check
 // that only reports its value (compare = "report": it cannot fail, so it says neither).
-void printChecks(const std::vector<io::CheckResult>& checks) {
+void printChecks(const std::vector<output::CheckResult>& checks) {
   if (checks.empty()) return;
   log::info("checks:");
   for (const auto& c : checks) {
@@ -97,13 +97,14 @@ bool RunResult::all_checks_pass() const {
   return true;
 }
 
-void applyOverrides(io::Scene& scene, const RunOptions& options) {
+void applyOverrides(setup::Setup& scene, const RunOptions& options) {
   if (options.kernel) {
     contact::makeKernel(*options.kernel);  // throws with the list of known kernels
     scene.kernel = *options.kernel;
   }
   if (options.contact_model) {
-    if (const auto e = io::unknownContactModel(*options.contact_model); !e.empty()) throw Error(e);
+    if (const auto e = setup::unknownContactModel(*options.contact_model); !e.empty())
+      throw Error(e);
     scene.contact_model = *options.contact_model;
   }
   if (options.steps || options.end_time) {
@@ -114,8 +115,8 @@ void applyOverrides(io::Scene& scene, const RunOptions& options) {
 
 namespace {
 
-io::CheckpointSpec checkpointSpec(const io::Scene& scene, const RunOptions& options) {
-  io::CheckpointSpec spec = scene.checkpoint;
+setup::CheckpointSpec checkpointSpec(const setup::Setup& scene, const RunOptions& options) {
+  setup::CheckpointSpec spec = scene.checkpoint;
   if (options.checkpoint_every) spec.every_steps = *options.checkpoint_every;
   if (options.checkpoint_seconds) spec.every_seconds = *options.checkpoint_seconds;
   if (options.checkpoint_keep) spec.keep = *options.checkpoint_keep;
@@ -123,19 +124,20 @@ io::CheckpointSpec checkpointSpec(const io::Scene& scene, const RunOptions& opti
 }
 
 // A new run (`restart` null) or the continuation of a checkpoint's.
-RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
-                  const io::CheckpointData* restart, const std::string& restart_file) {
+RunResult runWith(setup::Setup scene, const RunOptions& options, MPI_Comm comm,
+                  const sim::CheckpointData* restart, const std::string& restart_file) {
   applyOverrides(scene, options);
-  requireStopCondition(scene);  // before anything is built or written
+  sim::requireStopCondition(scene);  // before anything is built or written
   // One run per output folder: held until this run's last file is written (output_lock.h).
-  std::optional<io::OutputLock> lock;
+  std::optional<output::OutputLock> lock;
   if (!options.out_dir.empty()) lock.emplace(options.out_dir, comm);
   const auto wall0 = std::chrono::steady_clock::now();
   log::info(cat("scene ", scene.id, " (", scene.file, "): ", scene.particles.size(),
                 " particles, kernel ", scene.kernel, ", ", mpi::size(comm), " rank(s)"));
-  const auto sim_ptr = restart ? std::make_unique<Simulation>(scene, *restart, restart_file, comm)
-                               : std::make_unique<Simulation>(scene, comm);
-  Simulation& sim = *sim_ptr;
+  const auto sim_ptr = restart
+                           ? std::make_unique<sim::Simulation>(scene, *restart, restart_file, comm)
+                           : std::make_unique<sim::Simulation>(scene, comm);
+  sim::Simulation& sim = *sim_ptr;
   const std::int64_t every =
       options.progress_every > 0 ? options.progress_every : scene.output.progress_every;
   sim.loop().setProgressInterval(every, every > 0 ? 0.0 : 5.0);
@@ -160,7 +162,8 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
   result.equilibrium_steps = sim.runEquilibrium();
   auto reason = timeloop::StopReason::kUserCondition;
   const bool stopped_early = schedule.stopSignal() != 0;
-  if (!tracker.empty() && sim.stage() == Stage::kMain) tracker.gather(sim);  // main stage start
+  if (!tracker.empty() && sim.stage() == sim::Stage::kMain)
+    tracker.gather(sim);  // main stage start
 
   std::unique_ptr<RunOutput> output;
   if (!options.out_dir.empty()) {
@@ -218,7 +221,7 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
   MPI_Allreduce(MPI_IN_PLACE, sent, 3, MPI_INT64_T, MPI_SUM, comm);
   const nlohmann::json communication = {
       {"bytes_sent", sent[0]}, {"particles_sent", sent[1]}, {"histories_sent", sent[2]}};
-  const nlohmann::json balance = toJson(balanceFigures(sim));
+  const nlohmann::json balance = sim::toJson(sim::balanceFigures(sim));
   const auto& log = sim.balanceLog();
   const nlohmann::json decomposition = {{"balance_checks", log.checks},
                                         {"new_decompositions_computed", log.proposals},
@@ -238,12 +241,12 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
     summary["balance"]["rebalancing"] = decomposition;
     summary["communication_seconds_per_step"] = balance["communication_seconds_per_step"];
     try {
-      io::writeJsonAtomic(options.out_dir + "/summary.json", summary);
+      output::writeJsonAtomic(options.out_dir + "/summary.json", summary);
     } catch (const Error& e) {
       summary_error = e.what();
     }
   }
-  if (!options.out_dir.empty()) io::throwIfAnyRankFailed(summary_error, comm);
+  if (!options.out_dir.empty()) output::throwIfAnyRankFailed(summary_error, comm);
   if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
     log::info("wrote " + options.out_dir + "/summary.json, series.csv" +
               (!options.snapshots                      ? ""
@@ -258,7 +261,7 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
                     "checkpoint of the final state: ", where));
     } else {
       log::info(cat("stopped by ", result.stop_signal, " at the end of ",
-                    sim.stage() == Stage::kEquilibrium ? "equilibrium" : "main", " step ",
+                    sim.stage() == sim::Stage::kEquilibrium ? "equilibrium" : "main", " step ",
                     result.steps, "; checkpoint: ", where));
     }
     if (!result.checkpoint.empty()) {
@@ -273,28 +276,28 @@ RunResult runWith(io::Scene scene, const RunOptions& options, MPI_Comm comm,
 
 }  // namespace
 
-RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm) {
+RunResult runScene(setup::Setup scene, const RunOptions& options, MPI_Comm comm) {
   return runWith(std::move(scene), options, comm, nullptr, "");
 }
 
 RunResult continueRun(const std::string& file, const std::optional<std::string>& scene_file,
                       RunOptions options, MPI_Comm comm) {
-  const io::CheckpointData data = io::readCheckpoint(file, comm);
-  io::Scene scene;
+  const sim::CheckpointData data = checkpoint::readCheckpoint(file, comm);
+  setup::Setup scene;
   if (scene_file) {
-    const std::string text = io::readSceneText(*scene_file);
+    const std::string text = scene::readSceneText(*scene_file);
     const std::string diff =
-        io::sceneDifference(data.scene_toml, data.scene_file, text, *scene_file);
+        scene::sceneDifference(data.scene_toml, data.scene_file, text, *scene_file);
     if (!diff.empty()) {
       throw CheckpointError(cat(file, ": scene ", *scene_file, " differs from the scene stored in ",
                                 "the checkpoint (", data.scene_file, ") in ", diff,
                                 "; only [simulation] end_time/steps, [output], [checkpoint] and ",
                                 "[kernel_params] separating_axes may change when a run continues"));
     }
-    scene = io::parseScene(text, *scene_file);
+    scene = scene::parseScene(text, *scene_file);
     options.scene_text = text;  // later checkpoints store the scene this part runs
   } else {
-    scene = io::parseScene(data.scene_toml, data.scene_file);
+    scene = scene::parseScene(data.scene_toml, data.scene_file);
     options.scene_text = data.scene_toml;
   }
   // The kernel and contact model the run used (a command line may have set them over the scene).
@@ -302,4 +305,4 @@ RunResult continueRun(const std::string& file, const std::optional<std::string>&
   return runWith(std::move(scene), options, comm, &data, file);
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

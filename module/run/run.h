@@ -13,7 +13,7 @@
 #include "polydem/output/summary_json.h"
 #include "polydem/setup/setup.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 struct RunOptions {
   std::string out_dir;                       // empty: no files at all (tests)
@@ -34,7 +34,7 @@ struct RunOptions {
 };
 
 struct RunResult {
-  std::vector<io::CheckResult> checks;
+  std::vector<output::CheckResult> checks;
   comm::StateHash hash;
   std::int64_t equilibrium_steps = 0;
   std::int64_t steps = 0;
@@ -50,17 +50,17 @@ struct RunResult {
 
 /// Applies the command-line overrides to a scene (steps / end time replace both of the scene's
 /// stop settings; the kernel is checked against the registry).
-void applyOverrides(io::Scene& scene, const RunOptions& options);
+void applyOverrides(setup::Setup& scene, const RunOptions& options);
 
 /// Runs `scene` on `comm` and writes its outputs (collective).
-RunResult runScene(io::Scene scene, const RunOptions& options, MPI_Comm comm);
+RunResult runScene(setup::Setup scene, const RunOptions& options, MPI_Comm comm);
 
 /// Continues the run of the checkpoint `file` on `comm` (any rank count) and writes the outputs
 /// of the continued part (collective). The scene is the stored one, or `scene_file` if given,
 /// which must describe the same run up to its stop, [output] and [checkpoint] settings
-/// (io::sceneDifference); the overrides of `options` apply as to a new run. Throws
+/// (scene::sceneDifference); the overrides of `options` apply as to a new run. Throws
 /// CheckpointError (on every rank) for a bad or mismatching checkpoint.
 RunResult continueRun(const std::string& file, const std::optional<std::string>& scene_file,
                       RunOptions options, MPI_Comm comm);
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

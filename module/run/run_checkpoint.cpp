@@ -12,7 +12,7 @@
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -36,9 +36,9 @@ std::vector<double> fromBits(const std::vector<std::uint64_t>& bits) {
 }
 
 // Checkpoints are numbered by the steps of both stages, so that names sort in run order.
-std::int64_t runSteps(const Simulation& sim) {
-  return sim.stage() == Stage::kEquilibrium ? sim.stepCount()
-                                            : sim.equilibriumSteps() + sim.stepCount();
+std::int64_t runSteps(const sim::Simulation& sim) {
+  return sim.stage() == sim::Stage::kEquilibrium ? sim.stepCount()
+                                                 : sim.equilibriumSteps() + sim.stepCount();
 }
 
 }  // namespace
@@ -65,7 +65,7 @@ std::string signalName(int signal) {
   return cat("signal ", signal);
 }
 
-std::string runStateJson(const io::Scene& scene, const Tracker& tracker,
+std::string runStateJson(const setup::Setup& scene, const Tracker& tracker,
                          const std::vector<std::unique_ptr<Check>>& checks) {
   nlohmann::json j;
   j["kernel"] = scene.kernel;
@@ -77,7 +77,7 @@ std::string runStateJson(const io::Scene& scene, const Tracker& tracker,
   return j.dump();
 }
 
-void restoreRunSettings(const std::string& json, const std::string& file, io::Scene& scene) {
+void restoreRunSettings(const std::string& json, const std::string& file, setup::Setup& scene) {
   try {
     const auto j = nlohmann::json::parse(json);
     if (const auto k = j.find("kernel"); k != j.end()) {
@@ -86,7 +86,7 @@ void restoreRunSettings(const std::string& json, const std::string& file, io::Sc
     }
     if (const auto m = j.find("contact_model"); m != j.end()) {
       scene.contact_model = m->get<std::string>();
-      if (const std::string unknown = io::unknownContactModel(scene.contact_model);
+      if (const std::string unknown = setup::unknownContactModel(scene.contact_model);
           !unknown.empty()) {
         throw Error(unknown);
       }
@@ -96,9 +96,9 @@ void restoreRunSettings(const std::string& json, const std::string& file, io::Sc
   }
 }
 
-void prepareContinuation(const io::CheckpointData& data, const std::string& file,
-                         io::Scene& scene) {
-  if (data.format_version < io::kFirstDigestCheckpointVersion) {
+void prepareContinuation(const sim::CheckpointData& data, const std::string& file,
+                         setup::Setup& scene) {
+  if (data.format_version < checkpoint::kFirstDigestCheckpointVersion) {
     log::warning(cat(file, ": format version ", data.format_version,
                      " predates the whole-file digest; its datasets' checksums were verified, but ",
                      "an edit that kept them consistent cannot be detected"));
@@ -140,7 +140,7 @@ void restoreRunState(const std::string& json, const std::string& file, Tracker& 
   }
 }
 
-CheckpointSchedule::CheckpointSchedule(const io::CheckpointSpec& spec, std::filesystem::path dir,
+CheckpointSchedule::CheckpointSchedule(const setup::CheckpointSpec& spec, std::filesystem::path dir,
                                        std::string scene_toml, std::string scene_file,
                                        std::string code_version, const Tracker& tracker,
                                        const std::vector<std::unique_ptr<Check>>& checks,
@@ -158,7 +158,7 @@ CheckpointSchedule::CheckpointSchedule(const io::CheckpointSpec& spec, std::file
   if (mpi::rank(comm_) != 0) return;
   // Temporary files that a write cut short (kill -9, a crash, a node failure) left behind: only
   // files named as polydem names them, only in this run's checkpoint directory.
-  for (const auto& t : io::removeStaleTemporaryCheckpoints(dir_ / "checkpoints")) {
+  for (const auto& t : checkpoint::removeStaleTemporaryCheckpoints(dir_ / "checkpoints")) {
     if (t.removed) {
       log::warning(cat("removed ", t.path.string(), " (", t.bytes,
                        " bytes), the temporary file of a checkpoint write that did not finish"));
@@ -171,16 +171,16 @@ CheckpointSchedule::CheckpointSchedule(const io::CheckpointSpec& spec, std::file
 }
 
 void CheckpointSchedule::drawRunId() {
-  char id[io::kCheckpointRunIdDigits + 1] = {};
+  char id[checkpoint::kCheckpointRunIdDigits + 1] = {};
   if (mpi::rank(comm_) == 0) {
-    const std::string drawn = io::newCheckpointRunId(dir_ / "checkpoints");
-    drawn.copy(id, io::kCheckpointRunIdDigits);
+    const std::string drawn = checkpoint::newCheckpointRunId(dir_ / "checkpoints");
+    drawn.copy(id, checkpoint::kCheckpointRunIdDigits);
   }
-  MPI_Bcast(id, io::kCheckpointRunIdDigits, MPI_CHAR, 0, comm_);
+  MPI_Bcast(id, checkpoint::kCheckpointRunIdDigits, MPI_CHAR, 0, comm_);
   run_id_ = id;
 }
 
-bool CheckpointSchedule::afterStep(Simulation& sim) {
+bool CheckpointSchedule::afterStep(sim::Simulation& sim) {
   const bool by_steps = spec_.every_steps > 0 && runSteps(sim) % spec_.every_steps == 0;
   bool by_wall = false;
   if (mpi::rank(comm_) == 0 && spec_.every_seconds > 0.0) {
@@ -198,7 +198,7 @@ bool CheckpointSchedule::afterStep(Simulation& sim) {
   if (dir_.empty() || !(by_steps || global[1] != 0)) return false;
   // A checkpoint in the equilibrium stage at the step where the force ratio ends it would,
   // restarted, take one more equilibrium step: that step's checkpoint is left out.
-  if (sim.stage() == Stage::kEquilibrium &&
+  if (sim.stage() == sim::Stage::kEquilibrium &&
       sim.monitors().force_ratio < sim.scene().equilibrium.force_ratio) {
     return false;
   }
@@ -214,25 +214,25 @@ bool CheckpointSchedule::signalAfterRun() {
   return global != 0;
 }
 
-std::filesystem::path CheckpointSchedule::write(Simulation& sim) {
-  const auto path = io::checkpointFileName(dir_ / "checkpoints", runSteps(sim), run_id_);
+std::filesystem::path CheckpointSchedule::write(sim::Simulation& sim) {
+  const auto path = checkpoint::checkpointFileName(dir_ / "checkpoints", runSteps(sim), run_id_);
   if (mpi::rank(comm_) == 0) std::filesystem::create_directories(path.parent_path());
   MPI_Barrier(comm_);
-  io::CheckpointData data =
+  sim::CheckpointData data =
       sim.checkpoint(scene_toml_, scene_file_, runStateJson(sim.scene(), tracker_, checks_));
   data.code_version = code_version_;
-  io::writeCheckpoint(path, data, comm_);
+  checkpoint::writeCheckpoint(path, data, comm_);
   if (mpi::rank(comm_) == 0) {
-    io::pruneCheckpoints(path.parent_path(), run_id_, spec_.keep);  // this run's files only
-    log::info(
-        cat("checkpoint ", path.string(), " (",
-            io::toString(sim.stage() == Stage::kEquilibrium ? io::CheckpointStage::kEquilibrium
-                                                            : io::CheckpointStage::kMain),
-            " stage, step ", sim.stepCount(), ")"));
+    checkpoint::pruneCheckpoints(path.parent_path(), run_id_, spec_.keep);  // this run's files only
+    log::info(cat(
+        "checkpoint ", path.string(), " (",
+        sim::toString(sim.stage() == sim::Stage::kEquilibrium ? sim::CheckpointStage::kEquilibrium
+                                                              : sim::CheckpointStage::kMain),
+        " stage, step ", sim.stepCount(), ")"));
   }
   last_ = path;
   last_wall_ = std::chrono::steady_clock::now();
   return path;
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

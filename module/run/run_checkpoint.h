@@ -19,7 +19,7 @@
 #include "polydem/setup/setup.h"
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 /// Makes SIGTERM and SIGUSR1 set a flag (async-signal-safe) instead of ending the process.
 /// `polydem run` calls it first thing, before MPI starts and before any file is read, so that a
@@ -31,21 +31,22 @@ int stopSignalReceived();
 /// "SIGTERM", "SIGUSR1", "SIGINT" or "signal N".
 std::string signalName(int signal);
 
-/// The run state a checkpoint stores besides the simulation (io::CheckpointData::run_state):
+/// The run state a checkpoint stores besides the simulation (sim::CheckpointData::run_state):
 /// the tracker's initial states and every check's accumulated values, bit for bit, and the
 /// kernel and contact model the run used, which a command line may have set over the stored
 /// scene's (JSON).
-std::string runStateJson(const io::Scene& scene, const Tracker& tracker,
+std::string runStateJson(const setup::Setup& scene, const Tracker& tracker,
                          const std::vector<std::unique_ptr<Check>>& checks);
 /// Sets the kernel and contact model `json` stores on the scene a run continues with; a file
 /// that stores none (written before they were stored) leaves the scene's. Throws CheckpointError
 /// naming `file` for an unknown kernel or model.
-void restoreRunSettings(const std::string& json, const std::string& file, io::Scene& scene);
+void restoreRunSettings(const std::string& json, const std::string& file, setup::Setup& scene);
 /// What a continued run changes on the scene it was given (the stored one or a replacement):
 /// the stored run settings (restoreRunSettings), and for a version 1 file, written before
 /// sub-contacts existed, the single-point model it was written with (docs/checkpoint.md). Logs
 /// what an older file lacks. `polydem run --restart` and Python's Simulation.restart both use it.
-void prepareContinuation(const io::CheckpointData& data, const std::string& file, io::Scene& scene);
+void prepareContinuation(const sim::CheckpointData& data, const std::string& file,
+                         setup::Setup& scene);
 /// Puts them back; throws CheckpointError naming `file` if they do not fit the scene's checks.
 void restoreRunState(const std::string& json, const std::string& file, Tracker& tracker,
                      std::vector<std::unique_ptr<Check>>& checks);
@@ -54,7 +55,7 @@ class CheckpointSchedule {
  public:
   /// `scene_toml`: the scene text the checkpoints store. `dir`: where they go (empty: nowhere,
   /// but a stop signal still stops the run). Collective: rank 0 draws the run id.
-  CheckpointSchedule(const io::CheckpointSpec& spec, std::filesystem::path dir,
+  CheckpointSchedule(const setup::CheckpointSpec& spec, std::filesystem::path dir,
                      std::string scene_toml, std::string scene_file, std::string code_version,
                      const Tracker& tracker, const std::vector<std::unique_ptr<Check>>& checks,
                      MPI_Comm comm);
@@ -62,9 +63,9 @@ class CheckpointSchedule {
   /// The simulation's step hook (collective, once per step): writes a checkpoint when one is
   /// due, and returns true when some rank received a stop signal (one allreduce decides both,
   /// with rank 0's wall clock).
-  bool afterStep(Simulation& sim);
+  bool afterStep(sim::Simulation& sim);
   /// Writes a checkpoint of the current state and prunes old ones (collective); its path.
-  std::filesystem::path write(Simulation& sim);
+  std::filesystem::path write(sim::Simulation& sim);
   /// After the run: whether some rank received a stop signal since the last step's check
   /// (collective). If so, stopSignal() is that signal from now on.
   bool signalAfterRun();
@@ -78,7 +79,7 @@ class CheckpointSchedule {
  private:
   void drawRunId();  // collective
 
-  io::CheckpointSpec spec_;
+  setup::CheckpointSpec spec_;
   std::filesystem::path dir_;
   std::string scene_toml_, scene_file_, code_version_, run_id_;
   const Tracker& tracker_;
@@ -89,4 +90,4 @@ class CheckpointSchedule {
   std::filesystem::path last_;
 };
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -9,18 +9,18 @@
 #include "polydem/run/contact_sums.h"
 #include "polydem/sim/water.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
-std::vector<std::string> jointNames(const Simulation& sim) {
+std::vector<std::string> jointNames(const sim::Simulation& sim) {
   std::vector<std::string> names;
   for (const auto& j : sim.scene().joints) names.push_back(j.name);
   return names;
 }
 
 /// The [[joint]] whose plane made face `f` of `shape` (Setup::joints), -1: none.
-std::int32_t faceJoint(const Simulation& sim, const geometry::BodyShape& shape, int f) {
+std::int32_t faceJoint(const sim::Simulation& sim, const geometry::BodyShape& shape, int f) {
   const std::int32_t plane = shape.facePlane(f);
   return plane < 0 ? -1 : sim.scene().joint_planes[static_cast<std::size_t>(plane)].joint;
 }
@@ -33,7 +33,7 @@ std::string sanitize(const std::string& name) {
 
 }  // namespace
 
-RunOutput::RunOutput(const std::string& dir, Simulation& sim, const Tracker& tracker,
+RunOutput::RunOutput(const std::string& dir, sim::Simulation& sim, const Tracker& tracker,
                      const std::vector<std::pair<Uid, std::string>>& monitored,
                      const std::vector<std::unique_ptr<Check>>& checks, bool snapshots)
     : comm_(sim.comm()), monitored_(monitored) {
@@ -50,14 +50,14 @@ RunOutput::RunOutput(const std::string& dir, Simulation& sim, const Tracker& tra
   for (const auto& c : checks) {
     for (const auto& [name, value] : c->seriesColumns(sim)) columns.push_back(name);
   }
-  series_ = std::make_unique<io::SeriesWriter>(dir + "/series.csv", columns, sim.comm());
+  series_ = std::make_unique<output::SeriesWriter>(dir + "/series.csv", columns, sim.comm());
   if (snapshots && sim.scene().output.snapshot_format == "vtk") {
-    snapshots_ = std::make_unique<io::SnapshotWriter>(dir, sim.comm());
+    snapshots_ = std::make_unique<output::SnapshotWriter>(dir, sim.comm());
   } else if (snapshots) {
-    xdmf_ = std::make_unique<io::XdmfSnapshotWriter>(
+    xdmf_ = std::make_unique<output::XdmfSnapshotWriter>(
         dir, sim.comm(),
-        io::XdmfSnapshotWriter::Options{sim.scene().output.fields,
-                                        sim.scene().output.contact_fields, jointNames(sim)});
+        output::XdmfSnapshotWriter::Options{sim.scene().output.fields,
+                                            sim.scene().output.contact_fields, jointNames(sim)});
   }
   if (snapshots) bolts_ = std::make_unique<BoltOutput>(dir, sim);
 
@@ -79,20 +79,20 @@ RunOutput::RunOutput(const std::string& dir, Simulation& sim, const Tracker& tra
   }
 }
 
-RunOutput::Written RunOutput::labelOf(const Simulation& sim) {
+RunOutput::Written RunOutput::labelOf(const sim::Simulation& sim) {
   return {static_cast<int>(sim.stage()), sim.stepCount()};
 }
 
-void RunOutput::writeSeriesOnce(Simulation& sim, const Tracker& tracker,
+void RunOutput::writeSeriesOnce(sim::Simulation& sim, const Tracker& tracker,
                                 const std::vector<std::unique_ptr<Check>>& checks) {
   if (!(last_series_ == labelOf(sim))) writeSeries(sim, tracker, checks);
 }
 
-void RunOutput::writeSnapshotOnce(const Simulation& sim) {
+void RunOutput::writeSnapshotOnce(const sim::Simulation& sim) {
   if (!(last_snapshot_ == labelOf(sim))) writeSnapshot(sim);
 }
 
-void RunOutput::writeSeries(Simulation& sim, const Tracker& tracker,
+void RunOutput::writeSeries(sim::Simulation& sim, const Tracker& tracker,
                             const std::vector<std::unique_ptr<Check>>& checks) {
   last_series_ = labelOf(sim);
   const auto m = sim.monitors();
@@ -116,12 +116,12 @@ void RunOutput::writeSeries(Simulation& sim, const Tracker& tracker,
   } catch (const std::exception& e) {
     error = e.what();
   }
-  io::throwIfAnyRankFailed(error, comm_);
+  output::throwIfAnyRankFailed(error, comm_);
 }
 
 // The water pressure on each face of particle i (sim/water.h), at the pose the snapshot shows and
 // the time the water force of the step took; zeros without water and on fixed bodies.
-void RunOutput::facePressures(const Simulation& sim, std::size_t i, const Mat3& rotation,
+void RunOutput::facePressures(const sim::Simulation& sim, std::size_t i, const Mat3& rotation,
                               std::vector<double>& out) {
   const auto& p = sim.particles()[i];
   const auto& shape = sim.shapes()[p.shape];
@@ -133,11 +133,11 @@ void RunOutput::facePressures(const Simulation& sim, std::size_t i, const Mat3& 
   }
   normals_.clear();
   for (const auto& face : faces) normals_.push_back(rotation * face.normal);
-  const double time = sim.stage() == Stage::kEquilibrium ? 0.0 : sim.time();
-  faceWaterPressures(water, time, shape, vertices_, normals_, p.position, out);
+  const double time = sim.stage() == sim::Stage::kEquilibrium ? 0.0 : sim.time();
+  sim::faceWaterPressures(water, time, shape, vertices_, normals_, p.position, out);
 }
 
-void RunOutput::writeSnapshot(const Simulation& sim) {
+void RunOutput::writeSnapshot(const sim::Simulation& sim) {
   if (!snapshots_ && !xdmf_) return;
   last_snapshot_ = labelOf(sim);
   const auto& storage = sim.particles();
@@ -152,7 +152,7 @@ void RunOutput::writeSnapshot(const Simulation& sim) {
     const Mat3 r = p.orientation.toRotationMatrix();
     vertices_.clear();
     for (const Vec3& v : shape.vertices()) vertices_.push_back(p.position + r * v);
-    io::ParticleFields fields;
+    output::ParticleFields fields;
     fields.uid = p.uid;
     fields.velocity = p.velocity;
     fields.fixed = p.isFixed();
@@ -178,7 +178,7 @@ void RunOutput::writeSnapshot(const Simulation& sim) {
   contacts_.contacts.clear();
   for (const auto& r : sim.contacts().records()) {
     if (!r.touching || !r.a_is_local) continue;
-    io::ContactRecord c;
+    output::ContactRecord c;
     c.uid_a = r.key.lo;
     c.uid_b = r.key.hi;
     c.point = r.point;
@@ -200,7 +200,7 @@ void RunOutput::close() {
   } catch (const std::exception& e) {
     error = e.what();
   }
-  io::throwIfAnyRankFailed(error, comm_);
+  output::throwIfAnyRankFailed(error, comm_);
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

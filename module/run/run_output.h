@@ -13,32 +13,32 @@
 #include "polydem/run/checks.h"
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 class RunOutput {
  public:
   /// Creates `dir` and the writers (collective). `monitored` are the uids whose state goes into
   /// series.csv, with their labels.
-  RunOutput(const std::string& dir, Simulation& sim, const Tracker& tracker,
+  RunOutput(const std::string& dir, sim::Simulation& sim, const Tracker& tracker,
             const std::vector<std::pair<Uid, std::string>>& monitored,
             const std::vector<std::unique_ptr<Check>>& checks, bool snapshots);
 
   /// A row of series.csv (collective: computes global monitors; a failed write throws on every
   /// rank).
-  void writeSeries(Simulation& sim, const Tracker& tracker,
+  void writeSeries(sim::Simulation& sim, const Tracker& tracker,
                    const std::vector<std::unique_ptr<Check>>& checks);
   /// A snapshot of particles and contacts (collective).
-  void writeSnapshot(const Simulation& sim);
+  void writeSnapshot(const sim::Simulation& sim);
   /// writeSeries / writeSnapshot unless the last row / snapshot already holds this step of this
   /// stage (for the final state, which the observer may have written at its last step).
-  void writeSeriesOnce(Simulation& sim, const Tracker& tracker,
+  void writeSeriesOnce(sim::Simulation& sim, const Tracker& tracker,
                        const std::vector<std::unique_ptr<Check>>& checks);
-  void writeSnapshotOnce(const Simulation& sim);
+  void writeSnapshotOnce(const sim::Simulation& sim);
   /// Flushes and closes series.csv (collective: a failed write throws on every rank).
   void close();
 
  private:
-  void facePressures(const Simulation& sim, std::size_t i, const Mat3& rotation,
+  void facePressures(const sim::Simulation& sim, std::size_t i, const Mat3& rotation,
                      std::vector<double>& out);
   /// Stage and step of a written row or snapshot.
   struct Written {
@@ -46,23 +46,23 @@ class RunOutput {
     std::int64_t step = -1;
     bool operator==(const Written&) const = default;
   };
-  static Written labelOf(const Simulation& sim);
+  static Written labelOf(const sim::Simulation& sim);
   MPI_Comm comm_;
   Written last_series_, last_snapshot_;
   std::vector<std::pair<Uid, std::string>> monitored_;
-  std::unique_ptr<io::SeriesWriter> series_;
-  std::unique_ptr<io::SnapshotWriter> snapshots_;  // snapshot_format = "vtk"
-  std::unique_ptr<io::XdmfSnapshotWriter> xdmf_;   // snapshot_format = "xdmf"
+  std::unique_ptr<output::SeriesWriter> series_;
+  std::unique_ptr<output::SnapshotWriter> snapshots_;  // snapshot_format = "vtk"
+  std::unique_ptr<output::XdmfSnapshotWriter> xdmf_;   // snapshot_format = "xdmf"
   std::unique_ptr<BoltOutput> bolts_;              // with either, for a scene with bolts
   std::vector<std::int32_t> contact_count_;        // per local particle, for the snapshot
   std::vector<Vec3> contact_force_;
   std::vector<Vec3> initial_positions_;  // by uid order of the scene, for displacement
   std::vector<double> row_;
-  io::PolyhedraBatch batch_;
-  io::ContactBatch contacts_;
+  output::PolyhedraBatch batch_;
+  output::ContactBatch contacts_;
   std::vector<Vec3> vertices_;
   std::vector<Vec3> normals_;
   std::vector<double> pressures_;  // per face of one particle: water pressure (Pa)
 };
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -16,7 +16,7 @@
 #include "polydem/run/run_checkpoint.h"
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -28,19 +28,19 @@ int receivedSignal(MPI_Comm comm) {
 }
 
 // DIR/runout.h5 with the state and the run-on's counters (collective).
-std::string writeRunoutCheckpoint(Simulation& sim, const RunoutSettings& s,
+std::string writeRunoutCheckpoint(sim::Simulation& sim, const RunoutSettings& s,
                                   const RunoutProgress& progress) {
   if (s.dir.empty()) return "";
   const std::filesystem::path path = std::filesystem::path(s.dir) / "runout.h5";
-  const io::CheckpointData data =
+  const sim::CheckpointData data =
       sim.checkpoint(s.scene_text, s.scene_file, runoutStateJson(progress, s, sim.scene()));
-  io::writeCheckpoint(io::checkpointTarget(path, sim.comm()), data, sim.comm());
+  checkpoint::writeCheckpoint(checkpoint::checkpointTarget(path, sim.comm()), data, sim.comm());
   return path.string();
 }
 
 }  // namespace
 
-double largestSpeedRatio(const Simulation& sim) {
+double largestSpeedRatio(const sim::Simulation& sim) {
   const double g = std::max(sim.scene().gravity.norm(), 1e-300);
   const auto& storage = sim.particles();
   double local = 0.0;
@@ -59,7 +59,7 @@ double largestSpeedRatio(const Simulation& sim) {
   return global;
 }
 
-RunoutResult runRunout(Simulation& sim, const RunoutSettings& s, RunoutProgress progress) {
+RunoutResult runRunout(sim::Simulation& sim, const RunoutSettings& s, RunoutProgress progress) {
   if (!(s.time_cap > 0.0) || s.check_every < 1) {
     throw Error("runout: the time cap must be > 0 and check_every >= 1");
   }
@@ -110,7 +110,7 @@ RunoutResult runRunout(Simulation& sim, const RunoutSettings& s, RunoutProgress 
 }
 
 std::string runoutStateJson(const RunoutProgress& progress, const RunoutSettings& settings,
-                            const io::Scene& scene) {
+                            const setup::Setup& scene) {
   nlohmann::json j;
   j["kernel"] = scene.kernel;
   j["contact_model"] = scene.contact_model;
@@ -140,4 +140,4 @@ RunoutProgress runoutStateFrom(const std::string& json, const std::string& file,
   }
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

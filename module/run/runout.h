@@ -39,8 +39,10 @@
 #include "polydem/setup/setup.h"
 
 namespace polydem::sim {
-
 class Simulation;
+}  // namespace polydem::sim
+
+namespace polydem::run {
 
 /// At rest: every free block's speed below this fraction of sqrt(g s) ...
 constexpr double kRestSpeed = 1e-4;
@@ -113,26 +115,27 @@ struct RunoutResult {
 };
 
 /// The largest speed ratio (|v| + |w| R) / sqrt(g s) over the free blocks (collective).
-double largestSpeedRatio(const Simulation& sim);
+double largestSpeedRatio(const sim::Simulation& sim);
 
 /// The deposit measures of the current state (collective; every rank gets them). `cell`: the
 /// grid's cell size, 0 for the default.
-RunoutDeposit measureDeposit(const Simulation& sim, double cell);
+RunoutDeposit measureDeposit(const sim::Simulation& sim, double cell);
 
 /// Runs `sim` on until at rest or settings.time_cap after progress.start_time (collective),
 /// checkpointing as the settings say, then measures the deposit. A stop signal ends it after the
 /// current step with a checkpoint (stopped_by the signal's name, not at rest).
-RunoutResult runRunout(Simulation& sim, const RunoutSettings& settings, RunoutProgress progress);
+RunoutResult runRunout(sim::Simulation& sim, const RunoutSettings& settings,
+                       RunoutProgress progress);
 
 /// The run-on's counters and settings as the run_state JSON of its checkpoint, and back: the
 /// settings a continued run-on must keep to give the same bits (time_cap, check_every, cell,
 /// checkpoint_every) are read into `settings`. Throws CheckpointError naming `file` if missing.
 std::string runoutStateJson(const RunoutProgress& progress, const RunoutSettings& settings,
-                            const io::Scene& scene);
+                            const setup::Setup& scene);
 RunoutProgress runoutStateFrom(const std::string& json, const std::string& file,
                                RunoutSettings& settings);
 
 /// The thickness map as CSV: i,j,x,y,ground,top,thickness per cell with a failed block over it.
 std::string thicknessCsv(const RunoutDeposit& d);
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -10,7 +10,7 @@
 #include "polydem/run/runout.h"
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -70,7 +70,7 @@ bool verticalExtent(const Placed& b, double x, double y, double& lo, double& hi)
   return lo <= hi;
 }
 
-std::vector<PoseRow> gatherPoses(const Simulation& sim) {
+std::vector<PoseRow> gatherPoses(const sim::Simulation& sim) {
   std::vector<PoseRow> mine;
   const auto& storage = sim.particles();
   const bool root = mpi::rank(sim.comm()) == 0;
@@ -178,7 +178,7 @@ void thicknessMap(const std::vector<Placed>& failed, const std::vector<Placed>& 
 
 }  // namespace
 
-RunoutDeposit measureDeposit(const Simulation& sim, double cell) {
+RunoutDeposit measureDeposit(const sim::Simulation& sim, double cell) {
   RunoutDeposit d;
   const auto& shapes = sim.shapes();
   std::vector<const setup::ParticleSpec*> spec_of;
@@ -247,4 +247,4 @@ std::string thicknessCsv(const RunoutDeposit& d) {
   return out.str();
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

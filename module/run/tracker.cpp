@@ -9,7 +9,7 @@
 #include "polydem/dynamics/monitors.h"
 #include "polydem/sim/simulation.h"
 
-namespace polydem::sim {
+namespace polydem::run {
 
 namespace {
 
@@ -39,7 +39,7 @@ int Tracker::slot(Uid uid) const {
   return it == uids_.end() ? -1 : static_cast<int>(it - uids_.begin());
 }
 
-void Tracker::gather(const Simulation& sim) {
+void Tracker::gather(const sim::Simulation& sim) {
   const std::size_t n = uids_.size();
   buffer_.assign(n * kDoubles, 0.0);
   sum_.assign(n * kDoubles, 0.0);
@@ -135,4 +135,4 @@ double twistAngle(const Quat& from, const Quat& to, const Vec3& axis) {
   return 2.0 * std::atan2(std::abs(along), std::abs(d.w()));
 }
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

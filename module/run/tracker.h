@@ -9,8 +9,10 @@
 #include "polydem/core/types.h"
 
 namespace polydem::sim {
-
 class Simulation;
+}  // namespace polydem::sim
+
+namespace polydem::run {
 
 struct TrackedState {
   Vec3 position = Vec3::Zero();
@@ -30,7 +32,7 @@ class Tracker {
   int slot(Uid uid) const;
 
   /// Gathers the current states (collective). Call after each step.
-  void gather(const Simulation& sim);
+  void gather(const sim::Simulation& sim);
   const std::vector<TrackedState>& states() const { return states_; }
   const std::vector<TrackedState>& initial() const { return initial_; }
   /// The initial states (of the main stage) as numbers, and back (a checkpoint's run state).
@@ -49,4 +51,4 @@ double rotationAngle(const Quat& from, const Quat& to);
 /// Rotation angle about `axis` (unit): the twist part of the relative rotation.
 double twistAngle(const Quat& from, const Quat& to, const Vec3& axis);
 
-}  // namespace polydem::sim
+}  // namespace polydem::run

@@ -4,7 +4,7 @@
 
 #include "polydem/setup/setup.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 
 namespace {
 
@@ -170,7 +170,7 @@ const CheckParam* findCheckParam(const CheckKind& kind, std::string_view name) {
   return nullptr;
 }
 
-Quantity measuredQuantity(const CheckKind& kind, const CheckSpec& spec) {
+Quantity measuredQuantity(const CheckKind& kind, const setup::CheckSpec& spec) {
   if (kind.name != "free_motion") return kind.value;
   const auto it = spec.strings.find("quantity");
   const std::string q = it == spec.strings.end() ? std::string() : it->second;
@@ -179,7 +179,7 @@ Quantity measuredQuantity(const CheckKind& kind, const CheckSpec& spec) {
   return Quantity::kLength;  // displacements and the front's advance
 }
 
-Quantity valueQuantity(const CheckKind& kind, const CheckSpec& spec) {
+Quantity valueQuantity(const CheckKind& kind, const setup::CheckSpec& spec) {
   const auto at = spec.strings.find("at");
   if (kind.name == "free_motion" && at != spec.strings.end() && at->second == "first_below") {
     return Quantity::kTime;
@@ -193,4 +193,4 @@ std::string checkKindNames() {
   return out;
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::scene

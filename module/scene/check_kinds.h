@@ -12,7 +12,7 @@
 #include "polydem/scene/units.h"
 #include "polydem/setup/setup.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 
 enum class CheckParamType {
   kNumber,     // one number with the parameter's quantity and range
@@ -47,10 +47,10 @@ struct CheckKind {
 
 /// The unit of what a check of `kind` measures: the kind's `value`, except for free_motion, whose
 /// `quantity` word (already read into spec.strings) decides it.
-Quantity measuredQuantity(const CheckKind& kind, const CheckSpec& spec);
+Quantity measuredQuantity(const CheckKind& kind, const setup::CheckSpec& spec);
 /// The unit of a check's value, in which `expected` and `tolerance` are read and reported:
 /// measuredQuantity(), except for free_motion at = "first_below", whose value is a time.
-Quantity valueQuantity(const CheckKind& kind, const CheckSpec& spec);
+Quantity valueQuantity(const CheckKind& kind, const setup::CheckSpec& spec);
 
 /// Every kind, in the order of docs/scene-format.md.
 const std::vector<CheckKind>& checkKinds();
@@ -61,4 +61,4 @@ const CheckParam* findCheckParam(const CheckKind& kind, std::string_view name);
 /// "displacement, rotation, ...": for messages.
 std::string checkKindNames();
 
-}  // namespace polydem::io
+}  // namespace polydem::scene

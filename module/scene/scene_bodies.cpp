@@ -12,7 +12,7 @@
 #include "polydem/geometry/shapes.h"
 #include "polydem/scene/scene_sections.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
 namespace {
 
@@ -149,8 +149,8 @@ std::vector<Vec3> typeVertices(const Section& s, const std::string& type, bool& 
   return shapes::platonic(platonicOf(type), positive("edge"));
 }
 
-ShapeSpec readShape(const Section& s) {
-  ShapeSpec shape;
+setup::ShapeSpec readShape(const Section& s) {
+  setup::ShapeSpec shape;
   shape.name = s.requiredString("name");
   shape.line = s.line();
   const std::string type = s.requiredString("type");
@@ -208,7 +208,7 @@ int reference(const Section& s, std::string_view key, int index, const std::stri
   return index;
 }
 
-Common readCommon(const Section& s, const Scene& scene) {
+Common readCommon(const Section& s, const setup::Setup& scene) {
   Common c;
   c.shape =
       reference(s, "shape", indexByName(scene.shapes, s.requiredString("shape")), "[[shape]]");
@@ -221,13 +221,13 @@ Common readCommon(const Section& s, const Scene& scene) {
 
 class ParticleReader {
  public:
-  explicit ParticleReader(Scene& scene) : scene_(scene) {}
+  explicit ParticleReader(setup::Setup& scene) : scene_(scene) {}
 
   void single(const Section& s) {
     s.allowOnly({"shape", "material", "label", "position", "rotation", "velocity",
                  "angular_velocity", "fixed", "driver"});
     const Common c = readCommon(s, scene_);
-    ParticleSpec p = make(c, s.line());
+    setup::ParticleSpec p = make(c, s.line());
     p.label = s.string("label").value_or("");
     claimLabel(s, p.label, "label");
     p.position = s.vec3("position", Quantity::kLength).value_or(p.position);
@@ -267,7 +267,7 @@ class ParticleReader {
     for (std::int64_t k = 0; k < n[2]; ++k) {
       for (std::int64_t j = 0; j < n[1]; ++j) {
         for (std::int64_t i = 0; i < n[0]; ++i) {
-          ParticleSpec p = make(c, s.line());
+          setup::ParticleSpec p = make(c, s.line());
           p.position =
               origin + spacing.cwiseProduct(Vec3(static_cast<double>(i), static_cast<double>(j),
                                                  static_cast<double>(k)));
@@ -284,8 +284,8 @@ class ParticleReader {
     }
   }
 
-  ParticleSpec make(const Common& c, int line) {
-    ParticleSpec p;
+  setup::ParticleSpec make(const Common& c, int line) {
+    setup::ParticleSpec p;
     p.uid = static_cast<Uid>(scene_.particles.size() + 1);
     p.shape = c.shape;
     p.material = c.material;
@@ -298,7 +298,7 @@ class ParticleReader {
   // Every block a shape of its own (named "<rock mass>#<i>") and a particle at its place.
   void rockMass(const Section& s) {
     RockMassCut cut = readRockMass(s, scene_);
-    for (const RockMassInfo& other : scene_.rock_masses) {
+    for (const setup::RockMassInfo& other : scene_.rock_masses) {
       if (other.name == cut.info.name) {
         s.fail("name", cat("rock mass '", other.name, "' is already defined at line ", other.line));
       }
@@ -313,10 +313,10 @@ class ParticleReader {
     }
     // The shapes so far by name, looked up once per block (not a search of every shape).
     std::unordered_map<std::string, int> shape_line;
-    for (const ShapeSpec& other : scene_.shapes) shape_line.emplace(other.name, other.line);
+    for (const setup::ShapeSpec& other : scene_.shapes) shape_line.emplace(other.name, other.line);
     for (std::size_t i = 0; i < cut.mass.blocks.size(); ++i) {
       geometry::RockBlock& block = cut.mass.blocks[i];
-      ShapeSpec shape;
+      setup::ShapeSpec shape;
       shape.name = cat(cut.info.name, "#", i);
       shape.line = s.line();
       if (const auto other = shape_line.find(shape.name); other != shape_line.end()) {
@@ -329,7 +329,7 @@ class ParticleReader {
       c.shape = static_cast<int>(scene_.shapes.size());
       c.material = block.fixed ? cut.fixed_material : cut.material;
       scene_.shapes.push_back(std::move(shape));
-      ParticleSpec p = make(c, s.line());
+      setup::ParticleSpec p = make(c, s.line());
       p.fixed = block.fixed;
       p.label = cat(cut.info.label_prefix, "_", i);
       claimLabel(s, p.label, "label_prefix");
@@ -348,15 +348,15 @@ class ParticleReader {
     }
   }
 
-  Scene& scene_;
+  setup::Setup& scene_;
   std::map<std::string, int> labels_;  // label -> line of its particle
 };
 
 }  // namespace
 
-void readShapes(const Context& ctx, const toml::table& root, Scene& scene) {
+void readShapes(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   for (const Section& s : entries(ctx, root, "shape", "name")) {
-    ShapeSpec shape = readShape(s);
+    setup::ShapeSpec shape = readShape(s);
     if (const int other = indexByName(scene.shapes, shape.name); other >= 0) {
       s.fail("name", "shape '" + shape.name + "' is already defined at line " +
                          std::to_string(scene.shapes[other].line));
@@ -365,7 +365,7 @@ void readShapes(const Context& ctx, const toml::table& root, Scene& scene) {
   }
 }
 
-void readParticles(const Context& ctx, const toml::table& root, Scene& scene) {
+void readParticles(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   // Uids follow the file order of [[particle]] and [[particle_grid]] entries taken together.
   const std::vector<Section> singles = entries(ctx, root, "particle", "label");
   const std::vector<Section> grids = entries(ctx, root, "particle_grid", "label_prefix");
@@ -393,4 +393,4 @@ void readParticles(const Context& ctx, const toml::table& root, Scene& scene) {
   }
 }
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

@@ -7,7 +7,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/scene/scene_sections.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
 namespace {
 
@@ -31,11 +31,11 @@ Vec3 readDirection(const Section& s) {
   return Vec3(std::sin(t) * std::cos(p), std::cos(t) * std::cos(p), -std::sin(p));
 }
 
-BoltSpec readBolt(const Section& s) {
+setup::BoltSpec readBolt(const Section& s) {
   s.allowOnly({"name", "start", "direction", "trend", "plunge", "length", "axial_stiffness",
                "axial_yield", "shear_stiffness", "shear_yield", "pretension",
                "ultimate_elongation"});
-  BoltSpec b;
+  setup::BoltSpec b;
   b.name = s.requiredString("name");
   b.line = s.line();
   if (!s.has("start")) s.missing("start");
@@ -57,9 +57,9 @@ BoltSpec readBolt(const Section& s) {
 
 }  // namespace
 
-void readBolts(const Context& ctx, const toml::table& root, Scene& scene) {
+void readBolts(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   for (const Section& s : entries(ctx, root, "bolt", "name")) {
-    BoltSpec b = readBolt(s);
+    setup::BoltSpec b = readBolt(s);
     if (indexByName(scene.bolts, b.name) >= 0) {
       s.fail("name", "another [[bolt]] is named '" + b.name + "'");
     }
@@ -67,4 +67,4 @@ void readBolts(const Context& ctx, const toml::table& root, Scene& scene) {
   }
 }
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

@@ -9,7 +9,7 @@
 #include "polydem/scene/check_kinds.h"
 #include "polydem/scene/scene_sections.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
 namespace {
 
@@ -41,7 +41,7 @@ bool inRange(const CheckParam& p, double v) {
 }
 
 /// The labels of a "a, b, c" list, each of which some particle must carry.
-std::vector<std::string> labels(const Section& s, const CheckParam& p, const Scene& scene) {
+std::vector<std::string> labels(const Section& s, const CheckParam& p, const setup::Setup& scene) {
   const std::string list = s.requiredString(p.name);
   std::vector<std::string> out;
   std::stringstream in(list);
@@ -51,7 +51,7 @@ std::vector<std::string> labels(const Section& s, const CheckParam& p, const Sce
     label.erase(label.find_last_not_of(" \t") + 1);
     if (label.empty()) s.fail(p.name, "'" + list + "' has an empty label");
     const bool known = std::any_of(scene.particles.begin(), scene.particles.end(),
-                                   [&](const ParticleSpec& q) { return q.label == label; });
+                                   [&](const setup::ParticleSpec& q) { return q.label == label; });
     if (!known) s.fail(p.name, "no particle is labelled '" + label + "'");
     out.push_back(label);
   }
@@ -70,8 +70,8 @@ std::vector<double> direction(const Section& s, const CheckParam& p) {
   return {unit.x(), unit.y(), unit.z()};
 }
 
-void readParameter(const Section& s, const CheckParam& p, Quantity measured, const Scene& scene,
-                   CheckSpec& c) {
+void readParameter(const Section& s, const CheckParam& p, Quantity measured,
+                   const setup::Setup& scene, setup::CheckSpec& c) {
   const std::string key(p.name);
   switch (p.type) {
     case CheckParamType::kNumber: {
@@ -103,11 +103,11 @@ void readParameter(const Section& s, const CheckParam& p, Quantity measured, con
 
 }  // namespace
 
-void readChecks(const Context& ctx, const toml::table& root, Scene& scene) {
+void readChecks(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   for (const Section& s : entries(ctx, root, "check", "name")) {
-    CheckSpec c;
+    setup::CheckSpec c;
     c.name = s.requiredString("name");
-    for (const CheckSpec& other : scene.checks) {
+    for (const setup::CheckSpec& other : scene.checks) {
       if (other.name == c.name) {
         s.fail("name",
                "check '" + c.name + "' is already defined at line " + std::to_string(other.line));
@@ -144,4 +144,4 @@ void readChecks(const Context& ctx, const toml::table& root, Scene& scene) {
   }
 }
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

@@ -6,7 +6,7 @@
 #include "polydem/core/error.h"
 #include "polydem/scene/scene_reader.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 
 namespace {
 
@@ -74,4 +74,4 @@ std::string sceneDifference(std::string_view stored, const std::string& stored_n
   return {};
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::scene

@@ -4,15 +4,16 @@
 #include "polydem/core/strings.h"
 #include "polydem/scene/scene_sections.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
 namespace {
 
 // [fos] joints = ["base", ...]: the [[joint]]s reduced, by name.
-void readFosJoints(const Context& ctx, const Section& s, const toml::node& list, Scene& scene) {
+void readFosJoints(const Context& ctx, const Section& s, const toml::node& list,
+                   setup::Setup& scene) {
   const toml::array* a = list.as_array();
   if (!a) s.fail("joints", "expected a list of [[joint]] names, as in [\"base\", \"bedding\"]");
-  FosSpec& f = scene.fos;
+  setup::FosSpec& f = scene.fos;
   f.joints_named = true;
   for (std::size_t i = 0; i < a->size(); ++i) {
     const std::string what = element(s.where("joints"), i);
@@ -36,7 +37,7 @@ void readFosJoints(const Context& ctx, const Section& s, const toml::node& list,
 
 }  // namespace
 
-void readFos(const Context& ctx, const toml::table& root, Scene& scene) {
+void readFos(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   const toml::node* n = root.get("fos");
   if (!n) return;
   const toml::table* t = n->as_table();
@@ -45,7 +46,7 @@ void readFos(const Context& ctx, const toml::table& root, Scene& scene) {
   s.allowOnly({"interactions", "joints", "f_min", "f_max", "resolution", "max_time", "time_cap",
                "settle_time", "force_ratio", "speed_decay", "local_damping", "speed_limit",
                "displacement_limit", "check_every", "label_prefix", "reduce_bolts"});
-  FosSpec& f = scene.fos;
+  setup::FosSpec& f = scene.fos;
   f.line = s.line();
   if (const toml::node* list = s.find("interactions")) {
     const toml::array* a = list->as_array();
@@ -101,4 +102,4 @@ void readFos(const Context& ctx, const toml::table& root, Scene& scene) {
   f.reduce_bolts = s.boolean("reduce_bolts").value_or(false);
 }
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

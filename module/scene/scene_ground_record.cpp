@@ -15,7 +15,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/scene/scene_sections.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
 namespace {
 
@@ -92,7 +92,7 @@ std::vector<RecordRow> readRows(const Section& s, std::string_view key, std::str
 }
 
 /// `record`: rows of time, ax, ay, az.
-void readTable(const Section& s, SeismicSpec& e) {
+void readTable(const Section& s, setup::SeismicSpec& e) {
   std::string shown;
   const auto rows = readRows(s, "record", shown);
   e.record_file = shown;
@@ -113,7 +113,7 @@ void readTable(const Section& s, SeismicSpec& e) {
 }
 
 /// `record_x`, `record_y`, `record_z`: samples at time_step, from t = 0.
-void readComponents(const Section& s, SeismicSpec& e) {
+void readComponents(const Section& s, setup::SeismicSpec& e) {
   if (!s.has("time_step")) {
     s.fail(s.has("record_x") ? "record_x" : (s.has("record_y") ? "record_y" : "record_z"),
            "give the samples' time_step too (e.g. time_step = \"0.01 s\")");
@@ -149,7 +149,7 @@ void readComponents(const Section& s, SeismicSpec& e) {
 
 }  // namespace
 
-bool readGroundRecord(const Section& s, const Scene& scene, SeismicSpec& e) {
+bool readGroundRecord(const Section& s, const setup::Setup& scene, setup::SeismicSpec& e) {
   const bool table = s.has("record");
   const bool components = s.has("record_x") || s.has("record_y") || s.has("record_z");
   if (!table && !components) {
@@ -191,4 +191,4 @@ bool readGroundRecord(const Section& s, const Scene& scene, SeismicSpec& e) {
   return true;
 }
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

@@ -8,7 +8,7 @@
 #include "polydem/dynamics/joint_law.h"
 #include "polydem/scene/scene_sections.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
 namespace {
 
@@ -62,7 +62,7 @@ double readParameter(const Section& s, const dynamics::LawParameter& p,
 
 }  // namespace
 
-void readJoints(const Context& ctx, const toml::table& root, Scene& scene) {
+void readJoints(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   std::vector<std::string> law_names;
   for (const auto& law : dynamics::jointLaws()) law_names.emplace_back(law.name);
   std::map<std::string, int> lines;
@@ -72,7 +72,7 @@ void readJoints(const Context& ctx, const toml::table& root, Scene& scene) {
     std::vector<std::string_view> known{"name", "law"};
     for (const auto& p : law.parameters) known.emplace_back(p.name);
     s.allowOnly(known);
-    JointSpec j;
+    setup::JointSpec j;
     j.name = s.requiredString("name");
     if (const auto it = lines.find(j.name); it != lines.end()) {
       s.fail("name", cat("joint '", j.name, "' is already defined at line ", it->second));
@@ -88,7 +88,7 @@ void readJoints(const Context& ctx, const toml::table& root, Scene& scene) {
   }
 }
 
-int jointReference(const Section& s, std::string_view key, const Scene& scene) {
+int jointReference(const Section& s, std::string_view key, const setup::Setup& scene) {
   const auto name = s.string(key);
   if (!name) return -1;
   const int index = indexByName(scene.joints, *name);
@@ -96,4 +96,4 @@ int jointReference(const Section& s, std::string_view key, const Scene& scene) {
   return index;
 }
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

@@ -4,7 +4,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/scene/scene_sections.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
 namespace {
 
@@ -27,4 +27,4 @@ void checkParticleMemory(const Section& s, std::string_view key, std::uint64_t p
   }
 }
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

@@ -15,7 +15,7 @@
 #include "polydem/scene/scene_reader.h"
 #include "polydem/scene/toml_values.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 
 namespace {
 
@@ -368,7 +368,7 @@ Realization drawRealization(const Study& study, std::int64_t index) {
   return r;
 }
 
-Scene realizationScene(const Study& study, const Realization& r) {
+setup::Setup realizationScene(const Study& study, const Realization& r) {
   const std::string name = cat(study.file, " (realization ", r.index, ")");
   try {
     return parseScene(r.text, name);
@@ -425,4 +425,4 @@ double normalQuantile(double p) {
   return x - u / (1.0 + 0.5 * x * u);
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::scene

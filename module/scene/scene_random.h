@@ -17,7 +17,7 @@
 
 #include "polydem/setup/setup.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 
 /// One [[random]] entry.
 struct RandomInput {
@@ -62,7 +62,7 @@ Realization drawRealization(const Study& study, std::int64_t index);
 /// The scene of a realization, read from its text. A draw the scene cannot take (a normal
 /// friction angle below 0) throws InputError at the [[random]] entry's line, naming the
 /// realization and the value.
-Scene realizationScene(const Study& study, const Realization& r);
+setup::Setup realizationScene(const Study& study, const Realization& r);
 
 /// The standard normal quantile Phi^-1(p), p in (0, 1), to a few ulps (Acklam's rational
 /// approximation and one Halley step on erfc).
@@ -71,4 +71,4 @@ double normalQuantile(double p);
 /// The standard normal cumulative distribution Phi(x).
 double normalCdf(double x);
 
-}  // namespace polydem::io
+}  // namespace polydem::scene

@@ -18,7 +18,7 @@
 #include "polydem/scene/scene_sections.h"
 #include "polydem/setup/snapshot_fields.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 
 namespace {
 
@@ -38,7 +38,7 @@ std::optional<Section> tableSection(const Context& ctx, const toml::table& root,
   return Section(ctx, *t, cat("[", key, "]"));
 }
 
-void readSceneTable(const Context& ctx, const toml::table& root, Scene& scene) {
+void readSceneTable(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "scene");
   if (!s) ctx.fail(0, "missing the [scene] table (it needs at least id = \"...\")");
   s->allowOnly({"id", "title", "source", "description"});
@@ -48,7 +48,7 @@ void readSceneTable(const Context& ctx, const toml::table& root, Scene& scene) {
   scene.description = s->string("description").value_or("");
 }
 
-void readSimulation(const Context& ctx, const toml::table& root, Scene& scene) {
+void readSimulation(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "simulation");
   if (!s)
     ctx.fail(0, "missing the [simulation] table (it needs at least dt and end_time or steps)");
@@ -56,7 +56,7 @@ void readSimulation(const Context& ctx, const toml::table& root, Scene& scene) {
                 "gravity", "contact_margin"});
   scene.kernel = s->choice("kernel", contact::kernelNames(), scene.kernel);
   scene.broadphase = s->choice("broadphase", {"multilevel", "nbs", "all-pairs"}, scene.broadphase);
-  scene.contact_model = s->choice("contact_model", kContactModels, scene.contact_model);
+  scene.contact_model = s->choice("contact_model", setup::kContactModels, scene.contact_model);
   scene.contact_point =
       s->choice("contact_point", {"kernel", "overlap-centroid"}, scene.contact_point);
   if (scene.contact_point != "kernel" && scene.contact_model != "point") {
@@ -71,7 +71,7 @@ void readSimulation(const Context& ctx, const toml::table& root, Scene& scene) {
       s->number("contact_margin", Quantity::kDimensionless, 0.0, Range::kNonNegative);
 }
 
-void readKernelParams(const Context& ctx, const toml::table& root, Scene& scene) {
+void readKernelParams(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "kernel_params");
   if (!s) return;
   s->allowOnly({"lp_rounding", "separating_axes"});
@@ -101,7 +101,7 @@ void readContactKeys(const Section& s, double& kn, double& ks, double& friction_
   if (jks > 0.0 && !(ks > 0.0)) s.fail("jks", "needs ks > 0 too: edge and corner contacts use ks");
 }
 
-void readMaterials(const Context& ctx, const toml::table& root, Scene& scene) {
+void readMaterials(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   std::map<std::string, int> lines;
   for (const Section& s : detail::entries(ctx, root, "material", "name")) {
     s.allowOnly({"name", "density", "kn", "ks", "friction_angle", "cohesion", "normal_damping",
@@ -128,7 +128,7 @@ void readMaterials(const Context& ctx, const toml::table& root, Scene& scene) {
 }
 
 int materialReference(const Section& s, const toml::node& node, const std::string& what,
-                      const Scene& scene) {
+                      const setup::Setup& scene) {
   const auto* name = node.as_string();
   if (!name) {
     s.context().fail(detail::lineOf(node),
@@ -142,7 +142,7 @@ int materialReference(const Section& s, const toml::node& node, const std::strin
   return index;
 }
 
-void readInteractions(const Context& ctx, const toml::table& root, Scene& scene) {
+void readInteractions(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   // Keys not given keep the value the material table would use for this pair.
   particles::MaterialTable table;
   for (const auto& m : scene.materials) table.add(m);
@@ -156,7 +156,7 @@ void readInteractions(const Context& ctx, const toml::table& root, Scene& scene)
     if (!names || names->size() != 2) {
       s.fail("materials", "expected two material names, as in [\"rock\", \"steel\"]");
     }
-    Scene::Interaction in;
+    setup::Setup::Interaction in;
     in.a = materialReference(s, (*names)[0], s.where("materials") + "[0]", scene);
     in.b = materialReference(s, (*names)[1], s.where("materials") + "[1]", scene);
     const std::pair key{std::min(in.a, in.b), std::max(in.a, in.b)};
@@ -172,11 +172,11 @@ void readInteractions(const Context& ctx, const toml::table& root, Scene& scene)
   }
 }
 
-void readDrivers(const Context& ctx, const toml::table& root, Scene& scene) {
+void readDrivers(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   for (const Section& s : detail::entries(ctx, root, "driver", "name")) {
     s.allowOnly({"name", "velocity", "angular_velocity", "pivot", "oscillation", "frequency",
                  "phase", "start_time", "end_time"});
-    DriverSpec d;
+    dynamics::DriverSpec d;
     d.name = s.requiredString("name");
     if (const int other = detail::indexByName(scene.drivers, d.name); other >= 0) {
       s.fail("name", "driver '" + d.name + "' is already defined at line " +
@@ -200,12 +200,12 @@ void readDrivers(const Context& ctx, const toml::table& root, Scene& scene) {
   }
 }
 
-void readDomain(const Context& ctx, const toml::table& root, Scene& scene) {
+void readDomain(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "domain");
   if (!s) return;
   s->allowOnly({"min", "max", "blocks", "periodic", "rebalance_every", "balancer",
                 "overlap_exchange", "sort_every"});
-  DomainSpec& d = scene.domain;
+  setup::DomainSpec& d = scene.domain;
   d.line = s->lineOf("blocks");
   d.min = s->vec3("min", Quantity::kLength);
   d.max = s->vec3("max", Quantity::kLength);
@@ -251,12 +251,12 @@ void readDomain(const Context& ctx, const toml::table& root, Scene& scene) {
   d.sort_every = s->integer("sort_every", d.sort_every, Range::kNonNegative);
 }
 
-void readEquilibrium(const Context& ctx, const toml::table& root, Scene& scene) {
+void readEquilibrium(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "equilibrium");
   if (!s) return;
   s->allowOnly({"enabled", "local_damping", "friction_angle", "force_ratio", "max_steps",
                 "reset_velocities"});
-  EquilibriumSpec& e = scene.equilibrium;
+  setup::EquilibriumSpec& e = scene.equilibrium;
   e.enabled = s->boolean("enabled").value_or(true);
   e.local_damping =
       s->bounded("local_damping", Quantity::kDimensionless, e.local_damping, 0.0, 1.0, false);
@@ -271,14 +271,14 @@ void readEquilibrium(const Context& ctx, const toml::table& root, Scene& scene) 
 /// `[output] fields` or `contact_fields`: names from `known`, each once; an unknown or repeated
 /// name is an error at its own line. Absent: `defaults`.
 std::vector<std::string> snapshotFields(const Section& s, std::string_view key,
-                                        const std::vector<SnapshotField>& known,
+                                        const std::vector<setup::SnapshotField>& known,
                                         const std::vector<std::string>& defaults) {
   const auto names = s.strings(key);
   if (!names) return defaults;
   const toml::array& array = *s.find(key)->as_array();
   for (std::size_t i = 0; i < names->size(); ++i) {
     const std::string& name = (*names)[i];
-    std::string problem = unknownField(known, name);
+    std::string problem = setup::unknownField(known, name);
     if (problem.empty() &&
         std::find(names->begin(), names->begin() + i, name) != names->begin() + i) {
       problem = "field '" + name + "' is listed twice";
@@ -290,12 +290,12 @@ std::vector<std::string> snapshotFields(const Section& s, std::string_view key,
   return *names;
 }
 
-void readOutput(const Context& ctx, const toml::table& root, Scene& scene) {
+void readOutput(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "output");
   if (!s) return;
   s->allowOnly({"series_every", "snapshot_every", "progress_every", "monitor", "snapshot_format",
                 "fields", "contact_fields", "picture"});
-  OutputSpec& o = scene.output;
+  setup::OutputSpec& o = scene.output;
   o.series_every = s->integer("series_every", o.series_every, Range::kPositive);
   o.snapshot_every = s->integer("snapshot_every", o.snapshot_every, Range::kNonNegative);
   o.progress_every = s->integer("progress_every", o.progress_every, Range::kNonNegative);
@@ -303,20 +303,21 @@ void readOutput(const Context& ctx, const toml::table& root, Scene& scene) {
   for (std::size_t i = 0; i < o.monitor.size(); ++i) {
     const std::string& label = o.monitor[i];
     const bool found = std::any_of(scene.particles.begin(), scene.particles.end(),
-                                   [&](const ParticleSpec& p) { return p.label == label; });
+                                   [&](const setup::ParticleSpec& p) { return p.label == label; });
     if (!found) s->fail("monitor", "no particle is labelled '" + label + "'");
   }
   o.snapshot_format = s->choice("snapshot_format", {"xdmf", "vtk"}, o.snapshot_format);
-  o.fields = snapshotFields(*s, "fields", kParticleFields, kDefaultParticleFields);
-  o.contact_fields = snapshotFields(*s, "contact_fields", kContactFields, kDefaultContactFields);
+  o.fields = snapshotFields(*s, "fields", setup::kParticleFields, setup::kDefaultParticleFields);
+  o.contact_fields =
+      snapshotFields(*s, "contact_fields", setup::kContactFields, setup::kDefaultContactFields);
   o.picture = s->boolean("picture").value_or(o.picture);
 }
 
-void readCheckpoint(const Context& ctx, const toml::table& root, Scene& scene) {
+void readCheckpoint(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   const std::optional<Section> s = tableSection(ctx, root, "checkpoint");
   if (!s) return;
   s->allowOnly({"every_steps", "every_seconds", "keep"});
-  CheckpointSpec& c = scene.checkpoint;
+  setup::CheckpointSpec& c = scene.checkpoint;
   c.every_steps = s->integer("every_steps", c.every_steps, Range::kNonNegative);
   c.every_seconds =
       s->number("every_seconds", Quantity::kTime, c.every_seconds, Range::kNonNegative);
@@ -327,7 +328,7 @@ void readCheckpoint(const Context& ctx, const toml::table& root, Scene& scene) {
 
 }  // namespace
 
-Scene parseScene(std::string_view text, const std::string& name_for_messages) {
+setup::Setup parseScene(std::string_view text, const std::string& name_for_messages) {
   const Context ctx(name_for_messages);
   toml::table root;
   try {
@@ -346,7 +347,7 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages) {
       "rock_mass", "domain",     "equilibrium",   "output",   "checkpoint",
       "check",     "fos",        "water",         "seismic",  "bolt"};
   Section(ctx, root, "top level").allowOnly(kSections);
-  Scene scene;
+  setup::Setup scene;
   scene.file = name_for_messages;
   scene.text = std::string(text);
   // Sections that others refer to come first, whatever their order in the file.
@@ -384,8 +385,8 @@ std::string readSceneText(const std::string& path) {
   return text.str();
 }
 
-Scene readScene(const std::string& path) {
+setup::Setup readScene(const std::string& path) {
   return parseScene(readSceneText(path), path);
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::scene

@@ -1,4 +1,4 @@
-// Reads a scene file (TOML, format in docs/scene-format.md) into an io::Scene.
+// Reads a scene file (TOML, format in docs/scene-format.md) into an setup::Setup.
 //
 // Every value may carry a unit ("1.5e8 N/m", "30 deg"); the reader checks structure, types,
 // units, references between sections and value ranges, and throws an InputError "file:line:
@@ -11,16 +11,16 @@
 
 #include "polydem/setup/setup.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 
 /// The text of the scene file at `path` (InputError if it cannot be read).
 std::string readSceneText(const std::string& path);
 
 /// Reads and checks the scene file at `path`.
-Scene readScene(const std::string& path);
+setup::Setup readScene(const std::string& path);
 
 /// Parses scene text; `name_for_messages` is the file name errors and Scene::file carry.
-Scene parseScene(std::string_view text, const std::string& name_for_messages);
+setup::Setup parseScene(std::string_view text, const std::string& name_for_messages);
 
 /// Empty if two scene texts describe the same run up to its stop settings ([simulation] end_time
 /// and steps), its [output] and [checkpoint] tables and [kernel_params] separating_axes, which may
@@ -30,4 +30,4 @@ Scene parseScene(std::string_view text, const std::string& name_for_messages);
 std::string sceneDifference(std::string_view stored, const std::string& stored_name,
                             std::string_view given, const std::string& given_name);
 
-}  // namespace polydem::io
+}  // namespace polydem::scene

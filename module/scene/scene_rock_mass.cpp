@@ -13,7 +13,7 @@
 #include "polydem/geometry/rock_mass.h"
 #include "polydem/scene/scene_sections.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
 namespace {
 
@@ -166,7 +166,7 @@ void requireUniqueNames(const std::vector<Section>& sections, const std::vector<
 // The [[joint]] of every plane of `mass` (-1: none): single planes first, in order, then the
 // planes of the joint sets, each named "<set>#<k>" (geometry/rock_mass.h).
 std::vector<int> planeJoints(const geometry::RockMass& mass, const std::vector<Section>& planes,
-                             const std::vector<Section>& sets, const Scene& scene) {
+                             const std::vector<Section>& sets, const setup::Setup& scene) {
   std::vector<int> set_joint;
   for (const Section& j : sets) set_joint.push_back(jointReference(j, "joint", scene));
   std::vector<int> out;
@@ -244,15 +244,15 @@ geometry::RockMass cut(const Section& s, geometry::RockMassSpec& spec) {
 
 }  // namespace
 
-std::vector<FacePlane> blockFacePlanes(const geometry::RockMass& mass,
-                                       const geometry::RockBlock& block, int first_plane) {
+std::vector<setup::FacePlane> blockFacePlanes(const geometry::RockMass& mass,
+                                              const geometry::RockBlock& block, int first_plane) {
   // A plane with three of the block's corners on it holds a face of the block (three corners of
   // a convex polyhedron are never in a line). The corners were computed on the planes that cut
   // them, to round-off relative to their coordinates.
   double reach = 0.0;
   for (const Vec3& v : block.vertices) reach = std::max(reach, v.cwiseAbs().maxCoeff());
   const double tolerance = 1e-9 * reach;
-  std::vector<FacePlane> out;
+  std::vector<setup::FacePlane> out;
   for (std::size_t k = 0; k < mass.planes.size(); ++k) {
     const geometry::Plane& p = mass.planes[k];
     int on = 0;
@@ -262,7 +262,7 @@ std::vector<FacePlane> blockFacePlanes(const geometry::RockMass& mass,
   return out;
 }
 
-RockMassCut readRockMass(const Section& s, const Scene& scene) {
+RockMassCut readRockMass(const Section& s, const setup::Setup& scene) {
   s.allowOnly({"name", "material", "fixed_material", "label_prefix", "min_volume", "min_thickness",
                "slivers", "joints_cut_fixed", "region", "joint_set", "plane"});
   RockMassCut out;
@@ -314,4 +314,4 @@ RockMassCut readRockMass(const Section& s, const Scene& scene) {
   return out;
 }
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

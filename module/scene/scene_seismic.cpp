@@ -5,9 +5,9 @@
 #include "polydem/core/strings.h"
 #include "polydem/scene/scene_sections.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
-void readSeismic(const Context& ctx, const toml::table& root, Scene& scene) {
+void readSeismic(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   const toml::node* n = root.get("seismic");
   if (!n) return;
   const toml::table* t = n->as_table();
@@ -15,7 +15,7 @@ void readSeismic(const Context& ctx, const toml::table& root, Scene& scene) {
   const Section s(ctx, *t, "[seismic]");
   s.allowOnly({"kh", "azimuth", "kv", "record", "record_x", "record_y", "record_z", "time_step",
                "units", "scale"});
-  SeismicSpec& e = scene.seismic;
+  setup::SeismicSpec& e = scene.seismic;
   e.enabled = true;
   e.line = s.line();
   if (readGroundRecord(s, scene, e)) return;
@@ -36,4 +36,4 @@ void readSeismic(const Context& ctx, const toml::table& root, Scene& scene) {
   }
 }
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

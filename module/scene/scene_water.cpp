@@ -9,7 +9,7 @@
 #include "polydem/geometry/plan_triangulation.h"
 #include "polydem/scene/scene_sections.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
 namespace {
 
@@ -21,7 +21,7 @@ const toml::array& arrayAt(const Section& s, std::string_view key) {
 
 // `points`: three or more [x, y, z] (a fixed surface) or, with a table, [x, y]. Three give the
 // plane through them; more, their Delaunay triangulation in plan.
-void readPoints(const Section& s, bool with_table, WaterSurfaceSpec& w,
+void readPoints(const Section& s, bool with_table, setup::WaterSurfaceSpec& w,
                 std::vector<double>& heights) {
   const toml::array& a = arrayAt(s, "points");
   const std::size_t width = with_table ? 2 : 3;
@@ -59,7 +59,7 @@ void readPoints(const Section& s, bool with_table, WaterSurfaceSpec& w,
 }
 
 // `table`: rows [time, level] or [time, z1, .., zN], increasing in time.
-void readTable(const Section& s, std::size_t heights, WaterSurfaceSpec& w) {
+void readTable(const Section& s, std::size_t heights, setup::WaterSurfaceSpec& w) {
   const toml::array& a = arrayAt(s, "table");
   const std::string form =
       heights == 1 ? "[time, level]" : cat("[time, z1 .. z", heights, "] (heights of the points)");
@@ -87,7 +87,7 @@ void readTable(const Section& s, std::size_t heights, WaterSurfaceSpec& w) {
 
 // The surface of `s`: level, points, table, or (where `dry_allowed`) dry = true. False when `s`
 // gives none of them.
-bool readSurface(const Section& s, bool dry_allowed, WaterSurfaceSpec& w) {
+bool readSurface(const Section& s, bool dry_allowed, setup::WaterSurfaceSpec& w) {
   const bool with_table = s.has("table");
   const int given = s.has("level") + s.has("points") + (with_table && !s.has("points")) +
                     (dry_allowed && s.has("dry"));
@@ -125,7 +125,7 @@ bool readSurface(const Section& s, bool dry_allowed, WaterSurfaceSpec& w) {
 // The joint planes a [[water.joint]] name stands for: those of a [[joint]] of that name, or the
 // [[rock_mass.plane]] or joint set of that name ("crack", or "mass/crack" in a scene of several
 // rock masses).
-std::vector<int> planesNamed(const std::string& name, const Scene& scene) {
+std::vector<int> planesNamed(const std::string& name, const setup::Setup& scene) {
   std::vector<int> out;
   for (std::size_t k = 0; k < scene.joint_planes.size(); ++k) {
     const auto& plane = scene.joint_planes[k];
@@ -139,7 +139,7 @@ std::vector<int> planesNamed(const std::string& name, const Scene& scene) {
   return out;
 }
 
-void readWaterJoints(const Section& water, Scene& scene) {
+void readWaterJoints(const Section& water, setup::Setup& scene) {
   const toml::node* n = water.find("joint");
   const toml::array* a = n->as_array();
   if (!a || !a->is_array_of_tables()) {
@@ -149,7 +149,7 @@ void readWaterJoints(const Section& water, Scene& scene) {
   for (std::size_t i = 0; i < a->size(); ++i) {
     const Section s(water.context(), *(*a)[i].as_table(), cat("[[water.joint]] #", i + 1));
     s.allowOnly({"joint", "level", "points", "table", "dry"});
-    WaterJointSpec j;
+    setup::WaterJointSpec j;
     j.name = s.requiredString("joint");
     j.line = s.line();
     j.planes = planesNamed(j.name, scene);
@@ -179,14 +179,14 @@ void readWaterJoints(const Section& water, Scene& scene) {
 
 }  // namespace
 
-void readWater(const Context& ctx, const toml::table& root, Scene& scene) {
+void readWater(const Context& ctx, const toml::table& root, setup::Setup& scene) {
   const toml::node* n = root.get("water");
   if (!n) return;
   const toml::table* t = n->as_table();
   if (!t) ctx.fail(lineOf(*n), "'water' must be a table: write [water], got " + typeName(*n));
   const Section s(ctx, *t, "[water]");
   s.allowOnly({"unit_weight", "level", "points", "table", "joint"});
-  WaterSpec& w = scene.water;
+  setup::WaterSpec& w = scene.water;
   w.enabled = true;
   w.line = s.line();
   w.unit_weight = s.number("unit_weight", Quantity::kUnitWeight, w.unit_weight, Range::kPositive);
@@ -198,4 +198,4 @@ void readWater(const Context& ctx, const toml::table& root, Scene& scene) {
   }
 }
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

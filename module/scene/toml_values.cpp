@@ -9,7 +9,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
 namespace {
 
@@ -205,7 +205,7 @@ Section::Section(const Context& ctx, const toml::table& table, std::string name)
     : ctx_(ctx), table_(table), name_(std::move(name)) {}
 
 int Section::line() const {
-  return detail::lineOf(table_);
+  return scene::detail::lineOf(table_);
 }
 
 std::string Section::where(std::string_view key) const {
@@ -236,7 +236,7 @@ void Section::allowOnly(const std::vector<std::string_view>& known) const {
 
 int Section::lineOf(std::string_view key) const {
   const toml::node* n = find(key);
-  const int l = n ? detail::lineOf(*n) : 0;
+  const int l = n ? scene::detail::lineOf(*n) : 0;
   return l > 0 ? l : line();
 }
 
@@ -315,7 +315,7 @@ std::optional<std::array<std::int64_t, 3>> Section::int3(std::string_view key, R
     const toml::node& e = (*a)[i];
     const std::string what = element(where(key), i);
     const auto* v = e.as_integer();
-    if (!v) ctx_.fail(detail::lineOf(e), what + ": expected an integer, got " + given(e));
+    if (!v) ctx_.fail(scene::detail::lineOf(e), what + ": expected an integer, got " + given(e));
     out[i] = v->get();
     checkRange(ctx_, e, what, static_cast<double>(out[i]), r);
   }
@@ -331,7 +331,7 @@ std::optional<std::array<bool, 3>> Section::bool3(std::string_view key) const {
   for (std::size_t i = 0; i < 3; ++i) {
     const auto* v = (*a)[i].as_boolean();
     if (!v) {
-      ctx_.fail(detail::lineOf((*a)[i]),
+      ctx_.fail(scene::detail::lineOf((*a)[i]),
                 element(where(key), i) + ": expected true or false, got " + given((*a)[i]));
     }
     out[i] = v->get();
@@ -373,7 +373,7 @@ std::optional<std::vector<std::string>> Section::strings(std::string_view key) c
   for (std::size_t i = 0; i < a->size(); ++i) {
     const auto* s = (*a)[i].as_string();
     if (!s) {
-      ctx_.fail(detail::lineOf((*a)[i]),
+      ctx_.fail(scene::detail::lineOf((*a)[i]),
                 element(where(key), i) + ": expected a string, got " + given((*a)[i]));
     }
     out.push_back(s->get());
@@ -416,4 +416,4 @@ std::vector<Section> entries(const Context& ctx, const toml::table& root, std::s
   return out;
 }
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

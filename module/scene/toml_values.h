@@ -13,7 +13,7 @@
 #include "polydem/core/types.h"
 #include "polydem/scene/units.h"
 
-namespace polydem::io::detail {
+namespace polydem::scene::detail {
 
 /// Line of a node in the file; 0 if toml++ does not know it.
 int lineOf(const toml::node& node);
@@ -106,4 +106,4 @@ class Section {
 std::vector<Section> entries(const Context& ctx, const toml::table& root, std::string_view key,
                              std::string_view name_key);
 
-}  // namespace polydem::io::detail
+}  // namespace polydem::scene::detail

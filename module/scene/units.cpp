@@ -6,7 +6,7 @@
 
 #include "polydem/core/types.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 
 namespace {
 
@@ -298,4 +298,4 @@ double toStoredUnit(const ParsedQuantity& p, Quantity q) {
   return v;
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::scene

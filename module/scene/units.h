@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-namespace polydem::io {
+namespace polydem::scene {
 
 /// Exponents of the base dimensions: mass, length, time, angle.
 struct Dimension {
@@ -69,4 +69,4 @@ ParsedQuantity parseQuantity(std::string_view text);
 /// The parsed value in the unit `q` is stored in. The caller has checked the dimension.
 double toStoredUnit(const ParsedQuantity& p, Quantity q);
 
-}  // namespace polydem::io
+}  // namespace polydem::scene

@@ -87,9 +87,6 @@ struct JointPlaneSpec {
   int joint = -1;
 };
 
-/// Defined with the driver code (dynamics/driver_spec.h), which must not depend on the setup.
-using DriverSpec = dynamics::DriverSpec;
-
 struct ParticleSpec {
   Uid uid = 0;        // assigned by the reader in file order, starting at 1
   std::string label;  // optional name, used by checks and monitors
@@ -316,7 +313,7 @@ struct Setup {
   std::vector<Interaction> interactions;
   std::vector<ShapeSpec> shapes;
   std::vector<ParticleSpec> particles;
-  std::vector<DriverSpec> drivers;
+  std::vector<dynamics::DriverSpec> drivers;
   std::vector<RockMassInfo> rock_masses;
   std::vector<JointSpec> joints;             // [[joint]], in file order
   std::vector<JointPlaneSpec> joint_planes;  // every plane of every rock mass, in cutting order
@@ -335,28 +332,3 @@ struct Setup {
 
 }  // namespace polydem::setup
 
-// The names these types had while they lived in module/io (io::Scene, io::ShapeSpec, ...): the
-// scene reader, the apps and Python still use them.
-namespace polydem::io {
-using Scene = setup::Setup;
-using setup::BoltSpec;
-using setup::CheckpointSpec;
-using setup::CheckSpec;
-using setup::DomainSpec;
-using setup::DriverSpec;
-using setup::EquilibriumSpec;
-using setup::FacePlane;
-using setup::FosSpec;
-using setup::JointPlaneSpec;
-using setup::JointSpec;
-using setup::kContactModels;
-using setup::OutputSpec;
-using setup::ParticleSpec;
-using setup::RockMassInfo;
-using setup::SeismicSpec;
-using setup::ShapeSpec;
-using setup::unknownContactModel;
-using setup::WaterJointSpec;
-using setup::WaterSpec;
-using setup::WaterSurfaceSpec;
-}  // namespace polydem::io

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace polydem::io {
+namespace polydem::setup {
 
 /// Element type of a field in the file.
 enum class FieldType { kFloat64, kUInt64, kInt32, kUInt8 };
@@ -80,4 +80,4 @@ inline std::string unknownField(const std::vector<SnapshotField>& fields, const 
   return "unknown field '" + name + "' (known: " + known + ")";
 }
 
-}  // namespace polydem::io
+}  // namespace polydem::setup

@@ -22,7 +22,7 @@ class ContactModelStep {
   /// `overlap_centroid`: a single-point contact acts at the centroid of the overlap volume.
   ModelledContact evaluate(const contact::Kernel& kernel, dynamics::ContactModel model,
                            bool overlap_centroid, const contact::Body& a, const contact::Body& b,
-                           contact::PairState* warm);
+                           particles::PairState* warm);
 
  private:
   contact::OverlapCentroid overlap_;
@@ -34,7 +34,7 @@ inline ModelledContact ContactModelStep::evaluate(const contact::Kernel& kernel,
                                                   dynamics::ContactModel model,
                                                   bool overlap_centroid, const contact::Body& a,
                                                   const contact::Body& b,
-                                                  contact::PairState* warm) {
+                                                  particles::PairState* warm) {
   const bool sub_contacts = model == dynamics::ContactModel::kSubContacts;
   ModelledContact m{sub_contacts ? kernel.collideForSubContacts(a, b, warm)
                                  : kernel.collide(a, b, warm)};

@@ -55,7 +55,7 @@ struct ContactSetup {
   // material pair for the current stage; empty without joints.
   const std::vector<std::int32_t>* plane_joint = nullptr;
   const std::vector<dynamics::LawCoefficients>* joint_law = nullptr;
-  const std::vector<setup::DriverSpec>* drivers = nullptr;
+  const std::vector<dynamics::DriverSpec>* drivers = nullptr;
   // How contacts become forces (dynamics/contact_models.h).
   dynamics::ContactModel model = dynamics::ContactModel::kSubContacts;
   // Move each touching contact's point to the centroid of the overlap volume (overlap_point.h;

@@ -63,8 +63,8 @@ class Simulation {
  public:
   Simulation(const setup::Setup& scene, MPI_Comm comm);
   /// Continues the run a checkpoint holds (collective, on any number of ranks): `checkpoint` is
-  /// what io::readCheckpoint returned on this rank, `scene` the scene it was written from (its
-  /// stop settings may differ). The particles move to their owners by position, the pair
+  /// what checkpoint::readCheckpoint returned on this rank, `scene` the scene it was written from
+  /// (its stop settings may differ). The particles move to their owners by position, the pair
   /// histories to the owners of their particles, and step, exact time, stage and leapfrog
   /// velocities are taken as stored, so that stepping on gives the same bits as a run that never
   /// stopped (sim/restart.cpp). Throws CheckpointError naming `file` if the shapes

@@ -61,10 +61,10 @@ class SurfaceNow {
  private:
   bool dry_;
   double unit_weight_;
-  PhreaticSurface plane_;  // a level or three points
+  geometry::PlanPlane plane_;  // a level or three points
   geometry::LinearPressure pressure_;
   std::optional<geometry::PlanPartition> partition_;  // four points or more
-  std::vector<PhreaticSurface> cell_planes_;
+  std::vector<geometry::PlanPlane> cell_planes_;
   std::vector<geometry::LinearPressure> cell_pressure_;
 };
 
@@ -120,10 +120,10 @@ void surfaceHeights(const setup::WaterSurfaceSpec& water, double time, std::vect
   }
 }
 
-PhreaticSurface phreaticSurface(const setup::WaterSurfaceSpec& water, double time) {
+geometry::PlanPlane phreaticSurface(const setup::WaterSurfaceSpec& water, double time) {
   std::vector<double> z;
   surfaceHeights(water, time, z);
-  PhreaticSurface s;
+  geometry::PlanPlane s;
   if (water.points.empty()) {
     s.height = z[0];
     return s;
@@ -142,7 +142,7 @@ PhreaticSurface phreaticSurface(const setup::WaterSurfaceSpec& water, double tim
   return s;
 }
 
-geometry::LinearPressure hydrostaticPressure(const PhreaticSurface& surface, double unit_weight,
+geometry::LinearPressure hydrostaticPressure(const geometry::PlanPlane& surface, double unit_weight,
                                              const Vec3& c) {
   geometry::LinearPressure pressure;
   pressure.origin = c;

@@ -26,12 +26,9 @@
 
 namespace polydem::sim {
 
-/// A plane phreatic surface at one time: z = height + slope_x (x - x0) + slope_y (y - y0).
-using PhreaticSurface = geometry::PlanPlane;
-
 /// The level or three-point surface of `water` at `time`: the table's rows interpolated
 /// linearly, the first or last row held outside them.
-PhreaticSurface phreaticSurface(const setup::WaterSurfaceSpec& water, double time);
+geometry::PlanPlane phreaticSurface(const setup::WaterSurfaceSpec& water, double time);
 
 /// The heights of the surface's points (or its level) at `time`, as phreaticSurface, into `z`.
 void surfaceHeights(const setup::WaterSurfaceSpec& water, double time, std::vector<double>& z);
@@ -46,7 +43,7 @@ geometry::PressureResultant waterOnFace(const setup::WaterSurfaceSpec& surface, 
 
 /// The hydrostatic pressure below `surface`, p(x) = unit_weight (z_surface(x, y) - z), written
 /// about the point c.
-geometry::LinearPressure hydrostaticPressure(const PhreaticSurface& surface, double unit_weight,
+geometry::LinearPressure hydrostaticPressure(const geometry::PlanPlane& surface, double unit_weight,
                                              const Vec3& c);
 
 /// The mean water pressure on each face of a free block (Pa) into `out` (one per face): the

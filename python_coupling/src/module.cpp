@@ -84,7 +84,8 @@ void finalizeMpi() {
   int finalized = 0;
   MPI_Finalized(&finalized);
   if (finalized) return;
-  io::closeHdf5Library();  // quietly, before MPI_Finalize would close it (checkpoint/checkpoint.h)
+  hdf5::closeHdf5Library();  // quietly, before MPI_Finalize would close it
+                             // (checkpoint/checkpoint.h)
   MPI_Finalize();
 }
 

@@ -1,5 +1,5 @@
 // Bindings of module/io's Scene (read a scene file, look at it, override kernel and stop time) and
-// of sim::runScene, the complete run `polydem run` makes.
+// of run::runScene, the complete run `polydem run` makes.
 #include <optional>
 #include <string>
 
@@ -15,9 +15,7 @@ namespace polydem::python {
 
 namespace {
 
-using io::Scene;
-
-py::list materials(const Scene& s) {
+py::list materials(const setup::Setup& s) {
   py::list out;
   for (const auto& m : s.materials) {
     py::dict d;
@@ -37,7 +35,7 @@ py::list materials(const Scene& s) {
   return out;
 }
 
-py::list shapes(const Scene& s) {
+py::list shapes(const setup::Setup& s) {
   py::list out;
   for (const auto& shape : s.shapes) {
     py::dict d;
@@ -48,7 +46,7 @@ py::list shapes(const Scene& s) {
   return out;
 }
 
-py::dict particles(const Scene& s) {
+py::dict particles(const setup::Setup& s) {
   const auto n = static_cast<py::ssize_t>(s.particles.size());
   auto uid = emptyArray<std::uint64_t>({n});
   auto shape = emptyArray<std::int32_t>({n});
@@ -91,7 +89,7 @@ py::dict particles(const Scene& s) {
   return d;
 }
 
-py::list drivers(const Scene& s) {
+py::list drivers(const setup::Setup& s) {
   py::list out;
   for (const auto& d : s.drivers) {
     py::dict x;
@@ -109,7 +107,7 @@ py::list drivers(const Scene& s) {
   return out;
 }
 
-py::list checks(const Scene& s) {
+py::list checks(const setup::Setup& s) {
   py::list out;
   for (const auto& c : s.checks) {
     py::dict d;
@@ -138,7 +136,7 @@ void putSurface(const setup::WaterSurfaceSpec& w, py::dict& d) {
   d["dry"] = w.dry;
 }
 
-py::object water(const Scene& s) {
+py::object water(const setup::Setup& s) {
   if (!s.water.enabled) return py::none();
   py::dict d;
   d["unit_weight"] = s.water.unit_weight;
@@ -157,7 +155,7 @@ py::object water(const Scene& s) {
   return d;
 }
 
-py::list bolts(const Scene& s) {
+py::list bolts(const setup::Setup& s) {
   py::list out;
   for (const auto& b : s.bolts) {
     py::dict d;
@@ -178,7 +176,7 @@ py::list bolts(const Scene& s) {
   return out;
 }
 
-py::object seismic(const Scene& s) {
+py::object seismic(const setup::Setup& s) {
   if (!s.seismic.enabled) return py::none();
   py::dict d;
   d["kh"] = s.seismic.kh;
@@ -193,7 +191,7 @@ py::object seismic(const Scene& s) {
   return d;
 }
 
-py::list rockMasses(const Scene& s) {
+py::list rockMasses(const setup::Setup& s) {
   py::list out;
   for (const auto& r : s.rock_masses) {
     py::dict d;
@@ -209,7 +207,7 @@ py::list rockMasses(const Scene& s) {
   return out;
 }
 
-std::string repr(const Scene& s) {
+std::string repr(const setup::Setup& s) {
   return cat("Scene('", s.id, "', ", s.particles.size(), " particles, kernel ", s.kernel, ", dt ",
              num(s.dt), ")");
 }
@@ -223,7 +221,7 @@ void checkKernel(const std::string& name) {
   }
 }
 
-sim::RunOptions runOptions(const std::string& out, std::optional<std::int64_t> steps,
+run::RunOptions runOptions(const std::string& out, std::optional<std::int64_t> steps,
                            std::optional<double> end_time, std::optional<std::string> kernel,
                            bool snapshots, std::int64_t progress_every) {
   if (steps && *steps <= 0) throw py::value_error(cat("steps must be positive, got ", *steps));
@@ -232,7 +230,7 @@ sim::RunOptions runOptions(const std::string& out, std::optional<std::int64_t> s
   }
   if (progress_every < 0) throw py::value_error("progress_every must be >= 0");
   if (kernel) checkKernel(*kernel);
-  sim::RunOptions o;
+  run::RunOptions o;
   o.out_dir = out;
   o.steps = steps;
   o.end_time = end_time;
@@ -242,7 +240,7 @@ sim::RunOptions runOptions(const std::string& out, std::optional<std::int64_t> s
   return o;
 }
 
-py::dict checkDict(const io::CheckResult& c) {
+py::dict checkDict(const output::CheckResult& c) {
   py::dict d;
   d["name"] = c.name;
   d["kind"] = c.kind;
@@ -256,12 +254,13 @@ py::dict checkDict(const io::CheckResult& c) {
   return d;
 }
 
-py::dict runScene(const Scene& scene, const std::string& out, std::optional<std::int64_t> steps,
-                  std::optional<double> end_time, std::optional<std::string> kernel, bool snapshots,
-                  std::int64_t progress_every, const py::object& comm) {
+py::dict runScene(const setup::Setup& scene, const std::string& out,
+                  std::optional<std::int64_t> steps, std::optional<double> end_time,
+                  std::optional<std::string> kernel, bool snapshots, std::int64_t progress_every,
+                  const py::object& comm) {
   auto options = runOptions(out, steps, end_time, kernel, snapshots, progress_every);
   options.scene_text = scene.text;  // what its checkpoints store
-  const sim::RunResult r = sim::runScene(scene, options, toComm(comm));
+  const run::RunResult r = run::runScene(scene, options, toComm(comm));
   py::list check_list;
   for (const auto& c : r.checks) check_list.append(checkDict(c));
   py::dict d;
@@ -278,7 +277,7 @@ py::dict runScene(const Scene& scene, const std::string& out, std::optional<std:
 }  // namespace
 
 void bindScene(py::module_& m) {
-  py::class_<Scene>(
+  py::class_<setup::Setup>(
       m, "SceneData",
       R"(A checked scene as read from a scene file (docs/scene-format.md), in SI units.
 
@@ -288,27 +287,27 @@ Python; `text` is the TOML it was read from, which checkpoints of its run store.
 A read-only view of its main fields, except the kernel, the contact model and the stop condition,
 which may be overridden (as `polydem run --kernel/--contact-model/--steps/--end-time` do). Setting `steps` or `end_time`
 replaces the scene's whole stop condition: the other one is cleared.)")
-      .def_readonly("file", &Scene::file, "Path of the scene file.")
-      .def_readonly("text", &Scene::text, "The TOML text the scene was read from, verbatim.")
+      .def_readonly("file", &setup::Setup::file, "Path of the scene file.")
+      .def_readonly("text", &setup::Setup::text, "The TOML text the scene was read from, verbatim.")
       .def(
-          "to_toml", [](const Scene& s) { return s.text; },
+          "to_toml", [](const setup::Setup& s) { return s.text; },
           "The TOML text the scene was read from (kernel, contact model and stop overrides are\n"
           "not written into it).")
-      .def_readonly("id", &Scene::id)
-      .def_readonly("title", &Scene::title)
-      .def_readonly("description", &Scene::description)
-      .def_readonly("source", &Scene::source)
+      .def_readonly("id", &setup::Setup::id)
+      .def_readonly("title", &setup::Setup::title)
+      .def_readonly("description", &setup::Setup::description)
+      .def_readonly("source", &setup::Setup::source)
       .def_property(
-          "kernel", [](const Scene& s) { return s.kernel; },
-          [](Scene& s, const std::string& name) {
+          "kernel", [](const setup::Setup& s) { return s.kernel; },
+          [](setup::Setup& s, const std::string& name) {
             checkKernel(name);
             s.kernel = name;
           },
           "Contact kernel name (one of polydem.kernels()).")
       .def_property(
-          "contact_model", [](const Scene& s) { return s.contact_model; },
-          [](Scene& s, const std::string& model) {
-            if (const auto e = io::unknownContactModel(model); !e.empty()) {
+          "contact_model", [](const setup::Setup& s) { return s.contact_model; },
+          [](setup::Setup& s, const std::string& model) {
+            if (const auto e = setup::unknownContactModel(model); !e.empty()) {
               throw py::value_error(e);
             }
             if (model != "point" && s.contact_point != "kernel") {
@@ -319,28 +318,28 @@ replaces the scene's whole stop condition: the other one is cleared.)")
           },
           "How penalty contacts become forces: \"sub-contacts\" (a spring at every corner of a "
           "face overlap; the default) or \"point\" (docs/dynamics.md).")
-      .def_readonly("broadphase", &Scene::broadphase)
-      .def_readonly("dt", &Scene::dt, "Time step [s].")
+      .def_readonly("broadphase", &setup::Setup::broadphase)
+      .def_readonly("dt", &setup::Setup::dt, "Time step [s].")
       .def_property(
-          "steps", [](const Scene& s) { return s.steps; },
-          [](Scene& s, std::optional<std::int64_t> steps) {
+          "steps", [](const setup::Setup& s) { return s.steps; },
+          [](setup::Setup& s, std::optional<std::int64_t> steps) {
             if (!steps) return s.steps.reset();
-            sim::applyOverrides(s, runOptions("", steps, std::nullopt, std::nullopt, true, 0));
+            run::applyOverrides(s, runOptions("", steps, std::nullopt, std::nullopt, true, 0));
           },
           "Step count the run stops at, or None. Setting a count clears end_time.")
       .def_property(
-          "end_time", [](const Scene& s) { return s.end_time; },
-          [](Scene& s, std::optional<double> end_time) {
+          "end_time", [](const setup::Setup& s) { return s.end_time; },
+          [](setup::Setup& s, std::optional<double> end_time) {
             if (!end_time) return s.end_time.reset();
-            sim::applyOverrides(s, runOptions("", std::nullopt, end_time, std::nullopt, true, 0));
+            run::applyOverrides(s, runOptions("", std::nullopt, end_time, std::nullopt, true, 0));
           },
           "Simulated time the run stops at [s], or None. Setting a time clears steps.")
       .def_property_readonly(
-          "gravity", [](const Scene& s) { return vec3Array(s.gravity); }, "[m/s^2]")
-      .def_readonly("contact_margin", &Scene::contact_margin,
+          "gravity", [](const setup::Setup& s) { return vec3Array(s.gravity); }, "[m/s^2]")
+      .def_readonly("contact_margin", &setup::Setup::contact_margin,
                     "Extra range of candidate pairs, relative to particle size.")
       .def_property_readonly(
-          "num_particles", [](const Scene& s) { return s.particles.size(); },
+          "num_particles", [](const setup::Setup& s) { return s.particles.size(); },
           "Number of particles (free, fixed and driven).")
       .def_property_readonly("particles", &particles,
                              "Initial particles as a dict of arrays: uid, label (list), shape and "
@@ -366,10 +365,10 @@ replaces the scene's whole stop condition: the other one is cleared.)")
                              "The expected results ([[check]]) as dicts (name, kind, expected, "
                              "tolerance, compare, reference, line).")
       .def_property_readonly(
-          "monitor", [](const Scene& s) { return s.output.monitor; },
+          "monitor", [](const setup::Setup& s) { return s.output.monitor; },
           "Labels of the particles whose state a run writes to series.csv.")
       .def_property_readonly(
-          "equilibrium", [](const Scene& s) { return s.equilibrium.enabled; },
+          "equilibrium", [](const setup::Setup& s) { return s.equilibrium.enabled; },
           "Whether the run starts with the initial-equilibrium stage.")
       .def_property_readonly("water", &water,
                              "[water] as read, in SI units: a dict (unit_weight [N/m^3], points "
@@ -389,18 +388,19 @@ replaces the scene's whole stop condition: the other one is cleared.)")
                              "record_acceleration [m/s^2, (n, 3)], line), or None without an "
                              "earthquake load.")
       .def(
-          "copy", [](const Scene& s) { return Scene(s); },
+          "copy", [](const setup::Setup& s) { return setup::Setup(s); },
           "An independent copy (to override kernel or stop time without changing this one).")
-      .def("__copy__", [](const Scene& s) { return Scene(s); })
+      .def("__copy__", [](const setup::Setup& s) { return setup::Setup(s); })
       .def(
-          "__deepcopy__", [](const Scene& s, const py::dict&) { return Scene(s); }, py::arg("memo"))
+          "__deepcopy__", [](const setup::Setup& s, const py::dict&) { return setup::Setup(s); },
+          py::arg("memo"))
       .def("__repr__", &repr);
 
   m.def(
-      "read_scene", &io::readScene, py::arg("path"),
+      "read_scene", &scene::readScene, py::arg("path"),
       "Reads and checks a scene file. Raises polydem.InputError ('file:line: message', with\n"
       "attributes file and line; line 0 for a file that cannot be opened) for the first problem.");
-  m.def("parse_scene", &io::parseScene, py::arg("text"), py::arg("name") = "<string>",
+  m.def("parse_scene", &scene::parseScene, py::arg("text"), py::arg("name") = "<string>",
         "Reads a scene from TOML text; `name` is the file name messages carry.");
   m.def("run_scene", &runScene, py::arg("scene"), py::arg("out") = "",
         py::arg("steps") = py::none(), py::arg("end_time") = py::none(),

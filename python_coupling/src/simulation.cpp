@@ -62,7 +62,7 @@ ParticleRow rowOf(const Simulation& sim, std::size_t i) {
 
 // The scene's labels of `rows` ("" where none): the reader numbers particles 1, 2, ... in scene
 // order, so uid u is entry u - 1 of the scene's list.
-py::list labelsOf(const io::Scene& scene, const std::vector<ParticleRow>& rows) {
+py::list labelsOf(const setup::Setup& scene, const std::vector<ParticleRow>& rows) {
   py::list labels;
   for (const ParticleRow& r : rows) {
     const bool known =

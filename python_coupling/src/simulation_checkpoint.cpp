@@ -1,7 +1,7 @@
 // Simulation from Python beyond stepping: building one from any scene (a Scene read from a file,
 // a polydem.Scene built in Python, a path) on any communicator, writing a checkpoint and
 // continuing from one (docs/checkpoint.md). A checkpoint stores the scene's TOML text
-// (io::Scene::text), which is how a scene built in Python, without a file, can be restarted.
+// (setup::Setup::text), which is how a scene built in Python, without a file, can be restarted.
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -42,20 +42,20 @@ void writeCheckpoint(const Simulation& sim, const py::object& path_object) {
   }
   // A run from Python has no checks or monitors of its own: its run state holds the kernel and
   // contact model, which may have been set over the scene text's.
-  const sim::Tracker tracker;
-  const std::vector<std::unique_ptr<sim::Check>> checks;
-  io::CheckpointData data = sim.checkpoint(sim.scene().text, sim.scene().file,
-                                           sim::runStateJson(sim.scene(), tracker, checks));
+  const run::Tracker tracker;
+  const std::vector<std::unique_ptr<run::Check>> checks;
+  sim::CheckpointData data = sim.checkpoint(sim.scene().text, sim.scene().file,
+                                            run::runStateJson(sim.scene(), tracker, checks));
   data.code_version = POLYDEM_VERSION;
-  io::writeCheckpoint(path, data, sim.comm());
+  checkpoint::writeCheckpoint(path, data, sim.comm());
 }
 
 std::unique_ptr<Simulation> restart(const py::object& path_object, const py::object& comm_object) {
   const std::string path = fspath(path_object, "path");
   const MPI_Comm comm = toComm(comm_object);
-  const io::CheckpointData data = io::readCheckpoint(path, comm);
-  io::Scene scene = io::parseScene(data.scene_toml, data.scene_file);
-  sim::prepareContinuation(data, path, scene);
+  const sim::CheckpointData data = checkpoint::readCheckpoint(path, comm);
+  setup::Setup scene = scene::parseScene(data.scene_toml, data.scene_file);
+  run::prepareContinuation(data, path, scene);
   return std::make_unique<Simulation>(scene, data, path, comm);
 }
 
@@ -91,15 +91,16 @@ void setVelocity(Simulation& sim, std::int64_t uid, const py::object& velocity,
 
 std::unique_ptr<Simulation> makeSimulation(const py::object& scene, const py::object& comm_object) {
   const MPI_Comm comm = toComm(comm_object);
-  if (py::isinstance<io::Scene>(scene)) {
-    return std::make_unique<Simulation>(scene.cast<const io::Scene&>(), comm);
+  if (py::isinstance<setup::Setup>(scene)) {
+    return std::make_unique<Simulation>(scene.cast<const setup::Setup&>(), comm);
   }
   if (py::hasattr(scene, "build") && py::hasattr(scene, "to_toml")) {  // polydem.Scene
     const py::object built = scene.attr("build")();
-    if (!py::isinstance<io::Scene>(built)) throw py::type_error("Scene.build() returned no scene");
-    return std::make_unique<Simulation>(built.cast<const io::Scene&>(), comm);
+    if (!py::isinstance<setup::Setup>(built))
+      throw py::type_error("Scene.build() returned no scene");
+    return std::make_unique<Simulation>(built.cast<const setup::Setup&>(), comm);
   }
-  return std::make_unique<Simulation>(io::readScene(fspath(scene, "scene")), comm);
+  return std::make_unique<Simulation>(scene::readScene(fspath(scene, "scene")), comm);
 }
 
 void bindSimulationCheckpoint(py::class_<Simulation>& c) {

@@ -9,7 +9,7 @@
 
 #include "polydem/core/state_hash.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 namespace {
 
 /// The definition in docs/checkpoint.md, term by term.
@@ -17,7 +17,7 @@ template <typename U>
 std::uint64_t reference(const std::vector<U>& values) {
   std::uint64_t sum = 0;
   for (std::size_t j = 0; j < values.size(); ++j) {
-    sum += BitHasher::mix(static_cast<std::uint64_t>(values[j]) + (j + 1) * kChecksumGamma);
+    sum += BitHasher::mix(static_cast<std::uint64_t>(values[j]) + (j + 1) * hdf5::kChecksumGamma);
   }
   return BitHasher::mix(sum ^ values.size());
 }
@@ -36,16 +36,17 @@ std::vector<U> sample(std::size_t n) {
 template <typename U>
 void checkSplits() {
   const auto v = sample<U>(1001);
-  const std::uint64_t whole = checksumFinish(checksumPartial(std::span<const U>(v), 0), v.size());
+  const std::uint64_t whole =
+      hdf5::checksumFinish(hdf5::checksumPartial(std::span<const U>(v), 0), v.size());
   EXPECT_EQ(whole, reference(v));
   // Any split into contiguous slices, hashed in any order, gives the same checksum.
   for (std::size_t parts : {2u, 3u, 7u, 1001u}) {
     std::uint64_t sum = 0;
     for (std::size_t p = parts; p-- > 0;) {
       const std::size_t begin = v.size() * p / parts, end = v.size() * (p + 1) / parts;
-      sum += checksumPartial(std::span<const U>(v).subspan(begin, end - begin), begin);
+      sum += hdf5::checksumPartial(std::span<const U>(v).subspan(begin, end - begin), begin);
     }
-    EXPECT_EQ(checksumFinish(sum, v.size()), whole) << parts << " slices";
+    EXPECT_EQ(hdf5::checksumFinish(sum, v.size()), whole) << parts << " slices";
   }
 }
 
@@ -62,7 +63,8 @@ TEST(CheckpointChecksum, AnySingleChangeIsDetected) {
     for (int bit : {0, 31, 63}) {
       auto w = v;
       w[j] ^= std::uint64_t{1} << bit;
-      EXPECT_NE(checksumFinish(checksumPartial(std::span<const std::uint64_t>(w), 0), w.size()),
+      EXPECT_NE(hdf5::checksumFinish(hdf5::checksumPartial(std::span<const std::uint64_t>(w), 0),
+                                     w.size()),
                 whole);
     }
   }
@@ -79,13 +81,13 @@ TEST(CheckpointChecksum, DoublesAreHashedByTheirBits) {
   const double values[2] = {0.0, -0.0};
   std::uint64_t bits[2];
   std::memcpy(bits, values, sizeof bits);
-  EXPECT_NE(checksumPartial(std::span<const double>(values, 1), 0),
-            checksumPartial(std::span<const double>(values + 1, 1), 0));
-  EXPECT_EQ(checksumPartial(std::span<const double>(values), 0),
-            checksumPartial(std::span<const std::uint64_t>(bits), 0));
-  EXPECT_EQ(checksumOfBytes("abc"),
-            checksumFinish(checksumPartial(std::span<const char>("abc", 3), 0), 3));
+  EXPECT_NE(hdf5::checksumPartial(std::span<const double>(values, 1), 0),
+            hdf5::checksumPartial(std::span<const double>(values + 1, 1), 0));
+  EXPECT_EQ(hdf5::checksumPartial(std::span<const double>(values), 0),
+            hdf5::checksumPartial(std::span<const std::uint64_t>(bits), 0));
+  EXPECT_EQ(hdf5::checksumOfBytes("abc"),
+            hdf5::checksumFinish(hdf5::checksumPartial(std::span<const char>("abc", 3), 0), 3));
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

@@ -18,7 +18,7 @@
 #include "polydem/core/strings.h"
 #include "polydem/hdf5/checksum.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 namespace {
 
 namespace fs = std::filesystem;
@@ -174,7 +174,7 @@ TEST_F(CheckpointEdits, DataRewrittenWithAMatchingChecksum) {
     const double lo[3] = {-1000.0, -1000.0, -1000.0};
     H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, lo);
     H5Dclose(d);
-    const std::uint64_t sum = checksumFinish(checksumPartial(lo, 3, 8, 0), 3);
+    const std::uint64_t sum = hdf5::checksumFinish(hdf5::checksumPartial(lo, 3, 8, 0), 3);
     setAttribute<std::uint64_t>(f, "/domain/lo", "checksum", H5T_STD_U64LE, H5T_NATIVE_UINT64,
                                 {sum});
   });
@@ -201,9 +201,10 @@ TEST_F(CheckpointEdits, ThingsAddedOrRemoved) {
   expectEditRefused("group", [](hid_t f) {
     H5Gclose(H5Gcreate2(f, "/notes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
   });
-  expectRefused(edited("no_digest",
-                       [](hid_t f) { H5Adelete_by_name(f, "/", kDigestAttribute, H5P_DEFAULT); }),
-                "attribute digest of / is missing");
+  expectRefused(
+      edited("no_digest",
+             [](hid_t f) { H5Adelete_by_name(f, "/", hdf5::kDigestAttribute, H5P_DEFAULT); }),
+      "attribute digest of / is missing");
   // Resealed, a dataset the reader does not read is still refused rather than ignored.
   expectRefused(edited("added_dataset", add_dataset, true),
                 cat("dataset /particles/extra is not part of a version ", kCheckpointFormatVersion,
@@ -229,4 +230,4 @@ TEST_F(CheckpointEdits, ResealedStepsAreStillChecked) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

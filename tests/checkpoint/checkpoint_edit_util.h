@@ -14,7 +14,7 @@
 
 #include "polydem/hdf5/file_digest.h"
 
-namespace polydem::io::testing {
+namespace polydem::checkpoint::testing {
 
 /// Opens `path` serially for writing, calls `edit` with the file id, closes it.
 inline void editFile(const std::filesystem::path& path, const std::function<void(hid_t)>& edit) {
@@ -45,10 +45,10 @@ void setAttribute(hid_t file, const char* object, const char* name, hid_t file_t
 /// check whatever was changed.
 inline void reseal(const std::filesystem::path& path) {
   editFile(path, [](hid_t f) {
-    const std::uint64_t digest = fileDigest(f, "").digest;
-    setAttribute<std::uint64_t>(f, "/", kDigestAttribute, H5T_STD_U64LE, H5T_NATIVE_UINT64,
+    const std::uint64_t digest = hdf5::fileDigest(f, "").digest;
+    setAttribute<std::uint64_t>(f, "/", hdf5::kDigestAttribute, H5T_STD_U64LE, H5T_NATIVE_UINT64,
                                 {digest});
   });
 }
 
-}  // namespace polydem::io::testing
+}  // namespace polydem::checkpoint::testing

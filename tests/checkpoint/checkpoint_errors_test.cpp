@@ -18,7 +18,7 @@
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 namespace {
 
 namespace fs = std::filesystem;
@@ -241,4 +241,4 @@ TEST_F(CheckpointErrors, NotACheckpoint) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

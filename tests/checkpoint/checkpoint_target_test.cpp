@@ -18,7 +18,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 namespace {
 
 namespace fs = std::filesystem;
@@ -74,7 +74,7 @@ class CheckpointTarget : public ::testing::Test {
 
   fs::path dir_;
   testing::Truth truth_;
-  CheckpointData share_;
+  sim::CheckpointData share_;
 };
 
 #define EXPECT_CONTAINS(text, part) \
@@ -181,4 +181,4 @@ TEST_F(CheckpointTarget, LinkToACheckpointReplacesTheFileItNames) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

@@ -17,7 +17,7 @@
 #include "polydem/core/state_hash.h"
 #include "polydem/hdf5/checksum.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 namespace {
 
 using testing::gatherFree;
@@ -34,12 +34,12 @@ bool sameBits(const Vec3& a, const Vec3& b) {
 }
 
 /// The replicated part of `read` equals `truth` bit for bit.
-void expectReplicated(const CheckpointData& read, const CheckpointData& truth) {
+void expectReplicated(const sim::CheckpointData& read, const sim::CheckpointData& truth) {
   EXPECT_EQ(read.format_version, kCheckpointFormatVersion);
   EXPECT_EQ(read.code_version, truth.code_version);
   EXPECT_EQ(read.scene_toml, truth.scene_toml);
   EXPECT_EQ(read.scene_file, truth.scene_file);
-  EXPECT_EQ(read.scene_hash, checksumOfBytes(truth.scene_toml));
+  EXPECT_EQ(read.scene_hash, hdf5::checksumOfBytes(truth.scene_toml));
   EXPECT_EQ(read.step, truth.step);
   EXPECT_TRUE(sameBits(read.time, truth.time));
   EXPECT_EQ(read.time_digits, truth.time_digits);
@@ -90,7 +90,7 @@ void expectReplicated(const CheckpointData& read, const CheckpointData& truth) {
 
 /// Every rank of `comm` holds every replicated particle once; the free particles and pairs of all
 /// ranks together are the truth's, each once, bit for bit.
-void expectDistributed(const CheckpointData& read, const Truth& truth, MPI_Comm comm) {
+void expectDistributed(const sim::CheckpointData& read, const Truth& truth, MPI_Comm comm) {
   std::vector<std::vector<std::byte>> globals;
   for (const auto& p : read.particles) {
     if (p.isGlobal()) globals.push_back(testing::bytesOf(p));
@@ -138,7 +138,7 @@ TEST_F(CheckpointRoundTrip, SameRankCountGivesEveryFieldBackBitForBit) {
   const int rank = mpi::rank(), ranks = mpi::size();
   const auto path = dir_ / "same.h5";
   writeCheckpoint(path, shareOf(truth, rank, ranks), MPI_COMM_WORLD);
-  const CheckpointData read = readCheckpoint(path, MPI_COMM_WORLD);
+  const sim::CheckpointData read = readCheckpoint(path, MPI_COMM_WORLD);
   expectReplicated(read, truth.replicated);
   expectDistributed(read, truth, MPI_COMM_WORLD);
   // Rank r got slice r: the shares differ by at most one particle / pair.
@@ -156,7 +156,7 @@ TEST_F(CheckpointRoundTrip, ReadOnAnotherRankCount) {
   writeCheckpoint(all_path, shareOf(truth, rank, ranks), MPI_COMM_WORLD);
   const int part = std::max(1, ranks - 1);
   if (MPI_Comm sub = firstRanks(MPI_COMM_WORLD, part); sub != MPI_COMM_NULL) {
-    const CheckpointData read = readCheckpoint(all_path, sub);
+    const sim::CheckpointData read = readCheckpoint(all_path, sub);
     expectReplicated(read, truth.replicated);
     expectDistributed(read, truth, sub);
     MPI_Comm_free(&sub);
@@ -168,7 +168,7 @@ TEST_F(CheckpointRoundTrip, ReadOnAnotherRankCount) {
     MPI_Comm_free(&sub);
   }
   MPI_Barrier(MPI_COMM_WORLD);
-  const CheckpointData read = readCheckpoint(part_path, MPI_COMM_WORLD);
+  const sim::CheckpointData read = readCheckpoint(part_path, MPI_COMM_WORLD);
   expectReplicated(read, truth.replicated);
   expectDistributed(read, truth, MPI_COMM_WORLD);
 }
@@ -178,10 +178,10 @@ TEST_F(CheckpointRoundTrip, SmallTransfersTakeSeveralCollectiveRounds) {
   // ranks with fewer rows taking part with empty selections.
   const Truth truth = makeTruth(31, 45);
   const auto path = dir_ / "rounds.h5";
-  CheckpointIoOptions small;
+  hdf5::CheckpointIoOptions small;
   small.round_bytes = 300;
   writeCheckpoint(path, shareOf(truth, mpi::rank(), mpi::size()), MPI_COMM_WORLD, small);
-  const CheckpointData read = readCheckpoint(path, MPI_COMM_WORLD, small);
+  const sim::CheckpointData read = readCheckpoint(path, MPI_COMM_WORLD, small);
   expectReplicated(read, truth.replicated);
   expectDistributed(read, truth, MPI_COMM_WORLD);
 }
@@ -191,10 +191,10 @@ TEST_F(CheckpointRoundTrip, LargeTablesInSeveralRoundsAndBlocks) {
   // and the last block of a round is partial.
   const Truth truth = makeTruth(12000, 20000);
   const auto path = dir_ / "large.h5";
-  CheckpointIoOptions options;
+  hdf5::CheckpointIoOptions options;
   options.round_bytes = 1 << 20;
   writeCheckpoint(path, shareOf(truth, mpi::rank(), mpi::size()), MPI_COMM_WORLD, options);
-  const CheckpointData read = readCheckpoint(path, MPI_COMM_WORLD, options);
+  const sim::CheckpointData read = readCheckpoint(path, MPI_COMM_WORLD, options);
   expectDistributed(read, truth, MPI_COMM_WORLD);
   // Read with the default rounds: the same file.
   expectDistributed(readCheckpoint(path, MPI_COMM_WORLD), truth, MPI_COMM_WORLD);
@@ -208,7 +208,7 @@ TEST_F(CheckpointRoundTrip, EmptyTablesAndNoParticles) {
   truth.replicated.scene_toml.clear();
   const auto path = dir_ / "empty.h5";
   writeCheckpoint(path, shareOf(truth, mpi::rank(), mpi::size()), MPI_COMM_WORLD);
-  const CheckpointData read = readCheckpoint(path, MPI_COMM_WORLD);
+  const sim::CheckpointData read = readCheckpoint(path, MPI_COMM_WORLD);
   expectReplicated(read, truth.replicated);
   EXPECT_TRUE(read.particles.empty());
   EXPECT_TRUE(read.pair_keys.empty());
@@ -252,7 +252,7 @@ TEST_F(CheckpointRoundTrip, SummaryCountsAndEnergy) {
   for (const auto& h : truth.histories) touching += h.touching;
   EXPECT_EQ(s.touching_pairs, touching);
   EXPECT_EQ(s.step, truth.replicated.step);
-  EXPECT_EQ(s.scene_hash, checksumOfBytes(truth.replicated.scene_toml));
+  EXPECT_EQ(s.scene_hash, hdf5::checksumOfBytes(truth.replicated.scene_toml));
   // Energy of each free particle from its definition: 1/2 m v^2 + 1/2 w . I w.
   ExactSum energy;
   Vec3 lo = Vec3::Constant(1e300), hi = -lo;
@@ -299,7 +299,7 @@ TEST(CheckpointSample, WriteForPython) {
   nlohmann::json j = {{"step", s.step},
                       {"time", s.time},
                       {"dt", s.dt},
-                      {"stage", toString(s.stage)},
+                      {"stage", sim::toString(s.stage)},
                       {"particles", s.particles},
                       {"replicated_particles", s.replicated_particles},
                       {"pairs", s.pairs},
@@ -321,17 +321,17 @@ TEST(CheckpointShapes, MismatchNamesTheFirstDifference) {
   built.push_back(testing::bodyShape(
       {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}},
       "cube"));
-  auto stored = shapeRecords(built);
-  EXPECT_EQ(shapeMismatch(stored, built), "");
+  auto stored = sim::shapeRecords(built);
+  EXPECT_EQ(sim::shapeMismatch(stored, built), "");
   stored[0].vertices[3].x() = std::nextafter(stored[0].vertices[3].x(), 1.0);
-  EXPECT_NE(shapeMismatch(stored, built).find("vertex 3 differs"), std::string::npos);
-  stored = shapeRecords(built);
+  EXPECT_NE(sim::shapeMismatch(stored, built).find("vertex 3 differs"), std::string::npos);
+  stored = sim::shapeRecords(built);
   stored[0].inradius *= 1.0 + 1e-16 * 4;
-  EXPECT_NE(shapeMismatch(stored, built).find("mass properties"), std::string::npos);
-  stored = shapeRecords(built);
+  EXPECT_NE(sim::shapeMismatch(stored, built).find("mass properties"), std::string::npos);
+  stored = sim::shapeRecords(built);
   stored.push_back(stored[0]);
-  EXPECT_NE(shapeMismatch(stored, built).find("2 shapes"), std::string::npos);
+  EXPECT_NE(sim::shapeMismatch(stored, built).find("2 shapes"), std::string::npos);
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

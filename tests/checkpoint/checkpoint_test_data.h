@@ -21,7 +21,7 @@
 #include "polydem/core/mpi_env.h"
 #include "polydem/geometry/body_shape.h"
 
-namespace polydem::io::testing {
+namespace polydem::checkpoint::testing {
 
 /// Deterministic doubles; `awkward`: with every kind of bit pattern a state can hold.
 class Values {
@@ -50,7 +50,7 @@ class Values {
 };
 
 struct Truth {
-  CheckpointData replicated;  // everything but particles and pair histories
+  sim::CheckpointData replicated;  // everything but particles and pair histories
   std::vector<particles::Particle> globals, free;
   std::vector<particles::PairKey> keys;
   std::vector<particles::PairHistory> histories;
@@ -65,7 +65,7 @@ inline geometry::BodyShape bodyShape(const std::vector<Vec3>& points, const std:
 inline Truth makeTruth(int free_count = 57, int pair_count = 83, bool awkward = true,
                        std::uint64_t seed = 1) {
   Truth t;
-  CheckpointData& d = t.replicated;
+  sim::CheckpointData& d = t.replicated;
   d.code_version = "0.1.0-test";
   d.scene_file = "scenes/test.toml";
   d.scene_toml = "# test scene\nid = \"T\"\n[[material]]\nname = \"rock\"\n";
@@ -76,7 +76,7 @@ inline Truth makeTruth(int free_count = 57, int pair_count = 83, bool awkward = 
   for (int i = 0; i < d.step; ++i) time.add(d.dt);
   d.time_digits = time.digits();
   d.time = time.value();
-  d.stage = CheckpointStage::kEquilibrium;
+  d.stage = sim::CheckpointStage::kEquilibrium;
   d.equilibrium_steps = 4321;
   d.equilibrium_reached = true;
   d.run_state = R"({"checks": {"drop": [1, 2.5]}, "tracker": null})";
@@ -85,7 +85,7 @@ inline Truth makeTruth(int free_count = 57, int pair_count = 83, bool awkward = 
       {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}},
       "cube"));
   shapes.push_back(bodyShape({{0, 0, 0}, {2, 0.1, 0}, {0.3, 1.7, 0.2}, {0.4, 0.5, 1.3}}, "tet"));
-  d.shapes = shapeRecords(shapes);
+  d.shapes = sim::shapeRecords(shapes);
   d.materials.push_back({"rock", 2650, 1e9, 5e8, 30, 0, 0.1, 0.0, 1e8});
   d.materials.push_back({"concrete-with-a-long-name", 2400.5, 2e9, 1e9, 35.5, 12.0, 0.2, 0.8, 0});
   d.interactions.push_back({0, 1, {3e9, 2e9, 25, 1.5, 0.05, 7e7}});
@@ -154,8 +154,8 @@ inline Truth makeTruth(int free_count = 57, int pair_count = 83, bool awkward = 
 /// simulation holds them) and an uneven, interleaved share of the free particles and pairs.
 /// `contiguous`: rank r holds a contiguous block instead, so that the file's row order is the
 /// truth's order whatever the rank count.
-inline CheckpointData shareOf(const Truth& t, int rank, int ranks, bool contiguous = false) {
-  CheckpointData d = t.replicated;
+inline sim::CheckpointData shareOf(const Truth& t, int rank, int ranks, bool contiguous = false) {
+  sim::CheckpointData d = t.replicated;
   auto owner = [&](std::size_t i, std::size_t n) {
     if (contiguous) return static_cast<int>(i * static_cast<std::size_t>(ranks) / n);
     return static_cast<int>((i * i + 3 * i + 1) % static_cast<std::size_t>(ranks));
@@ -188,7 +188,8 @@ inline std::vector<std::byte> bytesOf(const particles::PairKey& k,
 }
 
 /// Free particles of all ranks of `comm`, by uid, as bytes (collective).
-inline std::map<Uid, std::vector<std::byte>> gatherFree(const CheckpointData& d, MPI_Comm comm) {
+inline std::map<Uid, std::vector<std::byte>> gatherFree(const sim::CheckpointData& d,
+                                                        MPI_Comm comm) {
   SendBuffer mine;
   for (const auto& p : d.particles) {
     if (!p.isGlobal()) particles::pack(mine, p);
@@ -205,8 +206,8 @@ inline std::map<Uid, std::vector<std::byte>> gatherFree(const CheckpointData& d,
 }
 
 /// Pair histories of all ranks of `comm`, by key, as bytes (collective).
-inline std::map<particles::PairKey, std::vector<std::byte>> gatherPairs(const CheckpointData& d,
-                                                                        MPI_Comm comm) {
+inline std::map<particles::PairKey, std::vector<std::byte>> gatherPairs(
+    const sim::CheckpointData& d, MPI_Comm comm) {
   SendBuffer mine;
   for (std::size_t i = 0; i < d.pair_keys.size(); ++i) {
     particles::pack(mine, d.pair_keys[i], d.pair_histories[i]);
@@ -256,4 +257,4 @@ inline void writeBytes(const std::filesystem::path& path, const std::string& byt
   out << bytes;
 }
 
-}  // namespace polydem::io::testing
+}  // namespace polydem::checkpoint::testing

@@ -19,7 +19,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 
-namespace polydem::io {
+namespace polydem::checkpoint {
 namespace {
 
 namespace fs = std::filesystem;
@@ -53,7 +53,7 @@ class CheckpointWrite : public ::testing::Test {
     MPI_Barrier(MPI_COMM_WORLD);
     EXPECT_EQ(readBytes(path_), old_bytes_);
     EXPECT_EQ(entries(dir_), std::vector<std::string>{"run.h5"});
-    const CheckpointData read = readCheckpoint(path_, MPI_COMM_WORLD);
+    const sim::CheckpointData read = readCheckpoint(path_, MPI_COMM_WORLD);
     EXPECT_EQ(testing::gatherFree(read, MPI_COMM_WORLD).size(), old_.free.size());
   }
 
@@ -85,7 +85,7 @@ TEST_F(CheckpointWrite, NoRoomLeavesThePreviousCheckpoint) {
   // A file size limit below the checkpoint's size, as a nearly full disk: the write is refused
   // on every rank before it starts (the limit is set on the last rank only).
   const auto big = testing::makeTruth(3000, 6000, true, 3);
-  const CheckpointData share = testing::shareOf(big, mpi::rank(), mpi::size());
+  const sim::CheckpointData share = testing::shareOf(big, mpi::rank(), mpi::size());
   rlimit saved{};
   getrlimit(RLIMIT_FSIZE, &saved);
   const auto saved_handler = signal(SIGXFSZ, SIG_IGN);
@@ -103,7 +103,7 @@ TEST_F(CheckpointWrite, NoRoomLeavesThePreviousCheckpoint) {
 }
 
 TEST_F(CheckpointWrite, InvalidDataOnOneRankFailsOnEveryRank) {
-  CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
+  sim::CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
   if (mpi::rank() == mpi::size() - 1) {
     share.particles.push_back(old_.free.front());
     share.particles.back().flags |= particles::kGhost;
@@ -114,7 +114,7 @@ TEST_F(CheckpointWrite, InvalidDataOnOneRankFailsOnEveryRank) {
 }
 
 TEST_F(CheckpointWrite, InconsistentTimeIsRefused) {
-  CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
+  sim::CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
   share.time = std::nextafter(share.time, 1e9);
   const std::string message = failureOf([&] { writeCheckpoint(path_, share, MPI_COMM_WORLD); });
   EXPECT_NE(message.find("is not the rounded exact time"), std::string::npos) << message;
@@ -129,7 +129,7 @@ TEST_F(CheckpointWrite, DirectoryTargetIsRefusedBeforeAnyFileIsMade) {
     std::ofstream(target / "keep.txt") << "keep";
   }
   MPI_Barrier(MPI_COMM_WORLD);
-  const CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
+  const sim::CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
   const std::string message = failureOf([&] { writeCheckpoint(target, share, MPI_COMM_WORLD); });
   EXPECT_NE(message.find("checkpoint " + target.string() + ": is a directory"), std::string::npos)
       << message;
@@ -139,7 +139,7 @@ TEST_F(CheckpointWrite, DirectoryTargetIsRefusedBeforeAnyFileIsMade) {
 }
 
 TEST_F(CheckpointWrite, MissingDirectory) {
-  const CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
+  const sim::CheckpointData share = testing::shareOf(old_, mpi::rank(), mpi::size());
   const fs::path path = dir_ / "absent" / "run.h5";
   const std::string message = failureOf([&] { writeCheckpoint(path, share, MPI_COMM_WORLD); });
   EXPECT_NE(message.find("cannot create the file"), std::string::npos) << message;
@@ -285,4 +285,4 @@ TEST(CheckpointFiles, StaleTemporaryFilesOnlyOfPolydemsNaming) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::checkpoint

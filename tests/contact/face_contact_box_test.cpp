@@ -211,7 +211,7 @@ TEST(FaceContactBox, DensePackNeighboursGiveTheSameCorners) {
           if (i == 0 && j == 0 && k == 0) continue;
           Placed a(boxShape(scale * Vec3(0.5, 0.5, 0.5)),
                    shift + turn * Vec3(pitch * i, pitch * j, pitch * k), turn);
-          PairState state;
+          particles::PairState state;
           const Contact c = kernel->collideForSubContacts(a.body(), b.body(), &state);
           ASSERT_TRUE(c.touching);
           const double size = pairLengthScale(a.body(), b.body());

@@ -136,7 +136,7 @@ TEST(FcpSearch, SeparatedPairsAreProvenApartAndTheirPlaneIsTheLargestGap) {
     if (ref.gap <= 1e-9 * L) continue;
     ++separated;
     // collide() stops at the first positive gap.
-    PairState state;
+    particles::PairState state;
     EXPECT_FALSE(fcp.collide(a->body(), b->body(), &state).touching) << "pair " << i;
     EXPECT_FALSE(fcp.collide(a->body(), b->body(), &state).touching) << "pair " << i;
     const CommonPlane quick = findCommonPlane(a->body(), b->body(), nullptr);

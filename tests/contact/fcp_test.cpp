@@ -36,7 +36,7 @@ ContactCase findCase(const std::string& id) {
   return {};
 }
 
-Contact resolve(const Kernel& k, const CasePair& p, PairState* state = nullptr) {
+Contact resolve(const Kernel& k, const CasePair& p, particles::PairState* state = nullptr) {
   return k.collide(p.a->body(), p.b->body(), state);
 }
 
@@ -104,7 +104,7 @@ TEST(FcpCases, InvariantUnderRigidMotionAndScale) {
         const ContactCase m = transformed(c, R, t, scale);
         const CasePair p = placeCase(c, R, t, scale);
         for (const Kernel* k : kBoth) {
-          PairState state;
+          particles::PairState state;
           const Contact cold = resolve(*k, p, &state);
           const Contact warm = resolve(*k, p, &state);
           for (const Contact& r : {cold, warm}) {
@@ -197,7 +197,7 @@ TEST(FcpPairs, SeparatedAndTouchingPairsAreNotTouching) {
     for (auto& v : moved) v += gap;
     const auto b = placeWorld(moved);
     for (const Kernel* k : kBoth) {
-      PairState state;
+      particles::PairState state;
       EXPECT_FALSE(k->collide(a->body(), b->body(), nullptr).touching);
       EXPECT_FALSE(k->collide(a->body(), b->body(), &state).touching);
       EXPECT_FALSE(k->collide(a->body(), b->body(), &state).touching);  // warm

@@ -183,7 +183,7 @@ TEST(GjkEpaRandom, DepthAndNormalMatchBruteForceSat) {
     const Placed b(std::move(shape_b), where, randomRotation(rng));
     const auto sat = satPenetration(a.body(), b.body());
     const double L = a.body().circumradius() + b.body().circumradius();
-    PairState state;
+    particles::PairState state;
     const Contact r = kEpa.collide(a.body(), b.body(), &state);
     if (std::abs(sat.depth) < 1e-9 * L) continue;  // grazing: either answer is right
     ASSERT_EQ(r.touching, sat.depth > 0.0) << "pair " << i << " SAT depth " << sat.depth;
@@ -220,7 +220,7 @@ TEST(GjkEpaPairs, SeparatedPairsAreNotTouching) {
     std::vector<Vec3> moved = geometry::shapes::cube(1.0);
     for (auto& v : moved) v += gap;
     const auto b = placeWorld(moved);
-    PairState state;
+    particles::PairState state;
     for (const Kernel* k : {static_cast<const Kernel*>(&kEpa), static_cast<const Kernel*>(&kIpm)}) {
       EXPECT_FALSE(k->collide(a->body(), b->body(), nullptr).touching);
       EXPECT_FALSE(k->collide(a->body(), b->body(), &state).touching);

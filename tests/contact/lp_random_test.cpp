@@ -205,7 +205,7 @@ TEST(LpKernelRandom, SeparatedPairsRememberASeparatingDirection) {
   // Apart along x by 1e-6, but the line of centres (1, 0.9, 0) does not separate them: the LP
   // decides, and its dual's direction is kept; the next call needs only that direction.
   const Placed a(cube, Mat3::Identity(), Vec3(1.0 + 1e-6, 0.9, 0.0));
-  PairState state;
+  particles::PairState state;
   EXPECT_FALSE(kernel.collide(a.body, b.body, &state).touching);
   EXPECT_TRUE(LpKernel::lastTrace().lp_solved);
   EXPECT_FALSE(LpKernel::lastTrace().centre_line_apart);
@@ -225,7 +225,7 @@ TEST(LpKernelRandom, SeparatedPairsRememberASeparatingDirection) {
   EXPECT_NEAR(warm.depth, 1e-6, 1e-12);
   // Face to face 1e-9 apart along the line of centres: that line separates them, no LP.
   const Placed above(cube, Mat3::Identity(), Vec3(0.0, 0.0, 1.0 + 1e-9));
-  PairState fresh;
+  particles::PairState fresh;
   EXPECT_FALSE(kernel.collide(above.body, b.body, &fresh).touching);
   EXPECT_TRUE(LpKernel::lastTrace().centre_line_apart);
   EXPECT_FALSE(LpKernel::lastTrace().lp_solved);
@@ -279,7 +279,7 @@ TEST(LpKernelRandom, WarmStartsGiveTheColdAnswer) {
   const Vec3 axis = randomUnit(rng), direction = randomUnit(rng);
   const double reach =
       geometry::ConvexPolyhedron::fromPoints(a_points).circumradius() + b.shape.circumradius();
-  PairState state;
+  particles::PairState state;
   int touching = 0, warm_points = 0, warm_axes = 0;
   for (int step = 0; step <= 400; ++step) {
     // The centres from 1.05 reach down to 0.25 reach and back (centroids near the origins).
@@ -317,15 +317,15 @@ TEST(LpKernelRandom, DeterministicAndAllocationFreeOnceWarm) {
     bodies.push_back(std::make_unique<Placed>(randomShape(rng, 300 + n), randomRotation(rng),
                                               0.6 * randomUnit(rng)));
   }
-  std::vector<PairState> states(bodies.size() * bodies.size());
+  std::vector<particles::PairState> states(bodies.size() * bodies.size());
   auto sweep = [&]() {
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       for (std::size_t j = i + 1; j < bodies.size(); ++j) {
-        PairState& st = states[i * bodies.size() + j];
-        PairState copy = st;
+        particles::PairState& st = states[i * bodies.size() + j];
+        particles::PairState copy = st;
         const Contact first = kernel.collide(bodies[i]->body, bodies[j]->body, &st);
         const Contact second = kernel.collide(bodies[i]->body, bodies[j]->body, &copy);
-        ASSERT_EQ(std::memcmp(&st, &copy, sizeof(PairState)), 0);
+        ASSERT_EQ(std::memcmp(&st, &copy, sizeof(particles::PairState)), 0);
         EXPECT_EQ(first.touching, second.touching);
         EXPECT_EQ(first.normal, second.normal);
         EXPECT_EQ(first.point, second.point);

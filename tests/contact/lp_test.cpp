@@ -94,7 +94,8 @@ std::map<std::string, ThesisRow> thesisLp() {
   };
 }
 
-Contact collideCase(const ContactCase& c, const LpKernel& kernel, PairState* state = nullptr) {
+Contact collideCase(const ContactCase& c, const LpKernel& kernel,
+                    particles::PairState* state = nullptr) {
   const Placed a(c.a), b(c.b);
   return kernel.collide(a.body, b.body, state);
 }

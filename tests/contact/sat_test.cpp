@@ -80,7 +80,7 @@ TEST(Sat, AgreesWithEpaOnRandomPairs) {
     ASSERT_TRUE(satApplies(a.body(), b.body()));
     const AxisTest sat = separatingAxisTest(a.body(), b.body(), nullptr, 1e-12 * L);
     const auto reference = testing::satPenetration(a.body(), b.body());
-    PairState state;
+    particles::PairState state;
     const Contact epa = gjkEpaContact(a.body(), b.body(), &state);
     if (std::abs(reference.depth) < 1e-9 * L) continue;  // grazing: either answer is right
     ASSERT_EQ(sat.separated, !epa.touching) << "pair " << i << " depth " << reference.depth;
@@ -160,7 +160,7 @@ TEST(Sat, AlignedCubesGiveFaceAxes) {
     ASSERT_FALSE(sat.separated);
     EXPECT_NE(sat.axis, AxisTest::Axis::kEdges) << offset.transpose();
     EXPECT_NEAR(sat.depth, 0.001, 1e-12) << offset.transpose();
-    PairState state;
+    particles::PairState state;
     const GjkEpaIpmKernel kernel;
     const Contact c = kernel.collideForSubContacts(a.body(), b.body(), &state);
     EXPECT_TRUE(c.touching);
@@ -551,7 +551,7 @@ TEST(Sat, SwitchedOffKeepsGjkEpa) {
   KernelParams params;
   params.separating_axes = false;
   for (const char* name : {"gjk-epa", "gjk-epa-ipm"}) {
-    PairState s1, s2;
+    particles::PairState s1, s2;
     const Contact off = makeKernel(name, params)->collideForSubContacts(a.body(), b.body(), &s1);
     const Contact epa = gjkEpaContact(a.body(), b.body(), &s2);
     ASSERT_TRUE(epa.touching);

@@ -54,7 +54,7 @@ PairKinematics still() {
 
 TEST(SubContactLaw, UniformGapGivesThePairsSpringAtTheCentre) {
   const auto subs = square(1e-4);
-  std::vector<SubState> kept;
+  std::vector<particles::SubEntry> kept;
   const auto f = subContactForces(face(subs), {}, {}, still(), kMass, kDt, law(), kept);
   EXPECT_NEAR(f.force.z(), kKn * 1e-4, 1e-9);
   EXPECT_NEAR(f.force.head<2>().norm(), 0.0, 1e-12);
@@ -69,7 +69,7 @@ TEST(SubContactLaw, UniformGapGivesThePairsSpringAtTheCentre) {
 // has none while the whole face overlaps). M = -kn sum w y^2 slope = -kn slope / 4.
 TEST(SubContactLaw, TiltGivesARestoringMoment) {
   const double slope = 1e-5;
-  std::vector<SubState> kept;
+  std::vector<particles::SubEntry> kept;
   const auto f =
       subContactForces(face(square(1e-4, slope)), {}, {}, still(), kMass, kDt, law(), kept);
   EXPECT_NEAR(f.force.z(), kKn * 1e-4, 1e-9);
@@ -81,7 +81,7 @@ TEST(SubContactLaw, TiltGivesARestoringMoment) {
 
 TEST(SubContactLaw, OpenCornersCarryNothingAndAreReleased) {
   auto subs = square(1e-4, 4e-4);  // gaps -1e-4 on the -y side, 3e-4 on +y
-  std::vector<SubState> kept;
+  std::vector<particles::SubEntry> kept;
   const auto f = subContactForces(face(subs), {}, {}, still(), kMass, kDt, law(), kept);
   EXPECT_EQ(f.loaded, 2);
   EXPECT_EQ(kept.size(), 2u);
@@ -95,7 +95,7 @@ TEST(SubContactLaw, DampingOfAUniformApproachIsThePairs) {
   k.damping_ratio = 0.1;
   PairKinematics kin = still();
   kin.va = Vec3(0, 0, -0.01);  // A moves into B
-  std::vector<SubState> kept;
+  std::vector<particles::SubEntry> kept;
   const auto f = subContactForces(face(square(1e-4)), {}, {}, kin, kMass, kDt, k, kept);
   EXPECT_NEAR(f.force.z(), kKn * 1e-4 + 2 * 0.1 * std::sqrt(kMass * kKn) * 0.01, 1e-8);
 }
@@ -104,7 +104,7 @@ TEST(SubContactLaw, DampingOfAUniformApproachIsThePairs) {
 TEST(SubContactLaw, SlidingPairReachesMuTimesTheNormalForce) {
   PairKinematics kin = still();
   kin.va = Vec3(100, 0, 0);  // ks dt v per corner far above the cap
-  std::vector<SubState> kept;
+  std::vector<particles::SubEntry> kept;
   const auto f = subContactForces(face(square(1e-4, 2e-5)), {}, {}, kin, kMass, kDt, law(), kept);
   EXPECT_TRUE(f.sliding);
   EXPECT_NEAR(f.shear, std::tan(M_PI / 6) * f.normal, 1e-9 * f.normal);
@@ -117,7 +117,7 @@ TEST(SubContactLaw, TwistIsResisted) {
   PairKinematics kin = still();
   const double w = 0.2;
   kin.wa = Vec3(0, 0, w);
-  std::vector<SubState> kept;
+  std::vector<particles::SubEntry> kept;
   const auto f = subContactForces(face(square(1e-4)), {}, {}, kin, kMass, kDt, law(), kept);
   EXPECT_NEAR(f.torque_a.z(), -kKs * kDt * w * 0.5, 1e-12);
   EXPECT_NEAR(f.force.head<2>().norm(), 0.0, 1e-12) << "a pure twist has no net shear";
@@ -137,7 +137,7 @@ TEST(SubContactLaw, ShearTurnsWithTheSpinOfThePair) {
   const double omega = 3.0;
   kin.wa = kin.wb = Vec3(0, 0, omega);
   // Material velocities of the rigid rotation at the corners, the same on A and B.
-  std::vector<SubState> kept;
+  std::vector<particles::SubEntry> kept;
   subContactForces(face(subs), keys, old, kin, kMass, kDt, law(), kept);
   ASSERT_EQ(kept.size(), 4u);
   const double angle = 2 * std::atan(0.5 * kDt * omega);
@@ -174,7 +174,7 @@ TEST(SubContactLaw, ShearOfVanishedCornersGoesToNewOnes) {
   subs.push_back({100, Vec3(0.5, 0.0, 0), Vec3::UnitZ(), 1e-4, 0.1});  // two new corners
   subs.push_back({101, Vec3(0.5, 0.2, 0), Vec3::UnitZ(), 1e-4, 0.3});
   for (int i = 0; i < 4; ++i) subs[i].weight = 0.15;
-  std::vector<SubState> kept;
+  std::vector<particles::SubEntry> kept;
   subContactForces(face(subs), keys, old, still(), kMass, kDt, law(), kept);
   ASSERT_EQ(kept.size(), 6u);
   Vec3 total = Vec3::Zero();
@@ -250,7 +250,7 @@ TEST(SubContactLaw, ReusedWorkingSpaceGivesTheSameBits) {
 TEST(SubContactLaw, JointStiffnessScalesWithTheArea) {
   auto k = law();
   k.jkn = 2e9;  // Pa/m
-  std::vector<SubState> kept;
+  std::vector<particles::SubEntry> kept;
   const auto f = subContactForces(face(square(1e-4), 0.25), {}, {}, still(), kMass, kDt, k, kept);
   EXPECT_NEAR(f.force.z(), 2e9 * 0.25 * 1e-4, 1e-6);
   const std::vector<SubContact> point{{0, Vec3::Zero(), Vec3::UnitZ(), 1e-4, 1.0}};
@@ -268,7 +268,7 @@ TEST(SubContactLaw, JointCohesionIsAStressOverTheArea) {
   PairKinematics kin = still();
   kin.va = Vec3(100, 0, 0);
   for (const double area : {1.0, 2.0}) {
-    std::vector<SubState> kept;
+    std::vector<particles::SubEntry> kept;
     const auto f = subContactForces(face(square(1e-4), area), {}, {}, kin, kMass, kDt, k, kept);
     EXPECT_TRUE(f.sliding);
     EXPECT_NEAR(f.normal, 1e9 * area * 1e-4, 1e-6) << "Kn = jkn A";
@@ -284,7 +284,7 @@ TEST(SubContactLaw, JointTensileStrengthLetsOpenCornersPull) {
   LawCoefficients k =
       jointCoefficients({JointLaw::kCoulomb, {jkn, 5e8, 30.0, 0.0, sigma_t}}, law());
   const auto subs = square(0.4e-4, 3e-4);  // gaps -1.1e-4 (-y, beyond the limit), 1.9e-4 (+y)
-  std::vector<SubState> kept;
+  std::vector<particles::SubEntry> kept;
   auto f = subContactForces(face(subs), {}, {}, still(), kMass, kDt, k, kept);
   EXPECT_EQ(f.loaded, 2) << "corners beyond -sigma_t / jkn are open";
   const auto pulled = square(0.5e-4, 2.8e-4);  // gaps -0.9e-4 and 1.9e-4

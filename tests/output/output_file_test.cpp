@@ -11,7 +11,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 
-namespace polydem::io {
+namespace polydem::output {
 namespace {
 
 namespace fs = std::filesystem;
@@ -82,4 +82,4 @@ TEST(CollectiveFailure, EveryRankThrowsTheLowestFailingRanksMessage) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -16,7 +16,7 @@
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 
-namespace polydem::io {
+namespace polydem::output {
 namespace {
 
 namespace fs = std::filesystem;
@@ -181,4 +181,4 @@ TEST(OutputLock, HeldForTheLifetimeOnEveryRankCount) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -13,7 +13,7 @@
 
 #include "polydem/core/types.h"
 
-namespace polydem::io::test {
+namespace polydem::output::test {
 
 /// A fresh, empty directory shared by the ranks of `comm` (rank 0 names and creates it), removed
 /// again when the test ends.
@@ -85,4 +85,4 @@ inline Mesh hexagonalPrism(const Vec3& base, double r, double h) {
   return m;
 }
 
-}  // namespace polydem::io::test
+}  // namespace polydem::output::test

@@ -16,7 +16,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 
-namespace polydem::io {
+namespace polydem::output {
 namespace {
 
 namespace fs = std::filesystem;
@@ -163,4 +163,4 @@ TEST(SeriesWriterParallel, OnlyRankZeroWritesAndFailuresReachEveryRank) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -10,7 +10,7 @@
 #include "output/vtk_test_reader.h"
 #include "polydem/core/error.h"
 
-namespace polydem::io {
+namespace polydem::output {
 namespace {
 
 TEST(SummaryJson, CheckComparisonsFollowTheirDefinitions) {
@@ -92,4 +92,4 @@ TEST(SummaryJson, WrittenAtomicallyAndReadsBackEqual) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::output

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace polydem::io::test {
+namespace polydem::output::test {
 
 struct XmlElement {
   std::string tag;
@@ -206,4 +206,4 @@ inline PolyDataPiece readPolyData(const std::string& path) {
   return piece;
 }
 
-}  // namespace polydem::io::test
+}  // namespace polydem::output::test

@@ -47,33 +47,33 @@ driver = "tilt"
 )";
 
 /// A valid TOML value for a declared parameter.
-std::string valueOf(const io::CheckParam& p) {
+std::string valueOf(const scene::CheckParam& p) {
   switch (p.type) {
-    case io::CheckParamType::kNumber:
+    case scene::CheckParamType::kNumber:
       return std::isfinite(p.hi) ? cat(0.5 * (p.lo + p.hi)) : cat(p.lo + 1.0);
-    case io::CheckParamType::kDirection:
+    case scene::CheckParamType::kDirection:
       return "[1, 0, 1]";
-    case io::CheckParamType::kParticles:
+    case scene::CheckParamType::kParticles:
       return "\"a, b\"";  // pair_separation takes two
-    case io::CheckParamType::kParticle:
+    case scene::CheckParamType::kParticle:
       return p.name == "platform" ? "\"p\"" : "\"a\"";  // tilt_failure's is driven
-    case io::CheckParamType::kText:
+    case scene::CheckParamType::kText:
       return "\"a\"";  // a label prefix
-    case io::CheckParamType::kWord:
+    case scene::CheckParamType::kWord:
       return cat("\"", p.words.back(), "\"");
   }
   return "";
 }
 
 TEST(CheckKinds, EveryDeclaredKindIsComputedFromItsDeclaredParameters) {
-  for (const auto& kind : io::checkKinds()) {
+  for (const auto& kind : scene::checkKinds()) {
     std::string text =
         cat(kScene, "[[check]]\nname = \"c\"\nkind = \"", kind.name, "\"\ncompare = \"report\"\n");
     for (const auto& p : kind.params) text += cat(p.name, " = ", valueOf(p), "\n");
-    const io::Scene scene = io::parseScene(text, "kinds.toml");
-    Tracker tracker;
-    std::vector<std::unique_ptr<Check>> checks;
-    EXPECT_NO_THROW(checks = makeChecks(scene, tracker)) << kind.name;
+    const setup::Setup scene = scene::parseScene(text, "kinds.toml");
+    run::Tracker tracker;
+    std::vector<std::unique_ptr<run::Check>> checks;
+    EXPECT_NO_THROW(checks = run::makeChecks(scene, tracker)) << kind.name;
     ASSERT_EQ(checks.size(), 1u) << kind.name;
     EXPECT_EQ(checks[0]->spec().kind, kind.name);
   }
@@ -81,47 +81,50 @@ TEST(CheckKinds, EveryDeclaredKindIsComputedFromItsDeclaredParameters) {
 
 TEST(CheckKinds, TheRegistryHoldsExactlyTheDeclaredKindsInOrder) {
   std::vector<std::string> declared;
-  for (const auto& kind : io::checkKinds()) declared.emplace_back(kind.name);
-  const auto registered = registeredCheckKinds();
+  for (const auto& kind : scene::checkKinds()) declared.emplace_back(kind.name);
+  const auto registered = run::registeredCheckKinds();
   ASSERT_GE(registered.size(), declared.size());
   EXPECT_EQ(std::vector<std::string>(registered.begin(), registered.begin() + declared.size()),
             declared);
 }
 
 // A program's own kind: registered once, built by makeChecks from a setup made in C++.
-class ConstantCheck : public Check {
+class ConstantCheck : public run::Check {
  public:
-  explicit ConstantCheck(const io::CheckSpec& spec) : Check(spec) {}
-  void observe(const Simulation&, const Tracker&) override {}
+  explicit ConstantCheck(const setup::CheckSpec& spec) : run::Check(spec) {}
+  void observe(const Simulation&, const run::Tracker&) override {}
   double value(Simulation&) override { return 42.0; }
 };
 
 TEST(CheckKinds, AProgramRegistersAKindOfItsOwn) {
-  registerCheckKind("test_constant", [](const io::Scene&, const io::CheckSpec& spec, Tracker&) {
-    return std::make_unique<ConstantCheck>(spec);
-  });
-  EXPECT_THROW(registerCheckKind("test_constant",
-                                 [](const io::Scene&, const io::CheckSpec& spec, Tracker&) {
-                                   return std::make_unique<ConstantCheck>(spec);
-                                 }),
-               Error);
-  EXPECT_THROW(registerCheckKind("displacement",
-                                 [](const io::Scene&, const io::CheckSpec& spec, Tracker&) {
-                                   return std::make_unique<ConstantCheck>(spec);
-                                 }),
-               Error);
-  io::Scene scene = io::parseScene(kScene, "kinds.toml");
-  io::CheckSpec spec;
+  run::registerCheckKind("test_constant",
+                         [](const setup::Setup&, const setup::CheckSpec& spec, run::Tracker&) {
+                           return std::make_unique<ConstantCheck>(spec);
+                         });
+  EXPECT_THROW(
+      run::registerCheckKind("test_constant",
+                             [](const setup::Setup&, const setup::CheckSpec& spec, run::Tracker&) {
+                               return std::make_unique<ConstantCheck>(spec);
+                             }),
+      Error);
+  EXPECT_THROW(
+      run::registerCheckKind("displacement",
+                             [](const setup::Setup&, const setup::CheckSpec& spec, run::Tracker&) {
+                               return std::make_unique<ConstantCheck>(spec);
+                             }),
+      Error);
+  setup::Setup scene = scene::parseScene(kScene, "kinds.toml");
+  setup::CheckSpec spec;
   spec.name = "mine";
   spec.kind = "test_constant";
   scene.checks.push_back(spec);
-  Tracker tracker;
-  const auto checks = makeChecks(scene, tracker);
+  run::Tracker tracker;
+  const auto checks = run::makeChecks(scene, tracker);
   ASSERT_EQ(checks.size(), 1u);
   EXPECT_EQ(checks[0]->spec().kind, "test_constant");
   spec.kind = "no_such_kind";
   scene.checks = {spec};
-  EXPECT_THROW(makeChecks(scene, tracker), InputError);
+  EXPECT_THROW(run::makeChecks(scene, tracker), InputError);
 }
 
 }  // namespace

@@ -30,10 +30,11 @@ const std::string kExamples = std::string(POLYDEM_SCENES_DIR) + "/examples/";
 double fosOf(const std::string& file, const std::string& kernel, const std::string& model,
              std::string& note) {
   log::setLevel(log::Level::kWarning);
-  io::Scene scene = io::readScene(kExamples + file);
+  setup::Setup scene = scene::readScene(kExamples + file);
   scene.kernel = kernel;
   scene.contact_model = model;
-  const FosResult r = findFactorOfSafety(scene, fosCriterion(scene), 1, MPI_COMM_WORLD);
+  const run::FosResult r =
+      run::findFactorOfSafety(scene, run::fosCriterion(scene), 1, MPI_COMM_WORLD);
   note = r.note;
   if (!r.factor()) return NAN;
   EXPECT_LE(*r.failed - *r.stable, scene.fos.resolution);
@@ -93,21 +94,21 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 TEST(StrengthReduction, DividesTanPhiAndCohesionOfTheChosenPairs) {
-  io::Scene scene = io::readScene(kExamples + "fos-incline.toml");
+  setup::Setup scene = scene::readScene(kExamples + "fos-incline.toml");
   particles::Material soft = scene.materials[0];
   soft.name = "clay";
   soft.friction_angle = 20;
   soft.cohesion = 300;
   scene.materials.push_back(soft);
   scene.fos.interactions = {{0, 1}};
-  const io::Scene reduced = reduceStrength(scene, 2.0);
+  const setup::Setup reduced = run::reduceStrength(scene, 2.0);
   ASSERT_EQ(reduced.interactions.size(), 1u);
   const auto& p = reduced.interactions[0].properties;
   // The pair takes the lower friction and cohesion of the two materials, then is reduced.
   EXPECT_DOUBLE_EQ(std::tan(degToRad(p.friction_angle)), std::tan(degToRad(20.0)) / 2.0);
   EXPECT_DOUBLE_EQ(p.cohesion, 0.0);
   EXPECT_DOUBLE_EQ(p.kn, scene.materials[0].kn);
-  EXPECT_EQ(reducedPairs(scene).size(), 1u);
+  EXPECT_EQ(run::reducedPairs(scene).size(), 1u);
   // Two free clay blocks: every pair, (0,0), (0,1), (1,1), has a contact that can use it.
   for (int k = 0; k < 2; ++k) {
     setup::ParticleSpec clay = scene.particles[1];
@@ -117,19 +118,19 @@ TEST(StrengthReduction, DividesTanPhiAndCohesionOfTheChosenPairs) {
     scene.particles.push_back(clay);
   }
   scene.fos.interactions.clear();
-  const io::Scene all = reduceStrength(scene, 4.0);
+  const setup::Setup all = run::reduceStrength(scene, 4.0);
   ASSERT_EQ(all.interactions.size(), 3u);
   for (const auto& i : all.interactions) {
     if (i.a == 1 && i.b == 1) {
       EXPECT_DOUBLE_EQ(i.properties.cohesion, 75.0);
     }
   }
-  EXPECT_THROW(reduceStrength(scene, 0.0), Error);
+  EXPECT_THROW(run::reduceStrength(scene, 0.0), Error);
 }
 
 TEST(StrengthReduction, NeverReducesOrListsAPairOnlyFixedBodiesShare) {
   // The incline becomes "bedrock": bedrock/bedrock only ever meets itself fixed.
-  io::Scene scene = io::readScene(kExamples + "fos-incline.toml");
+  setup::Setup scene = scene::readScene(kExamples + "fos-incline.toml");
   particles::Material bedrock = scene.materials[0];
   bedrock.name = "bedrock";
   scene.materials.push_back(bedrock);
@@ -138,10 +139,10 @@ TEST(StrengthReduction, NeverReducesOrListsAPairOnlyFixedBodiesShare) {
   second.uid = 3;
   second.position.y() += 10.0;
   scene.particles.push_back(second);
-  const auto pairs = reducedPairs(scene);
+  const auto pairs = run::reducedPairs(scene);
   ASSERT_EQ(pairs.size(), 1u);  // rock/bedrock; rock/rock needs two rock blocks
   EXPECT_EQ(pairs[0], std::make_pair(0, 1));
-  const io::Scene reduced = reduceStrength(scene, 2.0);
+  const setup::Setup reduced = run::reduceStrength(scene, 2.0);
   for (const auto& i : reduced.interactions) EXPECT_FALSE(i.a == 1 && i.b == 1);
 }
 
@@ -149,22 +150,22 @@ TEST(StrengthReduction, NeverReducesOrListsAPairOnlyFixedBodiesShare) {
 // rock/rock pair (10 deg) for corners and edges.
 TEST(StrengthReduction, ReducesOnlyTheNamedJoints) {
   const std::string file = std::string(POLYDEM_SCENES_DIR) + "/J-PLANAR-COHESION.toml";
-  io::Scene scene = io::readScene(file);
+  setup::Setup scene = scene::readScene(file);
   ASSERT_EQ(scene.joints.size(), 2u);
   // Naming nothing: every joint a free block touches and every usable pair.
-  EXPECT_EQ(reducedJoints(scene), (std::vector<int>{0, 1}));
-  EXPECT_EQ(reducedPairs(scene).size(), 1u);
+  EXPECT_EQ(run::reducedJoints(scene), (std::vector<int>{0, 1}));
+  EXPECT_EQ(run::reducedPairs(scene).size(), 1u);
   // Naming "base" only: the release joint and the pair keep their strength.
   scene.fos.joints = {0};
   scene.fos.joints_named = true;
-  EXPECT_EQ(reducedJoints(scene), (std::vector<int>{0}));
-  EXPECT_TRUE(reducedPairs(scene).empty());
-  io::Scene modified = scene;
+  EXPECT_EQ(run::reducedJoints(scene), (std::vector<int>{0}));
+  EXPECT_TRUE(run::reducedPairs(scene).empty());
+  setup::Setup modified = scene;
   // So that a reduction of "release" would show.
   const auto phi = static_cast<std::size_t>(
       dynamics::parameterIndex(dynamics::jointLaw(modified.joints[1].law.law), "friction_angle"));
   modified.joints[1].law.values[phi] = 30.0;
-  const io::Scene reduced = reduceStrength(modified, 2.0);
+  const setup::Setup reduced = run::reduceStrength(modified, 2.0);
   EXPECT_DOUBLE_EQ(std::tan(degToRad(reduced.joints[0].value("friction_angle"))),
                    std::tan(degToRad(25.0)) / 2.0);
   EXPECT_DOUBLE_EQ(reduced.joints[0].value("cohesion"), scene.joints[0].value("cohesion") / 2.0);
@@ -174,13 +175,13 @@ TEST(StrengthReduction, ReducesOnlyTheNamedJoints) {
   scene.fos.joints.clear();
   scene.fos.joints_named = false;
   scene.fos.interactions = {{0, 0}};
-  EXPECT_TRUE(reducedJoints(scene).empty());
+  EXPECT_TRUE(run::reducedJoints(scene).empty());
 }
 
 TEST(FosCriterion, DefaultsAndMissingMaxTime) {
-  io::Scene scene = io::readScene(kExamples + "fos-incline.toml");
+  setup::Setup scene = scene::readScene(kExamples + "fos-incline.toml");
   scene.fos.settle_time.reset();
-  const FosCriterion c = fosCriterion(scene);
+  const run::FosCriterion c = run::fosCriterion(scene);
   EXPECT_DOUBLE_EQ(c.window, 0.5);    // max_time / 4
   EXPECT_DOUBLE_EQ(c.time_cap, 8.0);  // 4 x max_time
   EXPECT_DOUBLE_EQ(c.local_damping, 0.8);
@@ -189,7 +190,7 @@ TEST(FosCriterion, DefaultsAndMissingMaxTime) {
   EXPECT_NE(c.describe().find("local damping 0.8"), std::string::npos) << c.describe();
   scene.fos.max_time.reset();
   try {
-    fosCriterion(scene);
+    run::fosCriterion(scene);
     FAIL() << "no error without max_time";
   } catch (const InputError& e) {
     EXPECT_GT(e.line(), 0);
@@ -198,9 +199,9 @@ TEST(FosCriterion, DefaultsAndMissingMaxTime) {
 }
 
 // The message of the InputError fosCriterion throws for `scene`, with its line.
-std::string refusal(const io::Scene& scene, int& line) {
+std::string refusal(const setup::Setup& scene, int& line) {
   try {
-    fosCriterion(scene);
+    run::fosCriterion(scene);
   } catch (const InputError& e) {
     line = e.line();
     return e.what();
@@ -216,14 +217,14 @@ max_time = "2 s"
 )";
 
 // fos-incline.toml's text without its [fos] table, with `extra` appended.
-io::Scene inclineWith(const std::string& extra) {
-  const std::string text = io::readSceneText(kExamples + "fos-incline.toml");
-  return io::parseScene(text.substr(0, text.find("[fos]")) + extra, "incline.toml");
+setup::Setup inclineWith(const std::string& extra) {
+  const std::string text = scene::readSceneText(kExamples + "fos-incline.toml");
+  return scene::parseScene(text.substr(0, text.find("[fos]")) + extra, "incline.toml");
 }
 
 TEST(FosCriterion, RefusesAnInteractionNoContactUses) {
   // "clay" is a material no particle has: reducing it changes nothing, every trial is stable.
-  io::Scene scene = inclineWith(
+  setup::Setup scene = inclineWith(
       "[[material]]\nname = \"clay\"\ndensity = 2000\nkn = 1e9\nks = 5e8\n"
       "friction_angle = 20\n" +
       kInclineFos + "interactions = [[\"rock\", \"rock\"],\n  [\"clay\", \"rock\"]]\n");
@@ -234,7 +235,7 @@ TEST(FosCriterion, RefusesAnInteractionNoContactUses) {
   EXPECT_EQ(line, scene.fos.interaction_lines[1]);
   EXPECT_GT(line, scene.fos.line);
   // A pair of a material whose only particle is fixed, with itself: no contact either.
-  io::Scene fixed_only = inclineWith(kInclineFos + "interactions = [[\"rock\", \"rock\"]]\n");
+  setup::Setup fixed_only = inclineWith(kInclineFos + "interactions = [[\"rock\", \"rock\"]]\n");
   fixed_only.particles[1].fixed = true;
   EXPECT_NE(refusal(fixed_only, line).find("no contact"), std::string::npos);
 }
@@ -252,7 +253,7 @@ TEST(FosCriterion, RefusesJointsThatNoFreeBlockTouchesOrAnEmptyChoice) {
   };
   // An unknown name: the reader refuses it with the file, the line and the known names.
   try {
-    io::parseScene(withFos("joints = [\"base\",\n  \"bsae\"]\n"), "planar.toml");
+    scene::parseScene(withFos("joints = [\"base\",\n  \"bsae\"]\n"), "planar.toml");
     ADD_FAILURE() << "an unknown joint was accepted";
   } catch (const InputError& e) {
     const std::string m = e.what();
@@ -265,20 +266,20 @@ TEST(FosCriterion, RefusesJointsThatNoFreeBlockTouchesOrAnEmptyChoice) {
   }
   // A joint only fixed rock has: the release plane's faces all belong to fixed blocks once no
   // free block is left.
-  io::Scene scene = io::parseScene(withFos("joints = [\"release\"]\n"), "planar.toml");
+  setup::Setup scene = scene::parseScene(withFos("joints = [\"release\"]\n"), "planar.toml");
   for (auto& p : scene.particles) p.fixed = true;
   int line = 0;
   EXPECT_NE(refusal(scene, line).find("no free block has a face"), std::string::npos);
   EXPECT_EQ(line, scene.fos.joint_lines[0]);
   // joints = [] with no interactions: nothing to reduce.
-  io::Scene empty = io::parseScene(withFos("joints = []\n"), "planar.toml");
+  setup::Setup empty = scene::parseScene(withFos("joints = []\n"), "planar.toml");
   EXPECT_NE(refusal(empty, line).find("nothing would be reduced"), std::string::npos);
 }
 
 TEST(FosCriterion, RefusesTrialsTooShortToJudge) {
   int line = 0;
   // 1e-3 s at dt = 1e-4 s: 10 steps.
-  io::Scene scene = inclineWith("[fos]\nf_min = 0.5\nf_max = 3\nmax_time = \"1e-3 s\"\n");
+  setup::Setup scene = inclineWith("[fos]\nf_min = 0.5\nf_max = 3\nmax_time = \"1e-3 s\"\n");
   std::string message = refusal(scene, line);
   EXPECT_NE(message.find("a trial needs at least 500 steps"), std::string::npos) << message;
   EXPECT_EQ(line, scene.fos.max_time_line);
@@ -293,23 +294,23 @@ TEST(FosCriterion, RefusesTrialsTooShortToJudge) {
 }
 
 // A search continued from trials already run: these decide every bound without a new trial.
-FosResult continued(const std::vector<std::pair<double, std::string>>& trials) {
+run::FosResult continued(const std::vector<std::pair<double, std::string>>& trials) {
   log::setLevel(log::Level::kWarning);
-  io::Scene scene = io::readScene(kExamples + "fos-incline.toml");
-  FosResult prior;
+  setup::Setup scene = scene::readScene(kExamples + "fos-incline.toml");
+  run::FosResult prior;
   for (const auto& [f, outcome] : trials) {
-    FosTrial t;
+    run::FosTrial t;
     t.factor = f;
     t.outcome = outcome;
     t.round = prior.rounds_complete++;
     prior.trials.push_back(t);
   }
-  return findFactorOfSafety(scene, fosCriterion(scene), 1, MPI_COMM_WORLD, &prior);
+  return run::findFactorOfSafety(scene, run::fosCriterion(scene), 1, MPI_COMM_WORLD, &prior);
 }
 
 TEST(FosBracket, ReportsOnlyBoundsOfDecidedTrials) {
   // Undecided at f_min: nothing is bracketed, and nothing is claimed below f_min.
-  FosResult r = continued({{0.5, "undecided"}});
+  run::FosResult r = continued({{0.5, "undecided"}});
   EXPECT_FALSE(r.failed);
   EXPECT_FALSE(r.factor());
   EXPECT_NE(r.note.find("undecided"), std::string::npos) << r.note;

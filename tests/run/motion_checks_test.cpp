@@ -14,11 +14,12 @@
 namespace polydem::sim {
 namespace {
 
-std::map<std::string, io::CheckResult> run(const std::string& text) {
+std::map<std::string, output::CheckResult> run(const std::string& text) {
   log::setLevel(log::Level::kWarning);
-  const io::Scene scene = io::parseScene(text, "motion_checks.toml");
-  std::map<std::string, io::CheckResult> out;
-  for (const auto& c : runScene(scene, RunOptions{}, MPI_COMM_WORLD).checks) out[c.name] = c;
+  const setup::Setup scene = scene::parseScene(text, "motion_checks.toml");
+  std::map<std::string, output::CheckResult> out;
+  for (const auto& c : run::runScene(scene, run::RunOptions{}, MPI_COMM_WORLD).checks)
+    out[c.name] = c;
   return out;
 }
 

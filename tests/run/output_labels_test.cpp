@@ -81,10 +81,10 @@ TEST(OutputLabels, FreeFallAtExactStepTimes) {
   long pid = static_cast<long>(getpid());
   MPI_Bcast(&pid, 1, MPI_LONG, 0, MPI_COMM_WORLD);
   const fs::path dir = fs::temp_directory_path() / cat("polydem_free_fall_", pid, "_", mpi::size());
-  RunOptions options;
+  run::RunOptions options;
   options.out_dir = dir.string();
-  const RunResult result =
-      runScene(io::parseScene(kFreeFall, "free_fall.toml"), options, MPI_COMM_WORLD);
+  const run::RunResult result =
+      run::runScene(scene::parseScene(kFreeFall, "free_fall.toml"), options, MPI_COMM_WORLD);
   ASSERT_EQ(result.steps, 50);
   if (mpi::rank() == 0) {
     const Series s = readSeries(dir / "series.csv");

@@ -7,18 +7,20 @@
 #include "polydem/core/strings.h"
 #include "scene_test_support.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 namespace {
 
 using namespace scene_test;
 
 TEST(SceneBadValues, RotationsWithHugeComponentsAreNormalised) {
   // [1e308, 1e308, 0, 0]: 90 degrees about x; its norm overflows to infinity.
-  const Scene s = parseScene(kBase + "rotation = { quaternion = [1e308, 1e308, 0, 0] }\n", "t");
+  const setup::Setup s =
+      parseScene(kBase + "rotation = { quaternion = [1e308, 1e308, 0, 0] }\n", "t");
   const Quat& q = s.particles[0].orientation;
   EXPECT_NEAR(q.w(), std::sqrt(0.5), 1e-15);
   EXPECT_NEAR(q.x(), std::sqrt(0.5), 1e-15);
-  const Scene a = parseScene(kBase + "rotation = { axis = [1e300, 0, 0], angle = 90 }\n", "t");
+  const setup::Setup a =
+      parseScene(kBase + "rotation = { axis = [1e300, 0, 0], angle = 90 }\n", "t");
   EXPECT_NEAR(a.particles[0].orientation.x(), std::sqrt(0.5), 1e-15);
   expectError(kBase + "rotation = { quaternion = [0, 0, 0, 0] }  # <-\n", {"must not be zero"});
 }
@@ -63,4 +65,4 @@ TEST(SceneBadValues, DomainValuesAtTheirLine) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::scene

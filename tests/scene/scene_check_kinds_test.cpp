@@ -11,7 +11,7 @@
 #include "polydem/scene/check_kinds.h"
 #include "scene_test_support.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 namespace {
 
 using namespace scene_test;
@@ -26,9 +26,10 @@ std::string sliding(const std::string& extra = "") {
 }
 
 TEST(SceneCheckKinds, AValidCheckReadsItsParameters) {
-  const Scene s = parseScene(sliding("g = \"9.81 m/s^2\"\nquantity = \"velocity\"\n"), "t.toml");
+  const setup::Setup s =
+      parseScene(sliding("g = \"9.81 m/s^2\"\nquantity = \"velocity\"\n"), "t.toml");
   ASSERT_EQ(s.checks.size(), 1u);
-  const CheckSpec& c = s.checks[0];
+  const setup::CheckSpec& c = s.checks[0];
   EXPECT_EQ(c.numbers.at("theta"), std::vector<double>{30.0});
   EXPECT_EQ(c.numbers.at("mu"), std::vector<double>{0.4});
   EXPECT_EQ(c.numbers.at("u0"), std::vector<double>{6.0});
@@ -83,10 +84,10 @@ TEST(SceneCheckKinds, UnitsOfTheValueAndParameters) {
               {"expected: expected a length (m), got '2 s'"});
   expectError(replaced(sliding(), "u0 = \"6 m/s\"", "u0 = \"6 m\"  # <-"),
               {"u0: expected a velocity"});
-  const Scene s = parseScene(kBase +
-                                 "[[check]]\nname = \"r\"\nkind = \"rotation\"\n"
-                                 "particle = \"a\"\nexpected = \"90 deg\"\n",
-                             "t.toml");
+  const setup::Setup s = parseScene(kBase +
+                                        "[[check]]\nname = \"r\"\nkind = \"rotation\"\n"
+                                        "particle = \"a\"\nexpected = \"90 deg\"\n",
+                                    "t.toml");
   EXPECT_NEAR(s.checks[0].expected, 1.5707963267948966, 1e-15);
 }
 
@@ -103,17 +104,17 @@ TEST(SceneCheckKinds, ParticlesAndRequiredParameters) {
   expectError(replaced(no_mu, "[[check]]", "[[check]]  # <-"),
               {"[[check]] 'slide': missing required key 'mu'"});
   // A list of several labels where the kind takes several.
-  const Scene s = parseScene(kBase +
-                                 "[[particle]]\nlabel = \"b\"\nshape = \"cube\"\n"
-                                 "material = \"rock\"\nposition = [3, 0, 0]\n"
-                                 "[[check]]\nname = \"d\"\nkind = \"displacement\"\n"
-                                 "expected = 1\nparticle = \" a , b \"\n",
-                             "t.toml");
+  const setup::Setup s = parseScene(kBase +
+                                        "[[particle]]\nlabel = \"b\"\nshape = \"cube\"\n"
+                                        "material = \"rock\"\nposition = [3, 0, 0]\n"
+                                        "[[check]]\nname = \"d\"\nkind = \"displacement\"\n"
+                                        "expected = 1\nparticle = \" a , b \"\n",
+                                    "t.toml");
   EXPECT_EQ(s.checks[0].strings.at("particle"), "a,b");
 }
 
 TEST(SceneCheckKinds, HugeDirectionsAreNormalisedWithoutOverflow) {
-  const Scene s = parseScene(
+  const setup::Setup s = parseScene(
       replaced(sliding(), "direction = [0.866025403784, 0, 0.5]", "direction = [1e300, 0, 1e300]"),
       "t.toml");
   const auto& d = s.checks[0].numbers.at("direction");
@@ -138,4 +139,4 @@ TEST(SceneCheckKinds, EveryKindDeclaresItsValueAndParameters) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::scene

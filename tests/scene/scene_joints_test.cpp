@@ -5,7 +5,7 @@
 
 #include "scene_test_support.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 namespace {
 
 using namespace scene_test;
@@ -60,9 +60,9 @@ std::string scene(const std::string& joints = kJoints, const std::string& mass =
 }
 
 TEST(SceneJoints, PropertiesInEngineersUnits) {
-  const Scene s = parseScene(scene(), "test.toml");
+  const setup::Setup s = parseScene(scene(), "test.toml");
   ASSERT_EQ(s.joints.size(), 2u);
-  const JointSpec& b = s.joints[0];
+  const setup::JointSpec& b = s.joints[0];
   EXPECT_EQ(b.name, "bedding");
   EXPECT_STREQ(b.lawName(), "coulomb");
   EXPECT_EQ(b.value("jkn"), 1e10);
@@ -76,13 +76,13 @@ TEST(SceneJoints, PropertiesInEngineersUnits) {
 }
 
 TEST(SceneJoints, PlanesTakeTheirJointAndFacesTheirPlane) {
-  const Scene s = parseScene(scene(), "test.toml");
+  const setup::Setup s = parseScene(scene(), "test.toml");
   ASSERT_EQ(s.rock_masses.size(), 1u);
   const auto& names = s.rock_masses[0].plane_names;
   ASSERT_EQ(s.joint_planes.size(), names.size());
   int bedding = 0, unnamed = 0;
   for (std::size_t k = 0; k < names.size(); ++k) {
-    const JointPlaneSpec& p = s.joint_planes[k];
+    const setup::JointPlaneSpec& p = s.joint_planes[k];
     EXPECT_EQ(p.name, "slope/" + names[k]);
     if (names[k] == "base") EXPECT_EQ(p.joint, 1);
     if (names[k].rfind("B#", 0) == 0) {
@@ -102,9 +102,9 @@ TEST(SceneJoints, PlanesTakeTheirJointAndFacesTheirPlane) {
   const std::size_t first = s.shapes.size() - static_cast<std::size_t>(s.rock_masses[0].blocks);
   int on_base = 0;
   for (std::size_t i = first; i < s.shapes.size(); ++i) {
-    const ShapeSpec& shape = s.shapes[i];
+    const setup::ShapeSpec& shape = s.shapes[i];
     EXPECT_FALSE(shape.face_planes.empty()) << shape.name;
-    for (const FacePlane& f : shape.face_planes) {
+    for (const setup::FacePlane& f : shape.face_planes) {
       on_base += names[static_cast<std::size_t>(f.plane)] == "base";
       int on = 0;
       for (const Vec3& v : shape.vertices) on += std::abs(f.normal.dot(v) - f.offset) < 1e-9;
@@ -159,14 +159,14 @@ field_length = "2 m"
 )";
 
 TEST(SceneJoints, EachLawItsParameters) {
-  const Scene s = parseScene(scene(kLaws), "test.toml");
+  const setup::Setup s = parseScene(scene(kLaws), "test.toml");
   ASSERT_EQ(s.joints.size(), 2u);
-  const JointSpec& r = s.joints[0];
+  const setup::JointSpec& r = s.joints[0];
   EXPECT_STREQ(r.lawName(), "coulomb-residual");
   EXPECT_EQ(r.value("cohesion"), 5e4);
   EXPECT_EQ(r.value("tensile_strength"), 0.0);
   EXPECT_EQ(r.value("residual_friction_angle"), 35.0);  // default: friction_angle
-  const JointSpec& b = s.joints[1];
+  const setup::JointSpec& b = s.joints[1];
   EXPECT_STREQ(b.lawName(), "barton-bandis");
   EXPECT_EQ(b.value("jrc"), 12.0);
   EXPECT_EQ(b.value("jcs"), 8e7);
@@ -175,7 +175,7 @@ TEST(SceneJoints, EachLawItsParameters) {
   EXPECT_EQ(b.value("field_length"), 2.0);
   EXPECT_EQ(b.value("dilation"), 0.0);
   EXPECT_THROW(b.value("cohesion"), Error);
-  const Scene d =
+  const setup::Setup d =
       parseScene(scene(replaced(kLaws, "field_length = \"2 m\"", "dilation = true")), "test.toml");
   EXPECT_EQ(d.joints[1].value("dilation"), 1.0);
   EXPECT_EQ(d.joints[1].value("field_length"), 0.0);
@@ -202,4 +202,4 @@ TEST(SceneJoints, LawMistakes) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::scene

@@ -12,7 +12,7 @@
 #include "polydem/geometry/joint_planes.h"
 #include "polydem/scene/scene_random.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 namespace {
 
 const std::string kScene = R"([scene]
@@ -151,7 +151,7 @@ TEST(Realizations, AreDeterministicAndFollowTheirDistributions) {
   EXPECT_EQ(a.values, b.values);
   EXPECT_NE(drawRealization(study, 8).values, a.values);
   // The scene of a realization holds its draws.
-  const Scene scene = realizationScene(study, a);
+  const setup::Setup scene = realizationScene(study, a);
   EXPECT_EQ(scene.materials[0].friction_angle, a.values[2]);
 
   const int n = 1500;
@@ -245,4 +245,4 @@ TEST(Realizations, RefuseBadEntries) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::scene

@@ -6,7 +6,7 @@
 #include "polydem/core/strings.h"
 #include "scene_test_support.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 namespace {
 
 using namespace scene_test;
@@ -216,4 +216,4 @@ TEST(SceneReaderErrors, InvalidShapesAtTheShapeLine) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::scene

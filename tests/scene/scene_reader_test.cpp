@@ -14,7 +14,7 @@
 #include "polydem/geometry/convex_polyhedron.h"
 #include "scene_test_support.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 namespace {
 
 using namespace scene_test;
@@ -187,7 +187,7 @@ std::set<std::array<double, 3>> asSet(const std::vector<Vec3>& v) {
 }
 
 TEST(SceneReader, FullSceneLandsFieldByField) {
-  const Scene s = parseScene(kFull, "full.toml");
+  const setup::Setup s = parseScene(kFull, "full.toml");
   EXPECT_EQ(s.file, "full.toml");
   EXPECT_EQ(s.id, "T-FULL");
   EXPECT_EQ(s.title, "Every key");
@@ -240,7 +240,7 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
 
   // Keys the interaction gives override; the others follow the material table's mixing rule.
   ASSERT_EQ(s.interactions.size(), 1u);
-  const Scene::Interaction& in = s.interactions[0];
+  const setup::Setup::Interaction& in = s.interactions[0];
   EXPECT_EQ(in.a, 1);
   EXPECT_EQ(in.b, 0);
   EXPECT_EQ(in.properties.ks, 0.5e9);
@@ -270,7 +270,7 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
   EXPECT_TRUE(extent(s.shapes[3].vertices).isApprox(Vec3(1.0, 0.5, 1.5), 1e-14));
 
   ASSERT_EQ(s.drivers.size(), 1u);
-  const DriverSpec& d = s.drivers[0];
+  const dynamics::DriverSpec& d = s.drivers[0];
   EXPECT_EQ(d.name, "shake");
   EXPECT_EQ(d.velocity, Vec3(0.1, 0, 0));
   EXPECT_DOUBLE_EQ(d.angular_velocity.z(), kPi);
@@ -285,7 +285,7 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
   // base (uid 1), the 2 x 3 x 2 grid (uids 2..13, x fastest), top (uid 14).
   ASSERT_EQ(s.particles.size(), 14u);
   for (std::size_t i = 0; i < s.particles.size(); ++i) EXPECT_EQ(s.particles[i].uid, i + 1);
-  const ParticleSpec& base = s.particles[0];
+  const setup::ParticleSpec& base = s.particles[0];
   EXPECT_EQ(base.label, "base");
   EXPECT_EQ(base.shape, 1);
   EXPECT_EQ(base.material, 0);
@@ -296,7 +296,7 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
   for (int k = 0; k < 2; ++k) {
     for (int j = 0; j < 3; ++j) {
       for (int i = 0; i < 2; ++i) {
-        const ParticleSpec& p = s.particles[1 + i + 2 * j + 6 * k];
+        const setup::ParticleSpec& p = s.particles[1 + i + 2 * j + 6 * k];
         EXPECT_EQ(p.label, cat("g_", i, "_", j, "_", k));
         EXPECT_EQ(p.shape, 0);
         EXPECT_EQ(p.material, 1);
@@ -307,7 +307,7 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
       }
     }
   }
-  const ParticleSpec& top = s.particles[13];
+  const setup::ParticleSpec& top = s.particles[13];
   EXPECT_EQ(top.label, "top");
   EXPECT_EQ(top.shape, 2);
   EXPECT_EQ(top.driver, -1);
@@ -328,7 +328,7 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
   EXPECT_EQ(s.checkpoint.keep, 3);
 
   ASSERT_EQ(s.checks.size(), 2u);
-  const CheckSpec& c = s.checks[0];
+  const setup::CheckSpec& c = s.checks[0];
   EXPECT_EQ(c.name, "drop");
   EXPECT_EQ(c.kind, "displacement");
   EXPECT_EQ(c.expected, 5e-3);
@@ -345,8 +345,8 @@ TEST(SceneReader, FullSceneLandsFieldByField) {
 }
 
 TEST(SceneReader, DefaultsFromTheSceneStruct) {
-  const Scene s = parseScene(kBase, "base.toml");
-  const Scene defaults;
+  const setup::Setup s = parseScene(kBase, "base.toml");
+  const setup::Setup defaults;
   EXPECT_EQ(s.kernel, "gjk-epa-ipm");
   EXPECT_EQ(s.broadphase, defaults.broadphase);
   EXPECT_EQ(s.contact_point, "kernel");
@@ -371,9 +371,9 @@ count = [4, 4, 4]
 jitter = "1 cm"
 seed = 11
 )";
-  const Scene a = parseScene(grid, "a.toml");
-  const Scene b = parseScene(grid, "b.toml");
-  const Scene c = parseScene(replaced(grid, "seed = 11", "seed = 12"), "c.toml");
+  const setup::Setup a = parseScene(grid, "a.toml");
+  const setup::Setup b = parseScene(grid, "b.toml");
+  const setup::Setup c = parseScene(replaced(grid, "seed = 11", "seed = 12"), "c.toml");
   bool moved = false, differs = false;
   for (std::size_t n = 1; n < a.particles.size(); ++n) {
     const std::size_t i = (n - 1) % 4, j = (n - 1) / 4 % 4, k = (n - 1) / 16;
@@ -462,7 +462,7 @@ TEST(SceneReader, ShapeTypesFollowTheirDocumentedLayout) {
 }
 
 TEST(SceneReader, ExampleSceneParses) {
-  const Scene s = readScene(POLYDEM_SOURCE_DIR "/benchmark_scenes/examples/minimal.toml");
+  const setup::Setup s = readScene(POLYDEM_SOURCE_DIR "/benchmark_scenes/examples/minimal.toml");
   EXPECT_EQ(s.id, "EX-MINIMAL");
   ASSERT_EQ(s.particles.size(), 2u);
   EXPECT_TRUE(s.particles[0].fixed);
@@ -483,4 +483,4 @@ TEST(SceneReader, MissingFileIsAnInputError) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::scene

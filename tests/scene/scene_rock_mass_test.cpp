@@ -5,7 +5,7 @@
 #include "polydem/geometry/convex_polyhedron.h"
 #include "scene_test_support.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 namespace {
 
 using namespace scene_test;
@@ -48,14 +48,14 @@ std::string sceneWithRockMass() {
          "position = [20, 0, 0]\n";
 }
 
-double volumeOf(const ShapeSpec& s) {
+double volumeOf(const setup::ShapeSpec& s) {
   return geometry::ConvexPolyhedron::fromPoints(s.vertices).volume();
 }
 
 TEST(SceneRockMass, BlocksBecomeParticlesInFileOrder) {
-  const Scene scene = parseScene(sceneWithRockMass(), "test.toml");
+  const setup::Setup scene = parseScene(sceneWithRockMass(), "test.toml");
   ASSERT_EQ(scene.rock_masses.size(), 1u);
-  const RockMassInfo& info = scene.rock_masses[0];
+  const setup::RockMassInfo& info = scene.rock_masses[0];
   EXPECT_EQ(info.name, "slope");
   EXPECT_EQ(info.first_uid, 2u);  // after particle "a"
   EXPECT_GT(info.blocks, 10);
@@ -66,7 +66,7 @@ TEST(SceneRockMass, BlocksBecomeParticlesInFileOrder) {
   EXPECT_EQ(scene.particles.back().uid, static_cast<Uid>(info.blocks) + 2);
   double volume = 0.0;
   for (int i = 0; i < info.blocks; ++i) {
-    const ParticleSpec& p = scene.particles[1 + i];
+    const setup::ParticleSpec& p = scene.particles[1 + i];
     EXPECT_EQ(p.uid, info.first_uid + static_cast<Uid>(i));
     EXPECT_EQ(p.label, "slope_" + std::to_string(i));
     EXPECT_EQ(p.material, p.fixed ? 1 : 0);
@@ -93,10 +93,10 @@ dip = 90
 dip_direction = 90
 spacing = 4
 )";
-  const Scene scene = parseScene(text, "test.toml");
+  const setup::Setup scene = parseScene(text, "test.toml");
   ASSERT_EQ(scene.rock_masses.size(), 1u);
   double volume = 0.0;
-  for (const ShapeSpec& s : scene.shapes) {
+  for (const setup::ShapeSpec& s : scene.shapes) {
     if (s.name.rfind("cut#", 0) == 0) volume += volumeOf(s);
   }
   const double area = 20.0 * 12.0 - 0.5 * 8.0 * 8.0 - 4.0 * 8.0;
@@ -175,4 +175,4 @@ TEST(SceneRockMassErrors, RemovingEverythingIsAnError) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::scene

@@ -11,7 +11,7 @@
 #include "polydem/core/error.h"
 #include "polydem/scene/scene_reader.h"
 
-namespace polydem::io::scene_test {
+namespace polydem::scene::scene_test {
 
 // 1-based line of the n-th line of `text` containing `needle`.
 inline int lineContaining(const std::string& text, const std::string& needle, int n = 0) {
@@ -80,4 +80,4 @@ shape = "cube"
 material = "rock"
 )";
 
-}  // namespace polydem::io::scene_test
+}  // namespace polydem::scene::scene_test

@@ -7,7 +7,7 @@
 
 #include "scene_test_support.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 namespace {
 
 using namespace scene_test;
@@ -44,7 +44,7 @@ std::string scene(const std::string& water) {
 }
 
 TEST(SceneWater, SurfaceThroughFivePoints) {
-  const Scene s = parseScene(
+  const setup::Setup s = parseScene(
       scene("points = [[0, 0, 1], [4, 0, 1.5], [4, 4, 2], [0, 4, 1], [2, 2, \"3 m\"]]\n"),
       "test.toml");
   ASSERT_TRUE(s.water.enabled);
@@ -55,22 +55,22 @@ TEST(SceneWater, SurfaceThroughFivePoints) {
 }
 
 TEST(SceneWater, TableOfTheHeightsOfNPoints) {
-  const Scene s = parseScene(scene("points = [[0, 0], [4, 0], [4, 4], [0, 4]]\n"
-                                   "table = [[0, 1, 1, 1, 1], [10, 2, 2, 3, 3]]\n"),
-                             "test.toml");
+  const setup::Setup s = parseScene(scene("points = [[0, 0], [4, 0], [4, 4], [0, 4]]\n"
+                                          "table = [[0, 1, 1, 1, 1], [10, 2, 2, 3, 3]]\n"),
+                                    "test.toml");
   EXPECT_EQ(s.water.triangles.size(), 2u);
   EXPECT_EQ(s.water.times, (std::vector<double>{0, 10}));
   EXPECT_EQ(s.water.heights[1], (std::vector<double>{2, 2, 3, 3}));
 }
 
 TEST(SceneWater, JointSurfacesByJointPlaneAndSetName) {
-  const Scene s = parseScene(scene("level = 2.5\n"
-                                   "[[water.joint]]\njoint = \"fault\"\ndry = true\n"
-                                   "[[water.joint]]\njoint = \"J\"\nlevel = \"1.5 m\"\n"),
-                             "test.toml");
+  const setup::Setup s = parseScene(scene("level = 2.5\n"
+                                          "[[water.joint]]\njoint = \"fault\"\ndry = true\n"
+                                          "[[water.joint]]\njoint = \"J\"\nlevel = \"1.5 m\"\n"),
+                                    "test.toml");
   ASSERT_EQ(s.water.joints.size(), 2u);
   const auto& planes = s.joint_planes;
-  auto names = [&](const WaterJointSpec& j) {
+  auto names = [&](const setup::WaterJointSpec& j) {
     std::vector<std::string> out;
     for (const int k : j.planes) out.push_back(planes[static_cast<std::size_t>(k)].name);
     return out;
@@ -82,7 +82,7 @@ TEST(SceneWater, JointSurfacesByJointPlaneAndSetName) {
   for (const auto& n : set) EXPECT_EQ(n.substr(0, 8), "slope/J#");
   EXPECT_EQ(s.water.joints[1].surface.heights, (std::vector<std::vector<double>>{{1.5}}));
   // A plane by its own name, and no global surface: water only on that joint.
-  const Scene t =
+  const setup::Setup t =
       parseScene(scene("[[water.joint]]\njoint = \"slope/base\"\nlevel = 2\n"), "test.toml");
   EXPECT_TRUE(t.water.dry);
   EXPECT_EQ(names(t.water.joints[0]), std::vector<std::string>{"slope/base"});
@@ -110,4 +110,4 @@ TEST(SceneWater, BadSurfacesAndJointsNameTheLine) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::scene

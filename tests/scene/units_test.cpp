@@ -7,7 +7,7 @@
 
 #include "polydem/core/types.h"
 
-namespace polydem::io {
+namespace polydem::scene {
 namespace {
 
 double stored(std::string_view text, Quantity q) {
@@ -76,4 +76,4 @@ TEST(Units, MalformedTextIsRejected) {
 }
 
 }  // namespace
-}  // namespace polydem::io
+}  // namespace polydem::scene

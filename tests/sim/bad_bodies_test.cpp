@@ -23,7 +23,7 @@ std::string scene(const std::string& shape, const std::string& density, const st
 /// The InputError building a Simulation of `text` raises, with its line; fails if none.
 std::pair<int, std::string> errorOf(const std::string& text) {
   try {
-    Simulation sim(io::parseScene(text, "bad.toml"), MPI_COMM_WORLD);
+    Simulation sim(scene::parseScene(text, "bad.toml"), MPI_COMM_WORLD);
   } catch (const InputError& e) {
     return {e.line(), e.what()};
   }
@@ -40,7 +40,7 @@ TEST(BadBodies, ASliverIsRefusedAtTheParticle) {
   EXPECT_NE(message.find("shape 's' is too thin"), std::string::npos) << message;
   // A thin plate is fine: only the smallest moment of a needle vanishes.
   EXPECT_NO_THROW(Simulation(
-      io::parseScene(scene("type = \"box\"\nsize = [1, 1, 1e-4]\n", "2500", ""), "ok.toml"),
+      scene::parseScene(scene("type = \"box\"\nsize = [1, 1, 1e-4]\n", "2500", ""), "ok.toml"),
       MPI_COMM_WORLD));
 }
 
@@ -66,7 +66,7 @@ TEST(BadBodies, CoincidentParticlesThatWouldNotFitInMemory) {
       scene("type = \"cube\"\nedge = 1\n", "2500",
             "[[particle_grid]]\nshape = \"s\"\nmaterial = \"rock\"\nspacing = 1e-9\n"
             "count = [3, 3, 3]\norigin = [5, 5, 5]\n");
-  const io::Scene sc = io::parseScene(text, "coincident.toml");
+  const setup::Setup sc = scene::parseScene(text, "coincident.toml");
   const Simulation sim(sc, MPI_COMM_WORLD);
   // The guard's inputs as the broad phase of the first step would give them.
   std::vector<broadphase::CandidatePair> pairs;
@@ -98,13 +98,13 @@ TEST(BadBodies, AHugeMarginIsNamedNotOverlaps) {
       scene("type = \"cube\"\nedge = 1\n", "2500",
             "[[particle_grid]]\nshape = \"s\"\nmaterial = \"rock\"\nspacing = 100\n"
             "count = [3, 3, 3]\norigin = [0, 0, 0]\n");
-  io::Scene sc = io::parseScene(text, "margin.toml");
+  setup::Setup sc = scene::parseScene(text, "margin.toml");
   sc.contact_margin = 1.0;
-  io::ShapeSpec big = sc.shapes[0];
+  setup::ShapeSpec big = sc.shapes[0];
   big.name = "big";
   for (Vec3& v : big.vertices) v *= 20000.0;
   sc.shapes.push_back(big);
-  io::ParticleSpec far = sc.particles.back();
+  setup::ParticleSpec far = sc.particles.back();
   far.uid = static_cast<Uid>(sc.particles.size() + 1);
   far.shape = static_cast<int>(sc.shapes.size() - 1);
   far.position = Vec3(30000.0, 0, 0);

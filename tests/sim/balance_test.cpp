@@ -21,7 +21,7 @@
 namespace polydem::sim {
 namespace {
 
-io::Scene densePack(double floor_width) {
+setup::Setup densePack(double floor_width) {
   PileOptions o;
   o.particles = 4000;  // 20 x 20 x 10
   o.layers = 10;
@@ -31,7 +31,7 @@ io::Scene densePack(double floor_width) {
   return makePileScene(o);
 }
 
-BalanceFigures afterOneStep(const io::Scene& scene) {
+BalanceFigures afterOneStep(const setup::Setup& scene) {
   Simulation sim(scene, MPI_COMM_WORLD);
   sim.step();
   return balanceFigures(sim);
@@ -60,13 +60,13 @@ TEST(Balance, DensePackInItsBox) {
 
 TEST(Balance, DensePackOnAFloorTwiceAsWide) {
   log::setLevel(log::Level::kWarning);
-  const io::Scene scene = densePack(2);
+  const setup::Setup scene = densePack(2);
   const BalanceFigures f = afterOneStep(scene);
   expectBalanced(f, "dense pack on a wide floor");
   // The old default for contrast (blocks from the domain box alone, about 8 per rank): the pile
   // sits in a few blocks and no rebalancing can share them out.
   if (mpi::size() > 1) {
-    io::Scene old = scene;
+    setup::Setup old = scene;
     Simulation probe(scene, MPI_COMM_WORLD);
     old.domain.blocks = domain::chooseBlockCounts(probe.forest().domain(), mpi::size(), 8);
     EXPECT_GT(afterOneStep(old).evaluated_pairs.ratio(), 1.5)
@@ -79,11 +79,11 @@ TEST(Balance, SummaryJsonCarriesThePerRankFigures) {
   long pid = static_cast<long>(getpid());
   MPI_Bcast(&pid, 1, MPI_LONG, 0, MPI_COMM_WORLD);
   const auto dir = std::filesystem::temp_directory_path() / cat("polydem_balance_", pid);
-  RunOptions options;
+  run::RunOptions options;
   options.out_dir = dir.string();
   options.snapshots = false;
   options.steps = 3;
-  runScene(densePack(2), options, MPI_COMM_WORLD);
+  run::runScene(densePack(2), options, MPI_COMM_WORLD);
   if (mpi::rank() != 0) return;
   nlohmann::json j;
   std::ifstream(dir / "summary.json") >> j;

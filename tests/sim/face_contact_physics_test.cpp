@@ -98,7 +98,7 @@ std::size_t cubeIndex(const Simulation& sim) {
 // Runs the scene, calling `observe(sim, cube index)` after every step.
 void run(const CubeScene& c, const std::function<void(const Simulation&, std::size_t)>& observe) {
   log::setLevel(log::Level::kWarning);
-  Simulation sim(io::parseScene(toml(c), "<face-contact-physics>"), MPI_COMM_WORLD);
+  Simulation sim(scene::parseScene(toml(c), "<face-contact-physics>"), MPI_COMM_WORLD);
   const auto steps = static_cast<std::int64_t>(std::llround(c.end_time / kDt));
   for (std::int64_t k = 0; k < steps; ++k) {
     sim.step();

@@ -14,7 +14,7 @@
 namespace polydem::sim {
 namespace {
 
-io::Scene densePack() {
+setup::Setup densePack() {
   PileOptions o;
   o.particles = 1600;  // 20 x 20 x 4
   o.layers = 4;

@@ -79,7 +79,7 @@ TEST(MemoryUse, DensePackWithinBoundsFromCounts) {
   o.shapes = "cubes";
   o.gap = -0.001;  // every face in contact from the first step
   o.layers = 8;
-  io::Scene scene = makePileScene(o);
+  setup::Setup scene = makePileScene(o);
   scene.contact_model = "sub-contacts";
   Simulation sim(scene, MPI_COMM_WORLD);
   Counts n;

@@ -14,12 +14,12 @@
 namespace polydem::sim {
 namespace {
 
-io::Scene crossingScene(bool periodic) {
-  io::Scene s = testing::slidingHeap("mixed", 0.15);
+setup::Setup crossingScene(bool periodic) {
+  setup::Setup s = testing::slidingHeap("mixed", 0.15);
   s.steps = 4000;
   if (periodic) {
     // Keep the floor, drop the four walls, and wrap x and y around the footprint.
-    std::vector<io::ParticleSpec> kept;
+    std::vector<setup::ParticleSpec> kept;
     for (const auto& p : s.particles) {
       if (!p.fixed || p.uid == 1) kept.push_back(p);
     }
@@ -39,7 +39,7 @@ struct Outcome {
   std::int64_t migrated_histories = 0;  // over all ranks
 };
 
-Outcome run(const io::Scene& scene, MPI_Comm comm) {
+Outcome run(const setup::Setup& scene, MPI_Comm comm) {
   Simulation sim(scene, comm);
   sim.run();
   const auto h = sim.stateHash();
@@ -48,7 +48,7 @@ Outcome run(const io::Scene& scene, MPI_Comm comm) {
 }
 
 // The same scene on rank 0 alone (the reference) and on all ranks.
-void expectSameBits(const io::Scene& scene) {
+void expectSameBits(const setup::Setup& scene) {
   log::setLevel(log::Level::kWarning);
   Outcome reference;
   MPI_Comm self;
@@ -73,11 +73,11 @@ TEST(RankDeterminism, SameBitsOnAnyRankCount) {
 }
 
 TEST(RankDeterminism, RebalancingChangesTheMapNotTheTrajectory) {
-  io::Scene s = crossingScene(false);
+  setup::Setup s = crossingScene(false);
   s.domain.rebalance_every = 200;
   expectSameBits(s);  // and the rebalanced run equals the unbalanced 1-rank reference:
   log::setLevel(log::Level::kWarning);
-  io::Scene plain = crossingScene(false);
+  setup::Setup plain = crossingScene(false);
   EXPECT_EQ(run(s, MPI_COMM_WORLD).hash, run(plain, MPI_COMM_WORLD).hash);
 }
 
@@ -85,7 +85,7 @@ TEST(RankDeterminism, DefaultDecompositionFollowingTheWork) {
   // Blocks fitted to the particles, the map balanced by their contacts and weighed again every
   // 100 steps (new block counts as the heap spreads), across periodic faces: the trajectory stays
   // the same. (sim_restart runs the default decomposition without periodic axes.)
-  io::Scene s = crossingScene(true);
+  setup::Setup s = crossingScene(true);
   s.domain.blocks.reset();
   s.domain.balancer = "metis";
   s.domain.rebalance_every = 100;
@@ -103,7 +103,7 @@ struct OverlapOutcome {
   std::int64_t evaluated = 0, early = 0;
 };
 
-OverlapOutcome runCounting(io::Scene scene, bool overlap) {
+OverlapOutcome runCounting(setup::Setup scene, bool overlap) {
   scene.domain.overlap_exchange = overlap;
   Simulation sim(scene, MPI_COMM_WORLD);
   std::int64_t evaluated = 0, early = 0;
@@ -117,7 +117,7 @@ OverlapOutcome runCounting(io::Scene scene, bool overlap) {
 
 // The overlap (sim/contact_phase.h) changes when pairs are evaluated, not what: the same state,
 // and the same pairs evaluated, with it and without; and it really happens on several ranks.
-void expectOverlapKeepsTheBits(const io::Scene& scene) {
+void expectOverlapKeepsTheBits(const setup::Setup& scene) {
   log::setLevel(log::Level::kWarning);
   const OverlapOutcome on = runCounting(scene, true), off = runCounting(scene, false);
   EXPECT_EQ(on.hash, off.hash) << "overlap on and off differ on " << mpi::size() << " ranks";
@@ -133,13 +133,13 @@ void expectOverlapKeepsTheBits(const io::Scene& scene) {
 }
 
 TEST(RankDeterminism, OverlapOnAndOffGiveTheSameBits) {
-  io::Scene s = crossingScene(false);
+  setup::Setup s = crossingScene(false);
   s.steps = 1500;
   expectOverlapKeepsTheBits(s);
 }
 
 TEST(RankDeterminism, OverlapOnAndOffGiveTheSameBitsAcrossPeriodicFaces) {
-  io::Scene s = crossingScene(true);
+  setup::Setup s = crossingScene(true);
   s.steps = 1500;
   s.domain.rebalance_every = 300;  // a rebalanced exchange is collective: no overlap that step
   expectOverlapKeepsTheBits(s);
@@ -148,7 +148,7 @@ TEST(RankDeterminism, OverlapOnAndOffGiveTheSameBitsAcrossPeriodicFaces) {
 // The storage sort (sortParticles, sim/step/sort.cpp) runs at the start of a step, after the early pass
 // of the step before: the buffered results are values matched by key, not storage indices.
 TEST(RankDeterminism, OverlapKeepsTheBitsWhenStorageIsSorted) {
-  io::Scene s = crossingScene(false);
+  setup::Setup s = crossingScene(false);
   s.steps = 1500;
   s.domain.sort_every = 7;
   expectOverlapKeepsTheBits(s);
@@ -157,7 +157,7 @@ TEST(RankDeterminism, OverlapKeepsTheBitsWhenStorageIsSorted) {
 TEST(RankDeterminism, ParticlesReallyCrossBorders) {
   // Guard against a scene too calm to test anything: count particles that changed block.
   log::setLevel(log::Level::kWarning);
-  const io::Scene scene = crossingScene(false);
+  const setup::Setup scene = crossingScene(false);
   Simulation sim(scene, MPI_COMM_WORLD);
   std::vector<int> start;
   for (std::size_t i = 0; i < sim.particles().localCount(); ++i) {

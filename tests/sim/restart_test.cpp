@@ -26,9 +26,9 @@ namespace fs = std::filesystem;
 constexpr std::int64_t kFirst = 400;   // steps before the checkpoint
 constexpr std::int64_t kSecond = 300;  // steps after it
 
-io::Scene crossingScene(bool equilibrium) {
+setup::Setup crossingScene(bool equilibrium) {
   // Cubes in a lattice only 2% apart: contacts from the first steps.
-  io::Scene s = testing::slidingHeap("cubes", 0.02);
+  setup::Setup s = testing::slidingHeap("cubes", 0.02);
   s.steps = kFirst + kSecond;
   s.end_time.reset();
   if (equilibrium) {
@@ -63,7 +63,7 @@ std::uint64_t onFirst(int n, F f) {
 }
 
 /// The uninterrupted run: both stages to the end.
-std::uint64_t straight(const io::Scene& scene, MPI_Comm comm) {
+std::uint64_t straight(const setup::Setup& scene, MPI_Comm comm) {
   Simulation sim(scene, comm);
   sim.runEquilibrium();
   sim.run();
@@ -81,7 +81,7 @@ fs::path sharedPath(const std::string& name) {
 }
 
 /// Runs the scene on `comm` until `kFirst` steps of the scene's first stage, then writes `path`.
-void writeAfterFirst(const io::Scene& scene, const fs::path& path, MPI_Comm comm) {
+void writeAfterFirst(const setup::Setup& scene, const fs::path& path, MPI_Comm comm) {
   Simulation sim(scene, comm);
   sim.setStepHook([&sim] { return sim.stepCount() == kFirst; });
   if (scene.equilibrium.enabled) {
@@ -91,17 +91,17 @@ void writeAfterFirst(const io::Scene& scene, const fs::path& path, MPI_Comm comm
     EXPECT_EQ(sim.run(), timeloop::StopReason::kUserCondition);
   }
   ASSERT_EQ(sim.stepCount(), kFirst);
-  const io::CheckpointData data = sim.checkpoint("", scene.file, "{}");
+  const sim::CheckpointData data = sim.checkpoint("", scene.file, "{}");
   std::int64_t sliding = 0;  // springs with a tangential force to carry over
   for (const auto& h : data.pair_histories) sliding += h.touching && h.shear_force.norm() > 0;
   for (const auto& h : data.sub_histories) sliding += h.shear_force.norm() > 0;
   EXPECT_GT(mpi::allreduceSum(sliding, comm), 10) << "the checkpoint should hold shear histories";
-  io::writeCheckpoint(path, data, comm);
+  checkpoint::writeCheckpoint(path, data, comm);
 }
 
 /// Reads `path` on `comm` and runs both stages to the end.
-std::uint64_t restartFrom(const io::Scene& scene, const fs::path& path, MPI_Comm comm) {
-  const io::CheckpointData data = io::readCheckpoint(path, comm);
+std::uint64_t restartFrom(const setup::Setup& scene, const fs::path& path, MPI_Comm comm) {
+  const sim::CheckpointData data = checkpoint::readCheckpoint(path, comm);
   Simulation sim(scene, data, path.string(), comm);
   EXPECT_EQ(sim.stepCount(), kFirst);
   EXPECT_EQ(sim.stage(), scene.equilibrium.enabled ? Stage::kEquilibrium : Stage::kMain);
@@ -112,7 +112,7 @@ std::uint64_t restartFrom(const io::Scene& scene, const fs::path& path, MPI_Comm
   return h.combined;
 }
 
-void expectRestartSameBits(const io::Scene& scene, const std::string& name) {
+void expectRestartSameBits(const setup::Setup& scene, const std::string& name) {
   log::setLevel(log::Level::kWarning);
   const int p = mpi::size();
   const std::uint64_t reference = onFirst(1, [&](MPI_Comm c) { return straight(scene, c); });
@@ -143,7 +143,7 @@ TEST(Restart, MainStageSameBitsOnAnyRankCount) {
   // With the default decomposition: blocks fitted to the particles (again, for the reading rank
   // count, on a restart), balanced by their contacts, weighed again every 100 steps. (The
   // equilibrium test below keeps the sliding heap's small cyclic blocks.)
-  io::Scene s = crossingScene(false);
+  setup::Setup s = crossingScene(false);
   s.domain.blocks.reset();
   s.domain.balancer = "metis";
   s.domain.rebalance_every = 100;
@@ -156,11 +156,11 @@ TEST(Restart, EquilibriumStageSameBitsOnAnyRankCount) {
 
 TEST(Restart, RefusesShapesThatDoNotMatch) {
   log::setLevel(log::Level::kWarning);
-  io::Scene scene = crossingScene(false);
+  setup::Setup scene = crossingScene(false);
   const fs::path path = sharedPath("shapes.h5");
   writeAfterFirst(scene, path, MPI_COMM_WORLD);
-  const io::CheckpointData data = io::readCheckpoint(path, MPI_COMM_WORLD);
-  io::Scene moved = scene;
+  const sim::CheckpointData data = checkpoint::readCheckpoint(path, MPI_COMM_WORLD);
+  setup::Setup moved = scene;
   moved.shapes[0].vertices[0] *= 1.0 + 1e-12;  // one bit is enough
   try {
     Simulation sim(moved, data, path.string(), MPI_COMM_WORLD);
@@ -169,14 +169,14 @@ TEST(Restart, RefusesShapesThatDoNotMatch) {
     EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("shape"), std::string::npos) << e.what();
   }
-  io::Scene other_dt = scene;
+  setup::Setup other_dt = scene;
   other_dt.dt *= 0.5;
   EXPECT_THROW(Simulation(other_dt, data, path.string(), MPI_COMM_WORLD), CheckpointError);
-  io::Scene no_equilibrium = crossingScene(true);
+  setup::Setup no_equilibrium = crossingScene(true);
   no_equilibrium.equilibrium.enabled = false;
   const fs::path eq_path = sharedPath("eq.h5");
   writeAfterFirst(crossingScene(true), eq_path, MPI_COMM_WORLD);
-  const io::CheckpointData eq_data = io::readCheckpoint(eq_path, MPI_COMM_WORLD);
+  const sim::CheckpointData eq_data = checkpoint::readCheckpoint(eq_path, MPI_COMM_WORLD);
   EXPECT_THROW(Simulation(no_equilibrium, eq_data, eq_path.string(), MPI_COMM_WORLD),
                CheckpointError);
   MPI_Barrier(MPI_COMM_WORLD);
@@ -193,19 +193,20 @@ TEST(Restart, RefusesShapesThatDoNotMatch) {
 TEST(Restart, VersionOneFileContinuesWithThePointModel) {
   log::setLevel(log::Level::kWarning);
   const std::string dir = POLYDEM_TEST_DATA_DIR;
-  const io::CheckpointData data =
-      io::readCheckpoint(dir + "/checkpoint_v1_step200.h5", MPI_COMM_WORLD);
+  const sim::CheckpointData data =
+      checkpoint::readCheckpoint(dir + "/checkpoint_v1_step200.h5", MPI_COMM_WORLD);
   ASSERT_EQ(data.format_version, 1);
   EXPECT_TRUE(data.sub_keys.empty());
   EXPECT_GT(data.pair_keys.size(), 0u);
-  const auto continued = continueRun(dir + "/checkpoint_v1_step200.h5", dir + "/v1-restart.toml",
-                                     RunOptions{}, MPI_COMM_WORLD);
-  io::Scene point = io::readScene(dir + "/v1-restart.toml");
+  const auto continued =
+      run::continueRun(dir + "/checkpoint_v1_step200.h5", dir + "/v1-restart.toml",
+                       run::RunOptions{}, MPI_COMM_WORLD);
+  setup::Setup point = scene::readScene(dir + "/v1-restart.toml");
   point.contact_model = "point";
-  const auto straight = runScene(point, RunOptions{}, MPI_COMM_WORLD);
+  const auto straight = run::runScene(point, run::RunOptions{}, MPI_COMM_WORLD);
   EXPECT_EQ(continued.hash.combined, straight.hash.combined);
-  io::Scene subcontacts = io::readScene(dir + "/v1-restart.toml");
-  EXPECT_NE(runScene(subcontacts, RunOptions{}, MPI_COMM_WORLD).hash.combined,
+  setup::Setup subcontacts = scene::readScene(dir + "/v1-restart.toml");
+  EXPECT_NE(run::runScene(subcontacts, run::RunOptions{}, MPI_COMM_WORLD).hash.combined,
             straight.hash.combined)
       << "the two models should differ on this scene, or the test shows nothing";
 }
@@ -216,28 +217,29 @@ TEST(Restart, VersionOneFileContinuesWithThePointModel) {
 TEST(Restart, CommandLineSettingsCarryOver) {
   log::setLevel(log::Level::kWarning);
   const std::string dir = POLYDEM_TEST_DATA_DIR;
-  const std::string text = io::readSceneText(dir + "/v1-restart.toml");
-  const io::Scene scene = io::parseScene(text, "v1-restart.toml");
+  const std::string text = scene::readSceneText(dir + "/v1-restart.toml");
+  const setup::Setup scene = scene::parseScene(text, "v1-restart.toml");
   const fs::path out = sharedPath("settings"), out2 = sharedPath("settings2");
-  RunOptions first;
+  run::RunOptions first;
   first.out_dir = out.string();
   first.snapshots = false;
   first.scene_text = text;
   first.kernel = "fcp";
   first.contact_model = "point";
   first.checkpoint_every = 200;
-  const auto straight = runScene(scene, first, MPI_COMM_WORLD);
-  RunOptions second;
+  const auto straight = run::runScene(scene, first, MPI_COMM_WORLD);
+  run::RunOptions second;
   second.out_dir = out2.string();
   second.snapshots = false;
   std::string at_200;  // the run's checkpoint of step 200 (its name carries the run's id)
-  for (const auto& f : io::listCheckpoints(out / "checkpoints")) {
+  for (const auto& f : checkpoint::listCheckpoints(out / "checkpoints")) {
     if (f.step == 200) at_200 = f.path.string();
   }
   ASSERT_FALSE(at_200.empty()) << "no checkpoint of step 200 in " << out / "checkpoints";
-  const auto continued = continueRun(at_200, std::nullopt, second, MPI_COMM_WORLD);
+  const auto continued = run::continueRun(at_200, std::nullopt, second, MPI_COMM_WORLD);
   EXPECT_EQ(continued.hash.combined, straight.hash.combined);
-  EXPECT_NE(runScene(scene, RunOptions{}, MPI_COMM_WORLD).hash.combined, straight.hash.combined)
+  EXPECT_NE(run::runScene(scene, run::RunOptions{}, MPI_COMM_WORLD).hash.combined,
+            straight.hash.combined)
       << "the scene's own settings should give another run, or the test shows nothing";
   MPI_Barrier(MPI_COMM_WORLD);
   if (mpi::rank() == 0) {

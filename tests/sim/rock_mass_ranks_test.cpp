@@ -60,7 +60,7 @@ orientation_jitter = 4
 seed = 5
 )";
 
-std::uint64_t blockDigest(const io::Scene& scene) {
+std::uint64_t blockDigest(const setup::Setup& scene) {
   BitHasher h;
   for (const auto& shape : scene.shapes) {
     for (const Vec3& v : shape.vertices) h.add(v);
@@ -71,7 +71,7 @@ std::uint64_t blockDigest(const io::Scene& scene) {
 
 TEST(RockMassRanks, SameBlocksAndSameRunOnAnyRankCount) {
   log::setLevel(log::Level::kWarning);
-  const io::Scene scene = io::parseScene(kScene, "rock_mass_ranks.toml");
+  const setup::Setup scene = scene::parseScene(kScene, "rock_mass_ranks.toml");
   ASSERT_EQ(scene.rock_masses.size(), 1u);
   EXPECT_GT(scene.rock_masses[0].report.free_blocks, 15);
   // Every rank cut the same blocks.
@@ -117,8 +117,8 @@ TEST(RockMassRanks, JointsGiveTheSameRunOnAnyRankCountAndAfterARestart) {
          "friction_angle = 35\n");
   insert("fixed = \"below\"\n", "joint = \"strong\"\n");
   insert("seed = 4\n", "joint = \"weak\"\n");
-  const io::Scene scene = io::parseScene(text, "rock_mass_joints.toml");
-  const io::Scene plain = io::parseScene(kScene, "rock_mass_ranks.toml");
+  const setup::Setup scene = scene::parseScene(text, "rock_mass_joints.toml");
+  const setup::Setup plain = scene::parseScene(kScene, "rock_mass_ranks.toml");
   ASSERT_EQ(scene.joints.size(), 2u);
 
   std::uint64_t reference = 0, without_joints = 0;
@@ -146,7 +146,7 @@ TEST(RockMassRanks, JointsGiveTheSameRunOnAnyRankCountAndAfterARestart) {
   EXPECT_EQ(all.stateHash().combined, reference)
       << "state differs between 1 and " << mpi::size() << " ranks";
 
-  io::Scene first_half = scene;
+  setup::Setup first_half = scene;
   first_half.steps = *scene.steps / 2;
   Simulation before(first_half, MPI_COMM_WORLD);
   before.run();
@@ -155,8 +155,9 @@ TEST(RockMassRanks, JointsGiveTheSameRunOnAnyRankCountAndAfterARestart) {
   MPI_Bcast(&pid, 1, MPI_INT, 0, MPI_COMM_WORLD);
   const auto path = std::filesystem::temp_directory_path() /
                     ("polydem_rock_mass_joints_" + std::to_string(pid) + ".h5");
-  io::writeCheckpoint(path, before.checkpoint(text, "rock_mass_joints.toml", "{}"), MPI_COMM_WORLD);
-  const CheckpointData saved = io::readCheckpoint(path, MPI_COMM_WORLD);
+  checkpoint::writeCheckpoint(path, before.checkpoint(text, "rock_mass_joints.toml", "{}"),
+                              MPI_COMM_WORLD);
+  const CheckpointData saved = checkpoint::readCheckpoint(path, MPI_COMM_WORLD);
   MPI_Barrier(MPI_COMM_WORLD);
   if (mpi::rank() == 0) std::filesystem::remove(path);
   ASSERT_EQ(saved.shapes.size(), scene.shapes.size());

@@ -13,7 +13,7 @@
 namespace polydem::sim::testing {
 
 /// `shapes` and `gap` as PileOptions has them; the rest is the heap described above.
-inline io::Scene slidingHeap(const std::string& shapes, double gap) {
+inline setup::Setup slidingHeap(const std::string& shapes, double gap) {
   PileOptions o;
   o.particles = 120;
   o.layers = 3;
@@ -21,7 +21,7 @@ inline io::Scene slidingHeap(const std::string& shapes, double gap) {
   o.gap = gap;
   o.initial_speed = 3.0;
   o.seed = 11;
-  io::Scene s = makePileScene(o);
+  setup::Setup s = makePileScene(o);
   s.dt = 1e-4;
   s.materials[0].friction_angle = 25;
   s.materials[0].normal_damping = 0.1;

@@ -22,7 +22,7 @@ long allocationsPerSteps(std::int64_t particles, const std::string& model, int w
   o.shapes = "cubes";
   o.gap = -0.001;  // every face in contact from the first step
   o.layers = 4;
-  io::Scene scene = makePileScene(o);
+  setup::Setup scene = makePileScene(o);
   scene.contact_model = model;
   scene.domain.sort_every = sort_every;
   Simulation sim(scene, MPI_COMM_WORLD);

@@ -20,8 +20,8 @@
 namespace polydem::sim {
 namespace {
 
-io::Scene heap(std::int64_t sort_every) {
-  io::Scene s = testing::slidingHeap("mixed", 0.15);
+setup::Setup heap(std::int64_t sort_every) {
+  setup::Setup s = testing::slidingHeap("mixed", 0.15);
   s.steps = 4000;
   s.domain.sort_every = sort_every;
   return s;
@@ -44,7 +44,7 @@ std::vector<std::int32_t> shuffledOrder(const Simulation& sim, std::mt19937_64& 
 
 // Runs `scene` on `comm`; with `shuffle`, the local particles are put in a random order every
 // 7 steps.
-Outcome run(const io::Scene& scene, bool shuffle, MPI_Comm comm) {
+Outcome run(const setup::Setup& scene, bool shuffle, MPI_Comm comm) {
   Simulation sim(scene, comm);
   std::mt19937_64 rng(1234 + static_cast<std::uint64_t>(mpi::rank(comm)));
   std::int64_t shuffled = 0;
@@ -93,7 +93,7 @@ TEST(StorageOrder, ShuffledOrSortedStorageKeepsEveryBit) {
 // so after it the storage must be exactly in the order the step sorted it into.
 TEST(StorageOrder, TheStepLeavesTheGridsCellOrder) {
   log::setLevel(log::Level::kWarning);
-  io::Scene scene = testing::slidingHeap("cubes", 0.15);
+  setup::Setup scene = testing::slidingHeap("cubes", 0.15);
   for (auto& p : scene.particles) p.velocity = p.angular_velocity = Vec3::Zero();
   scene.gravity = Vec3::Zero();
   scene.domain.sort_every = 1;

@@ -56,10 +56,11 @@ class ValidationScene : public ::testing::TestWithParam<Case> {};
 TEST_P(ValidationScene, ChecksPass) {
   const Case& c = GetParam();
   log::setLevel(log::Level::kWarning);
-  const io::Scene scene = io::readScene(std::string(POLYDEM_SCENES_DIR) + "/" + c.scene + ".toml");
-  RunOptions options;
+  const setup::Setup scene =
+      scene::readScene(std::string(POLYDEM_SCENES_DIR) + "/" + c.scene + ".toml");
+  run::RunOptions options;
   options.kernel = c.kernel;
-  const RunResult result = runScene(scene, options, MPI_COMM_WORLD);
+  const run::RunResult result = run::runScene(scene, options, MPI_COMM_WORLD);
   ASSERT_FALSE(result.checks.empty());
   for (const auto& check : result.checks) {
     const bool known = isKnownFailure(c, check.name);

@@ -11,7 +11,7 @@ namespace {
 
 /// The common plane of the pair, warm-started from and written back to `state`. Returns false
 /// when the pair is not touching (bounding spheres apart, or gap >= 0).
-bool commonPlane(const Body& a, const Body& b, PairState* state, CommonPlane& plane) {
+bool commonPlane(const Body& a, const Body& b, particles::PairState* state, CommonPlane& plane) {
   // Bounding spheres about the centroids: far pairs cost two centroids and no support query.
   const Vec3 between = a.centroid() - b.centroid();
   const double reach = a.circumradius() + b.circumradius();
@@ -37,7 +37,7 @@ Contact touching(const CommonPlane& plane) {
 
 }  // namespace
 
-Contact FcpKernel::collide(const Body& a, const Body& b, PairState* state) const {
+Contact FcpKernel::collide(const Body& a, const Body& b, particles::PairState* state) const {
   CommonPlane plane;
   if (!commonPlane(a, b, state, plane)) return {};
   Contact c = touching(plane);
@@ -45,7 +45,7 @@ Contact FcpKernel::collide(const Body& a, const Body& b, PairState* state) const
   return c;
 }
 
-Contact FcpIpmKernel::collide(const Body& a, const Body& b, PairState* state) const {
+Contact FcpIpmKernel::collide(const Body& a, const Body& b, particles::PairState* state) const {
   CommonPlane plane;
   if (!commonPlane(a, b, state, plane)) return {};
   Contact c = touching(plane);
@@ -60,7 +60,8 @@ Contact FcpIpmKernel::collide(const Body& a, const Body& b, PairState* state) co
   return c;
 }
 
-Contact FcpIpmKernel::collideForSubContacts(const Body& a, const Body& b, PairState* state) const {
+Contact FcpIpmKernel::collideForSubContacts(const Body& a, const Body& b,
+                                            particles::PairState* state) const {
   // No IPM: sub-contacts place the force on faces and edges; fcp's own point serves the rest.
   CommonPlane plane;
   if (!commonPlane(a, b, state, plane)) return {};

@@ -84,7 +84,7 @@ Vec3 fcpFeaturePoint(const Body& a, const Body& b, const CommonPlane& plane, Sta
 class FcpKernel final : public Kernel {
  public:
   std::string_view name() const override { return "fcp"; }
-  Contact collide(const Body& a, const Body& b, PairState* state) const override;
+  Contact collide(const Body& a, const Body& b, particles::PairState* state) const override;
 };
 
 /// Kernel `fcp-ipm`: the common plane's normal and depth, the point from the Intersection Polygon
@@ -93,8 +93,9 @@ class FcpKernel final : public Kernel {
 class FcpIpmKernel final : public Kernel {
  public:
   std::string_view name() const override { return "fcp-ipm"; }
-  Contact collide(const Body& a, const Body& b, PairState* state) const override;
-  Contact collideForSubContacts(const Body& a, const Body& b, PairState* state) const override;
+  Contact collide(const Body& a, const Body& b, particles::PairState* state) const override;
+  Contact collideForSubContacts(const Body& a, const Body& b,
+                                particles::PairState* state) const override;
 };
 
 }  // namespace polydem::contact

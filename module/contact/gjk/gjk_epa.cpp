@@ -11,7 +11,8 @@
 
 namespace polydem::contact {
 
-Contact gjkEpaContact(const Body& a, const Body& b, PairState* state, Extremes* extremes) {
+Contact gjkEpaContact(const Body& a, const Body& b, particles::PairState* state,
+                      Extremes* extremes) {
   const double tolerance = absTol(pairLengthScale(a, b), RelTol::kIteration);
   const bool warm =
       state != nullptr && state->warm_valid != 0 && state->warm_direction.squaredNorm() > 0.0;
@@ -52,8 +53,9 @@ namespace {
 // both satApplies() and separatingAxisTest()), and the contact written into `c`, the caller's
 // default-constructed result, so that the call chain from the kernel's entry to the box test
 // stays short on the dense pack's hot path (docs/performance.md). `extremes` may be null.
-[[gnu::always_inline]] inline bool satContact(const Body& a, const Body& b, PairState* state,
-                                              Contact& c, Extremes* extremes) {
+[[gnu::always_inline]] inline bool satContact(const Body& a, const Body& b,
+                                              particles::PairState* state, Contact& c,
+                                              Extremes* extremes) {
   const bool boxes = a.shape->box() != nullptr && b.shape->box() != nullptr;
   if (!boxes && !satApplies(a, b)) return false;
   const double tolerance = absTol(pairLengthScale(a, b), RelTol::kIteration);
@@ -86,18 +88,19 @@ namespace {
 
 }  // namespace
 
-Contact GjkEpaKernel::collide(const Body& a, const Body& b, PairState* state) const {
+Contact GjkEpaKernel::collide(const Body& a, const Body& b, particles::PairState* state) const {
   return gjkEpaContact(a, b, state);
 }
 
 // One named result on every path, so that it is built in the caller's (no copy).
-Contact GjkEpaKernel::collideForSubContacts(const Body& a, const Body& b, PairState* state) const {
+Contact GjkEpaKernel::collideForSubContacts(const Body& a, const Body& b,
+                                            particles::PairState* state) const {
   Contact c;
   if (!separating_axes_ || !satContact(a, b, state, c, nullptr)) c = gjkEpaContact(a, b, state);
   return c;
 }
 
-Contact GjkEpaIpmKernel::collide(const Body& a, const Body& b, PairState* state) const {
+Contact GjkEpaIpmKernel::collide(const Body& a, const Body& b, particles::PairState* state) const {
   Extremes extremes;
   Contact c;
   if (!separating_axes_ || !satContact(a, b, state, c, &extremes)) {
@@ -119,7 +122,7 @@ Contact GjkEpaIpmKernel::collide(const Body& a, const Body& b, PairState* state)
 }
 
 Contact GjkEpaIpmKernel::collideForSubContacts(const Body& a, const Body& b,
-                                               PairState* state) const {
+                                               particles::PairState* state) const {
   Contact c;
   // No IPM: sub-contacts place the force on faces.
   if (!separating_axes_ || !satContact(a, b, state, c, nullptr)) c = gjkEpaContact(a, b, state);

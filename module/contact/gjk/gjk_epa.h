@@ -26,17 +26,19 @@ namespace polydem::contact {
 struct Extremes {
   int lowest_a = -1, highest_b = -1;
 };
-Contact gjkEpaContact(const Body& a, const Body& b, PairState* state, Extremes* extremes = nullptr);
+Contact gjkEpaContact(const Body& a, const Body& b, particles::PairState* state,
+                      Extremes* extremes = nullptr);
 
 class GjkEpaKernel final : public Kernel {
  public:
   explicit GjkEpaKernel(bool separating_axes = true) : separating_axes_(separating_axes) {}
   std::string_view name() const override { return "gjk-epa"; }
-  Contact collide(const Body& a, const Body& b, PairState* state) const override;
+  Contact collide(const Body& a, const Body& b, particles::PairState* state) const override;
   /// For small shapes the separating-axis test's exact answer (sat.h) where it is a face axis,
   /// else collide()'s; sub-contacts replace the point of face contacts, so EPA's barycentric
   /// point, the reason for this kernel, is not needed there.
-  Contact collideForSubContacts(const Body& a, const Body& b, PairState* state) const override;
+  Contact collideForSubContacts(const Body& a, const Body& b,
+                                particles::PairState* state) const override;
 
  private:
   bool separating_axes_;  // KernelParams::separating_axes
@@ -49,8 +51,9 @@ class GjkEpaIpmKernel final : public Kernel {
   /// EPA's (or, for small shapes, the separating-axis test's) contact with the point from the
   /// IPM; where the polygon of intersection has no area
   /// (touching features), EPA's point with Status::kDegenerate.
-  Contact collide(const Body& a, const Body& b, PairState* state) const override;
-  Contact collideForSubContacts(const Body& a, const Body& b, PairState* state) const override;
+  Contact collide(const Body& a, const Body& b, particles::PairState* state) const override;
+  Contact collideForSubContacts(const Body& a, const Body& b,
+                                particles::PairState* state) const override;
 
  private:
   bool separating_axes_;  // KernelParams::separating_axes

@@ -151,7 +151,8 @@ potential::PotentialResult DistancePotentialKernel::evaluate(const Body& a, cons
   return result;
 }
 
-Contact DistancePotentialKernel::collide(const Body& a, const Body& b, PairState*) const {
+Contact DistancePotentialKernel::collide(const Body& a, const Body& b,
+                                         particles::PairState*) const {
   return evaluate(a, b).contact;
 }
 

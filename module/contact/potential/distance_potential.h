@@ -17,7 +17,7 @@ class DistancePotentialKernel final : public Kernel {
   /// extent along the normal. Status kInnerDomainReached when the overlap reaches a point at
   /// distance r from every face of A or of B (the force is still returned); kDegenerate when the
   /// force vanishes (identical or concentric bodies). `state` is not used.
-  Contact collide(const Body& a, const Body& b, PairState* state) const override;
+  Contact collide(const Body& a, const Body& b, particles::PairState* state) const override;
   /// The same, with the force vector, its moment about the point and the torsion the Contact
   /// drops (tests, reports).
   potential::PotentialResult evaluate(const Body& a, const Body& b) const;

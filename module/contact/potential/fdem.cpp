@@ -139,7 +139,7 @@ potential::PotentialResult FdemKernel::evaluate(const Body& a, const Body& b) co
                                   a.circumradius() + b.circumradius(), fallback);
 }
 
-Contact FdemKernel::collide(const Body& a, const Body& b, PairState*) const {
+Contact FdemKernel::collide(const Body& a, const Body& b, particles::PairState*) const {
   return evaluate(a, b).contact;
 }
 

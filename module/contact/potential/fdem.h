@@ -17,7 +17,7 @@ class FdemKernel final : public Kernel {
   std::string_view name() const override { return "fdem"; }
   /// model kPotential; the same outputs as the distance-potential kernel (no inner domain: the
   /// FDEM potential is defined everywhere). `state` is not used.
-  Contact collide(const Body& a, const Body& b, PairState* state) const override;
+  Contact collide(const Body& a, const Body& b, particles::PairState* state) const override;
   /// The same, with the force vector, its moment about the point and the dropped torsion.
   potential::PotentialResult evaluate(const Body& a, const Body& b) const;
 };

@@ -158,7 +158,7 @@ std::array<int, 4> unpackBasis(std::uint32_t packed) {
 // Boon et al. (2012): minimise s s.t. a_i . x - s <= d_i over both blocks' faces. Returns the
 // LP's point when s* < -touch (the blocks overlap), else nothing, keeping the optimal basis and
 // the dual's separating direction in `state`.
-std::optional<Vec3> overlapLp(Scratch& s, int na, double touch, PairState* state) {
+std::optional<Vec3> overlapLp(Scratch& s, int na, double touch, particles::PairState* state) {
   const int n = s.faces.size();
   LpKernel::Trace& tr = trace();
   s.rows.resize(n);
@@ -207,7 +207,8 @@ std::optional<Vec3> overlapLp(Scratch& s, int na, double touch, PairState* state
 // start_rejected when the blocks are apart: the line of centres separates their vertices (tried
 // when it misses the overlap, before the LP) or the LP says so.
 geometry::AnalyticCentreResult contactCentre(const Body& a, const Body& b, const PairFrame& frame,
-                                             Scratch& s, int na, double touch, PairState* state) {
+                                             Scratch& s, int na, double touch,
+                                             particles::PairState* state) {
   LpKernel::Trace& tr = trace();
   geometry::AnalyticCentreOptions newton;
   newton.start_margin = touch;
@@ -286,7 +287,7 @@ const LpKernel::Trace& LpKernel::lastTrace() {
   return trace();
 }
 
-Contact LpKernel::collide(const Body& a, const Body& b, PairState* state) const {
+Contact LpKernel::collide(const Body& a, const Body& b, particles::PairState* state) const {
   Trace& tr = trace();
   tr = Trace{};
   Contact out;

@@ -41,7 +41,7 @@ class LpKernel final : public Kernel {
   /// Throws polydem::Error unless 0 < params.lp_rounding < 1.
   explicit LpKernel(const KernelParams& params = {});
   std::string_view name() const override { return "lp"; }
-  Contact collide(const Body& a, const Body& b, PairState* state) const override;
+  Contact collide(const Body& a, const Body& b, particles::PairState* state) const override;
   double rounding() const { return rounding_; }
 
   /// What the last collide() on this thread did (read by tests and benchmarks).
