@@ -10,8 +10,9 @@ ch. 6), each formula computed from the scene file's own inputs:
 
 A the base area, W the block's weight, U = gamma_w z_w A / 2 the uplift on the base and
 V = gamma_w z_w^2 / 2 x width the water force in the crack (z_w: the water's height in the crack,
-the phreatic plane falling linearly to the toe), kh the horizontal seismic coefficient (out of the
-slope), T a bolt's yield force at beta from the base's inward normal (up-dip).
+the phreatic plane falling linearly to the toe; a plane drained by [[water.joint]] dry = true
+carries none), kh the horizontal seismic coefficient (out of the slope), T a bolt's yield force
+at beta from the base's inward normal (up-dip).
 
   /usr/bin/python3 benchmark_scenes/tools/walkthrough_table.py --polydem build/bin/polydem
 
@@ -34,6 +35,7 @@ SCENES = os.path.dirname(HERE)
 CASES = [
     ("dry", "J-PLANAR-COHESION.toml"),
     ("tension crack full of water", "W-PLANAR-CRACK.toml"),
+    ("crack full, base drained", "W-PLANAR-CRACK-DRAINED.toml"),
     ("crack full, earthquake kh = 0.1", "examples/planar-wet-shaken.toml"),
     ("dry, one bolt (50 kN)", "examples/planar-bolted.toml"),
     ("crack full, kh = 0.1, one bolt", "examples/planar-wet-shaken-bolted.toml"),
@@ -71,6 +73,9 @@ def limit_equilibrium(scene):
         gamma = si(scene["water"]["unit_weight"])
         z_w = max(p[2] for p in scene["water"]["points"] if p[0] == 0)
         uplift, crack = gamma * z_w * area / 2, gamma * z_w**2 / 2 * width
+        dry = {j["joint"] for j in scene["water"].get("joint", []) if j.get("dry", False)}
+        uplift = 0.0 if "base" in dry else uplift  # [[water.joint]] dry = true drains a plane
+        crack = 0.0 if "crack" in dry else crack
     kh = scene.get("seismic", {}).get("kh", 0.0)
     pull = beta = 0.0
     if "bolt" in scene:
