@@ -1,8 +1,10 @@
 // The kinds of [[check]] and what each takes: the unit of its value (for `expected` and
 // `tolerance`) and its parameters with their types and valid ranges. The scene reader accepts
 // exactly these keys (a misspelt one is an error at its line, never a silent default) and checks
-// every value where it reads it; run/checks.cpp computes the kinds and reads only declared
-// parameters. The table is in check_kinds.cpp; docs/scene-format.md lists it.
+// every value where it reads it. Each kind is declared in its own file under check_kinds/ (named
+// after it: check_kinds/free_motion.cpp declares "free_motion") and computed by the file of the
+// same name under module/run/checks/, which reads only declared parameters. The table is
+// check_kinds/check_table.cpp; docs/scene-format.md lists it.
 #pragma once
 
 #include <limits>
