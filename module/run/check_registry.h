@@ -1,8 +1,8 @@
 // The registry of check kinds: kind name -> the factory that builds its Check (checks.h), as
-// contact/kernel_list.inc is for kernels. The built-in kinds (end of checks.cpp) are the ones the
-// scene reader declares (scene/check_kinds.cpp); run_check_kinds asserts both lists agree. A C++
-// program adds its own kind with registerCheckKind() and puts a CheckSpec of that kind into the
-// setup it builds (the scene reader accepts declared kinds only).
+// contact/kernel_list.inc is for kernels. The built-in kinds (checks/check_table.cpp) are the
+// ones the scene reader declares (scene/check_kinds/); run_check_kinds asserts both lists agree. A
+// C++ program adds its own kind with registerCheckKind() and puts a CheckSpec of that kind into
+// the setup it builds (the scene reader accepts declared kinds only).
 #pragma once
 
 #include <functional>

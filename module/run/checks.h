@@ -2,18 +2,10 @@
 //
 // Each check kind observes the run after every step (through the Tracker, which gathers the
 // labelled particles it needs onto every rank) and turns what it saw into one value at the end,
-// compared with the scene's expected value. Kinds (parameters in scene-format.md):
-//   displacement           max (or final) displacement of particle(s), optionally along a direction
-//   rotation               max rotation angle of particle(s), optionally about an axis only
-//   lateral_drift          drift across `lateral` relative to the travel along `direction`
-//   sliding_block          Zhao eqs. 41-42: a block launched along an incline, max error / travel
-//   wedge_slide            Zhao eq. 45: s = g t^2 sin(theta) / 2, max error / final travel
-//   kinetic_energy_ratio   kinetic energy after the first contact ends / just before it began
-//   separation_time        first time a particle that was in contact has none
-//   equilibrium_steps      steps of the initial-equilibrium stage (Keissar table 3.7)
-//   mean_speed, max_speed  of all free particles at the end
-//   max_contact_force      largest contact force between free particles across `axis`
-//                          (default: horizontal), relative to the mean particle weight
+// compared with the scene's expected value. Each kind is one file of module/run/checks/ named
+// after it (free_motion.cpp computes "free_motion"), registered in checks/check_table.cpp; its
+// parameters are declared in the file of the same name under module/scene/check_kinds/, and
+// docs/scene-format.md lists them.
 #pragma once
 
 #include <memory>

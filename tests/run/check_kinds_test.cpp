@@ -1,4 +1,5 @@
-// Every [[check]] kind of scene/check_kinds.h is one run/checks.cpp computes, and the simulation
+// Every [[check]] kind declared under scene/check_kinds/ is one run/checks/ computes (the
+// registry of run/check_registry.h has it), and the simulation
 // reads only the parameters the kind declares: a scene with each kind, all its
 // parameters given, builds its checks.
 #include <gtest/gtest.h>

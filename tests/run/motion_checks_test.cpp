@@ -1,4 +1,5 @@
-// The check kinds of many blocks (run/motion_checks.h) on cases with a known answer: a block in
+// The check kinds of many blocks (run/checks/free_motion.cpp, tilt_failure.cpp,
+// pair_separation.cpp) on cases with a known answer: a block in
 // free fall (free_motion), two blocks that collide and part (pair_separation), and blocks on a
 // tilting platform that slide or topple at the angle rigid-block statics gives (tilt_failure).
 #include <gtest/gtest.h>
