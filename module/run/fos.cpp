@@ -244,6 +244,72 @@ std::optional<double> FosResult::factor() const {
   return 0.5 * (*stable + *failed);
 }
 
+namespace {
+
+// The settled state every trial of this group starts from: one settling per group, side by side,
+// the same bits in each (only when a trial is still to run). Collective over `comm`.
+FosStart settleGroup(const setup::Setup& scene, const FosCriterion& criterion, MPI_Comm group_comm,
+                     MPI_Comm comm, FosResult& r) {
+  const log::Level level = log::level();
+  log::setLevel(std::min(level, log::Level::kWarning));
+  FosStart start = settleForFos(scene, criterion, group_comm);
+  log::setLevel(level);
+  r.settle_steps = start.steps;
+  r.settle_reached = start.reached && !start.moved;
+  r.settle_used = !start.moved;
+  r.settle_wall_seconds = mpi::allreduceMax(start.wall_seconds, comm);
+  if (start.moved) {
+    log::warning(
+        cat("the unreduced slope does not stand even at the settling stage's friction "
+            "(a block moved ",
+            num(criterion.moved_fraction),
+            " of its size while it settled): every trial starts from the scene as "
+            "placed"));
+  } else if (!start.interrupted) {
+    log::info(
+        cat("settled the unreduced slope in ", r.settle_steps, " steps (",
+            r.settle_reached ? "at rest by the criterion" : "NOT at rest at the stage's step limit",
+            ", ", num(r.settle_wall_seconds), " s wall): every trial starts there"));
+  }
+  return start;
+}
+
+// This group's trial of the round (none when the round has fewer factors than groups), kept on
+// the group's first rank only: one copy per trial. A trial that finished before a signal stopped
+// the last run is taken as it was (the same bits again).
+std::optional<FosTrial> groupTrial(const setup::Setup& scene, const FosStart& start,
+                                   const std::vector<double>& round, int group,
+                                   const std::vector<FosTrial>& cut_short,
+                                   const FosCriterion& criterion, MPI_Comm group_comm,
+                                   int rounds_complete) {
+  std::optional<FosTrial> mine;
+  if (group >= static_cast<int>(round.size())) return mine;
+  if (const FosTrial* done = trialAt(cut_short, round[group])) {
+    mine = *done;
+  } else {
+    const log::Level level = log::level();
+    log::setLevel(std::min(level, log::Level::kWarning));  // no run chatter from the trials
+    mine = runFosTrial(scene, start, round[group], criterion, group_comm);
+    log::setLevel(level);
+  }
+  mine->group = group;
+  mine->round = rounds_complete;
+  if (mpi::rank(group_comm) != 0) mine.reset();
+  return mine;
+}
+
+// A stable trial above a failed one: the outcome is not monotonic in F, which the note says.
+void noteNonMonotonic(FosResult& r) {
+  for (const FosTrial& t : r.trials) {
+    if (t.stable() && r.failed && t.factor > *r.failed) {
+      r.note += cat(r.note.empty() ? "" : "; ", "stable at F = ", num(t.factor),
+                    " above a failed trial: the outcome is not monotonic in F");
+    }
+  }
+}
+
+}  // namespace
+
 FosResult findFactorOfSafety(const setup::Setup& scene, const FosCriterion& criterion, int groups,
                              MPI_Comm comm, const FosResult* prior) {
   const int ranks = mpi::size(comm), rank = mpi::rank(comm);
@@ -263,32 +329,7 @@ FosResult findFactorOfSafety(const setup::Setup& scene, const FosCriterion& crit
     for (const FosTrial& t : r.trials) logTrial(t);
   }
   bracket(r.trials, r);
-  const log::Level level = log::level();
-  // The settled state every trial of this group starts from: one settling per group, side by
-  // side, the same bits in each (only when a trial is still to run).
   std::optional<FosStart> start;
-  const auto settle = [&] {
-    log::setLevel(std::min(level, log::Level::kWarning));
-    start = settleForFos(scene, criterion, group_comm);
-    log::setLevel(level);
-    r.settle_steps = start->steps;
-    r.settle_reached = start->reached && !start->moved;
-    r.settle_used = !start->moved;
-    r.settle_wall_seconds = mpi::allreduceMax(start->wall_seconds, comm);
-    if (start->moved) {
-      log::warning(
-          cat("the unreduced slope does not stand even at the settling stage's friction "
-              "(a block moved ",
-              num(criterion.moved_fraction),
-              " of its size while it settled): every trial starts from the scene as "
-              "placed"));
-    } else if (!start->interrupted) {
-      log::info(cat(
-          "settled the unreduced slope in ", r.settle_steps, " steps (",
-          r.settle_reached ? "at rest by the criterion" : "NOT at rest at the stage's step limit",
-          ", ", num(r.settle_wall_seconds), " s wall): every trial starts there"));
-    }
-  };
   const double f_min = scene.fos.f_min, f_max = scene.fos.f_max;
   for (std::vector<double> round = nextRound(r, f_min, f_max, groups); !round.empty();
        round = nextRound(r, f_min, f_max, groups)) {
@@ -297,20 +338,10 @@ FosResult findFactorOfSafety(const setup::Setup& scene, const FosCriterion& crit
       r.stop_signal = signalName(sig);
       break;
     }
-    if (!start) settle();  // collective over `comm`: every group settles in the first round
-    std::optional<FosTrial> mine;
-    if (group < static_cast<int>(round.size())) {
-      if (const FosTrial* done = trialAt(cut_short, round[group])) {
-        mine = *done;  // run before the signal: the same bits again
-      } else {
-        log::setLevel(std::min(level, log::Level::kWarning));  // no run chatter from the trials
-        mine = runFosTrial(scene, *start, round[group], criterion, group_comm);
-        log::setLevel(level);
-      }
-      mine->group = group;
-      mine->round = r.rounds_complete;
-      if (mpi::rank(group_comm) != 0) mine.reset();  // one copy per trial
-    }
+    // Collective over `comm`: every group settles in the first round.
+    if (!start) start = settleGroup(scene, criterion, group_comm, comm, r);
+    const std::optional<FosTrial> mine = groupTrial(scene, *start, round, group, cut_short,
+                                                    criterion, group_comm, r.rounds_complete);
     bool interrupted = false;
     std::vector<FosTrial> finished;
     for (const FosTrial& t : gatherTrials(mine, comm)) {
@@ -345,12 +376,7 @@ FosResult findFactorOfSafety(const setup::Setup& scene, const FosCriterion& crit
     for (const FosTrial& t : cut_short) r.trials.push_back(t);  // kept for the continuation
     return r;
   }
-  for (const FosTrial& t : r.trials) {
-    if (t.stable() && r.failed && t.factor > *r.failed) {
-      r.note += cat(r.note.empty() ? "" : "; ", "stable at F = ", num(t.factor),
-                    " above a failed trial: the outcome is not monotonic in F");
-    }
-  }
+  noteNonMonotonic(r);
   return r;
 }
 
