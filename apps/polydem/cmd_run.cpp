@@ -37,55 +37,51 @@ void pictureOf(const run::RunOptions& options, const PictureOptions& picture) {
   MPI_Barrier(MPI_COMM_WORLD);
 }
 
-}  // namespace
+void printUsage() {
+  std::printf(
+      "usage: [mpirun -n N] polydem run SCENE.toml --out DIR [options]\n"
+      "       [mpirun -n N] polydem run --restart CHECKPOINT.h5 [SCENE.toml] --out DIR "
+      "[options]\n"
+      "  --steps N         run N steps (replaces the scene's end condition)\n"
+      "  --end-time T      run until simulated time T (replaces the scene's end condition)\n"
+      "  --kernel NAME     use another contact kernel (polydem kernels lists them)\n"
+      "  --contact-model M sub-contacts (default) or point: how penalty contacts become forces\n"
+      "  --progress N      progress line every N steps (default: every 5 s)\n"
+      "  --no-snapshots    do not write ParaView snapshots\n"
+      "  --picture         after the run, plot series.csv to DIR/series.png and render frames\n"
+      "                    of the snapshots to DIR/frames.png\n"
+      "                    (also [output] picture = true; needs /usr/bin/python3, matplotlib)\n"
+      "  --picture-field F the frames' colours: speed (default), displacement, pressure (the\n"
+      "                    water's, per face) or joint (each face by its [[joint]], with a\n"
+      "                    legend); implies --picture\n"
+      "  --picture-azimuth A  view the frames from azimuth A [deg, matplotlib's: 0 from +x,\n"
+      "                    90 from +y] (default: from the slope's face); implies --picture\n"
+      "  --check           exit with status 3 if a check of the scene fails\n"
+      "  --quiet           only warnings and errors\n"
+      "  --verbose         also the detail: every load-balance check, sub-step timings\n"
+      "checkpoints (docs/checkpoint.md), written to DIR/checkpoints/checkpoint_<step>_<run "
+      "id>.h5:\n"
+      "  --checkpoint-every N     every N steps (overrides [checkpoint] every_steps)\n"
+      "  --checkpoint-seconds T   every T seconds of wall clock (overrides every_seconds)\n"
+      "  --checkpoint-keep K      keep the newest K of this run's (overrides keep, default 2;\n"
+      "                           other runs' files are never deleted)\n"
+      "  --restart FILE    continue the run of checkpoint FILE on any rank count; the scene is\n"
+      "                    the stored one, or SCENE.toml if given (it may differ only in\n"
+      "                    end_time/steps, [output] and [checkpoint]); --steps/--end-time\n"
+      "                    extend the run (they count from the start of the main stage)\n"
+      "One run per DIR: a run holds DIR/polydem.lock; a second run into it is refused (a\n"
+      "lock left by a killed run on this host is taken over).\n"
+      "SIGTERM or SIGUSR1 to the ranks (or to scripts/polydem-mpirun, which forwards it): a\n"
+      "checkpoint at the end of the step, then exit 0 with the command that continues the run\n"
+      "(docs/checkpoint.md, 'Stopping on a signal', for mpirun, Slurm and PBS).\n"
+      "writes DIR/summary.json, DIR/series.csv and DIR/snapshots.xmf, contacts.xmf (+ "
+      "snapshots/;\n"
+      "snapshots.pvd with [output] snapshot_format = \"vtk\"); after\n"
+      "--restart they hold the continued part of the run only\n");
+}
 
-int runCommand(int argc, char** argv) {
-  testPause("startup");  // test hook: signal handlers are in place (main.cpp), no file read yet
-  Args args(argc, argv, {"help", "no-snapshots", "quiet", "verbose", "check", "picture"});
-  const auto restart = args.value("restart");
-  if (args.flag("help") || (args.positional().empty() && !restart)) {
-    std::printf(
-        "usage: [mpirun -n N] polydem run SCENE.toml --out DIR [options]\n"
-        "       [mpirun -n N] polydem run --restart CHECKPOINT.h5 [SCENE.toml] --out DIR "
-        "[options]\n"
-        "  --steps N         run N steps (replaces the scene's end condition)\n"
-        "  --end-time T      run until simulated time T (replaces the scene's end condition)\n"
-        "  --kernel NAME     use another contact kernel (polydem kernels lists them)\n"
-        "  --contact-model M sub-contacts (default) or point: how penalty contacts become forces\n"
-        "  --progress N      progress line every N steps (default: every 5 s)\n"
-        "  --no-snapshots    do not write ParaView snapshots\n"
-        "  --picture         after the run, plot series.csv to DIR/series.png and render frames\n"
-        "                    of the snapshots to DIR/frames.png\n"
-        "                    (also [output] picture = true; needs /usr/bin/python3, matplotlib)\n"
-        "  --picture-field F the frames' colours: speed (default), displacement, pressure (the\n"
-        "                    water's, per face) or joint (each face by its [[joint]], with a\n"
-        "                    legend); implies --picture\n"
-        "  --picture-azimuth A  view the frames from azimuth A [deg, matplotlib's: 0 from +x,\n"
-        "                    90 from +y] (default: from the slope's face); implies --picture\n"
-        "  --check           exit with status 3 if a check of the scene fails\n"
-        "  --quiet           only warnings and errors\n"
-        "  --verbose         also the detail: every load-balance check, sub-step timings\n"
-        "checkpoints (docs/checkpoint.md), written to DIR/checkpoints/checkpoint_<step>_<run "
-        "id>.h5:\n"
-        "  --checkpoint-every N     every N steps (overrides [checkpoint] every_steps)\n"
-        "  --checkpoint-seconds T   every T seconds of wall clock (overrides every_seconds)\n"
-        "  --checkpoint-keep K      keep the newest K of this run's (overrides keep, default 2;\n"
-        "                           other runs' files are never deleted)\n"
-        "  --restart FILE    continue the run of checkpoint FILE on any rank count; the scene is\n"
-        "                    the stored one, or SCENE.toml if given (it may differ only in\n"
-        "                    end_time/steps, [output] and [checkpoint]); --steps/--end-time\n"
-        "                    extend the run (they count from the start of the main stage)\n"
-        "One run per DIR: a run holds DIR/polydem.lock; a second run into it is refused (a\n"
-        "lock left by a killed run on this host is taken over).\n"
-        "SIGTERM or SIGUSR1 to the ranks (or to scripts/polydem-mpirun, which forwards it): a\n"
-        "checkpoint at the end of the step, then exit 0 with the command that continues the run\n"
-        "(docs/checkpoint.md, 'Stopping on a signal', for mpirun, Slurm and PBS).\n"
-        "writes DIR/summary.json, DIR/series.csv and DIR/snapshots.xmf, contacts.xmf (+ "
-        "snapshots/;\n"
-        "snapshots.pvd with [output] snapshot_format = \"vtk\"); after\n"
-        "--restart they hold the continued part of the run only\n");
-    return args.flag("help") ? 0 : 2;
-  }
+/// The run's options from the command line (the picture's are read by pictureOptions).
+run::RunOptions runOptions(Args& args) {
   run::RunOptions options;
   options.out_dir = args.value("out", "");
   if (options.out_dir.empty()) throw UsageError("polydem run needs --out DIR");
@@ -104,8 +100,12 @@ int runCommand(int argc, char** argv) {
   if (args.value("checkpoint-keep")) {
     options.checkpoint_keep = static_cast<int>(args.integer("checkpoint-keep", 2, 1));
   }
-  const bool check = args.flag("check");
-  bool picture = args.flag("picture");
+  return options;
+}
+
+/// The picture's options; `picture` is set when one is asked for.
+PictureOptions pictureOptions(Args& args, bool& picture) {
+  picture = args.flag("picture");
   PictureOptions picture_options;
   if (const auto field = args.value("picture-field")) {
     const auto& known = pictureFields();
@@ -120,6 +120,23 @@ int runCommand(int argc, char** argv) {
     picture_options.azimuth = args.number("picture-azimuth", 0.0);
     picture = true;
   }
+  return picture_options;
+}
+
+}  // namespace
+
+int runCommand(int argc, char** argv) {
+  testPause("startup");  // test hook: signal handlers are in place (main.cpp), no file read yet
+  Args args(argc, argv, {"help", "no-snapshots", "quiet", "verbose", "check", "picture"});
+  const auto restart = args.value("restart");
+  if (args.flag("help") || (args.positional().empty() && !restart)) {
+    printUsage();
+    return args.flag("help") ? 0 : 2;
+  }
+  run::RunOptions options = runOptions(args);
+  const bool check = args.flag("check");
+  bool picture = false;
+  const PictureOptions picture_options = pictureOptions(args, picture);
   if (args.flag("quiet")) log::setLevel(log::Level::kWarning);
   if (args.flag("verbose")) log::setLevel(log::Level::kDetail);
   args.rejectUnknown();
