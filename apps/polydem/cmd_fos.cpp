@@ -181,51 +181,36 @@ std::optional<run::FosMechanism> mechanismOf(
   return m;
 }
 
-}  // namespace
-
-int fosCommand(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {  // a study of realizations (fos_realizations.cpp)
-    if (std::string_view(argv[i]).starts_with("--realizations")) {
-      return fosRealizationsCommand(argc, argv);
-    }
-  }
-  Args args(argc, argv, {"help", "quiet", "runout"});
-  const auto resume = args.value("resume");
-  if (args.flag("help") || args.positional().size() != (resume ? 0u : 1u)) {
-    usage();
-    return args.flag("help") ? 0 : 2;
-  }
-  const long long per_trial = args.integer("ranks-per-trial", 1, 1);
-  const bool quiet = args.flag("quiet");
-  const bool runout = args.flag("runout");
-  const RunoutOptions runout_options = runoutOptions(args, "runout-");
+// Where a search writes, its scene and, for --resume, the stopped search it continues.
+struct FosInputs {
   std::string out;
   setup::Setup scene;
   std::optional<FosRun> prior;
+};
+
+FosInputs fosInputs(Args& args, const std::optional<std::string>& resume) {
+  FosInputs in;
   if (resume) {
-    out = *resume;
-    if (const auto o = args.value("out"); o && *o != out) {
+    in.out = *resume;
+    if (const auto o = args.value("out"); o && *o != in.out) {
       throw UsageError("--resume continues in its own directory: leave out --out");
     }
     args.rejectUnknown();
-    prior = readFosRun(out);
-    scene = resumedScene(*prior, out);
+    in.prior = readFosRun(in.out);
+    in.scene = resumedScene(*in.prior, in.out);
   } else {
-    out = args.value("out", "");
-    if (out.empty()) throw UsageError("polydem fos needs --out DIR");
-    scene = sceneFromCommandLine(args);
+    in.out = args.value("out", "");
+    if (in.out.empty()) throw UsageError("polydem fos needs --out DIR");
+    in.scene = sceneFromCommandLine(args);
   }
-  const int ranks = mpi::size();
-  if (per_trial < 1 || ranks % per_trial != 0) {
-    throw UsageError(cat("--ranks-per-trial ", per_trial, " must divide the ", ranks, " ranks"));
-  }
-  if (quiet) log::setLevel(log::Level::kWarning);
-  const run::FosCriterion criterion = run::fosCriterion(scene);
-  std::optional<run::RunoutSettings> runout_settings;
-  if (runout) runout_settings = runoutSettings(scene, runout_options, out + "/runout");
-  // One search per folder, as for polydem run: a second one into DIR is refused on every rank.
-  const output::OutputLock lock(out, MPI_COMM_WORLD);
-  const int groups = ranks / static_cast<int>(per_trial);
+  return in;
+}
+
+// The search's first lines: what it searches, with what criterion, and how a continued search
+// differs from an uninterrupted one.
+void logFosStart(const setup::Setup& scene, const run::FosCriterion& criterion,
+                 const std::optional<FosRun>& prior, const std::string& out, int groups,
+                 long long per_trial) {
   if (prior && prior->result.groups != groups) {
     log::warning(
         cat("the stopped search ran ", prior->result.groups, " trials at a time, this one ", groups,
@@ -238,25 +223,15 @@ int fosCommand(int argc, char** argv) {
                 num(f.resolution), "; ", groups, " trial(s) at a time on ", per_trial,
                 " rank(s) each", prior ? cat("; continuing ", out, "/fos.json") : std::string()));
   log::info("criterion: " + criterion.describe());
-  const run::FosResult result = run::findFactorOfSafety(scene, criterion, groups, MPI_COMM_WORLD,
-                                                        prior ? &prior->result : nullptr);
-  const std::string resume_command =
-      result.complete ? std::string()
-                      : cat("mpirun -n ", ranks, " ", programPath(), " fos --resume ", out,
-                            per_trial != 1 ? cat(" --ranks-per-trial ", per_trial) : "");
-  // Rank 0 writes the files; a failure (a full disk) is agreed, so that every rank ends with
-  // the same message and status 1 instead of one rank aborting the others.
-  std::optional<run::RunoutResult> run_on;
-  std::function<void(sim::Simulation&)> then;
-  if (runout_settings) {
-    then = [&](sim::Simulation& failing) {
-      log::info(
-          cat("runout: the failing state on into ", out, "/runout, with ", runOnDynamics(scene)));
-      run_on = runOutFrom(failing, scene, *runout_settings);
-    };
-  }
-  const std::optional<run::FosMechanism> mechanism =
-      mechanismOf(scene, criterion, result, out, then);
+}
+
+// Rank 0 prints the result and writes the files; a failure (a full disk) is agreed, so that every
+// rank ends with the same message and status 1 instead of one rank aborting the others.
+void writeFosResults(const setup::Setup& scene, const run::FosCriterion& criterion,
+                     const run::FosResult& result, const std::string& out,
+                     const std::string& resume_command,
+                     const std::optional<run::FosMechanism>& mechanism,
+                     const std::optional<run::RunoutResult>& run_on) {
   std::string error;
   if (mpi::rank() == 0) {
     printResult(scene, result);
@@ -285,6 +260,61 @@ int fosCommand(int argc, char** argv) {
       std::printf("to continue: %s\n", resume_command.c_str());
     }
   }
+}
+
+}  // namespace
+
+int fosCommand(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {  // a study of realizations (fos_realizations.cpp)
+    if (std::string_view(argv[i]).starts_with("--realizations")) {
+      return fosRealizationsCommand(argc, argv);
+    }
+  }
+  Args args(argc, argv, {"help", "quiet", "runout"});
+  const auto resume = args.value("resume");
+  if (args.flag("help") || args.positional().size() != (resume ? 0u : 1u)) {
+    usage();
+    return args.flag("help") ? 0 : 2;
+  }
+  const long long per_trial = args.integer("ranks-per-trial", 1, 1);
+  const bool quiet = args.flag("quiet");
+  const bool runout = args.flag("runout");
+  const RunoutOptions runout_options = runoutOptions(args, "runout-");
+  const FosInputs in = fosInputs(args, resume);
+  const std::string& out = in.out;
+  const setup::Setup& scene = in.scene;
+  const std::optional<FosRun>& prior = in.prior;
+  const int ranks = mpi::size();
+  if (per_trial < 1 || ranks % per_trial != 0) {
+    throw UsageError(cat("--ranks-per-trial ", per_trial, " must divide the ", ranks, " ranks"));
+  }
+  if (quiet) log::setLevel(log::Level::kWarning);
+  const run::FosCriterion criterion = run::fosCriterion(scene);
+  std::optional<run::RunoutSettings> runout_settings;
+  if (runout) runout_settings = runoutSettings(scene, runout_options, out + "/runout");
+  // One search per folder, as for polydem run: a second one into DIR is refused on every rank.
+  const output::OutputLock lock(out, MPI_COMM_WORLD);
+  const int groups = ranks / static_cast<int>(per_trial);
+  logFosStart(scene, criterion, prior, out, groups, per_trial);
+  const run::FosResult result = run::findFactorOfSafety(scene, criterion, groups, MPI_COMM_WORLD,
+                                                        prior ? &prior->result : nullptr);
+  const std::string resume_command =
+      result.complete ? std::string()
+                      : cat("mpirun -n ", ranks, " ", programPath(), " fos --resume ", out,
+                            per_trial != 1 ? cat(" --ranks-per-trial ", per_trial) : "");
+  // With --runout, the mechanism's rerun goes on from its failing state to rest.
+  std::optional<run::RunoutResult> run_on;
+  std::function<void(sim::Simulation&)> then;
+  if (runout_settings) {
+    then = [&](sim::Simulation& failing) {
+      log::info(
+          cat("runout: the failing state on into ", out, "/runout, with ", runOnDynamics(scene)));
+      run_on = runOutFrom(failing, scene, *runout_settings);
+    };
+  }
+  const std::optional<run::FosMechanism> mechanism =
+      mechanismOf(scene, criterion, result, out, then);
+  writeFosResults(scene, criterion, result, out, resume_command, mechanism, run_on);
   return 0;
 }
 

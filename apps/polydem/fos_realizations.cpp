@@ -82,6 +82,15 @@ std::vector<run::RealizationResult> previousResults(const std::string& out,
   return readRealizationsCsv(out, study);
 }
 
+// The command that runs (and continues) this study.
+std::string studyCommand(const scene::Study& study, long long asked, const std::string& out,
+                         long long per, int ranks) {
+  std::string command = cat("polydem fos ", study.file, " --realizations ", asked, " --out ", out);
+  if (per != 1) command += cat(" --ranks-per-realization ", per);
+  if (ranks > 1) command = cat("mpirun -n ", ranks, " ", command);
+  return command;
+}
+
 }  // namespace
 
 int fosRealizationsCommand(int argc, char** argv) {
@@ -112,9 +121,7 @@ int fosRealizationsCommand(int argc, char** argv) {
     if (!finished.count(i)) todo.push_back(i);
   }
   const int groups = ranks / static_cast<int>(per);
-  std::string command = cat("polydem fos ", study.file, " --realizations ", asked, " --out ", out);
-  if (per != 1) command += cat(" --ranks-per-realization ", per);
-  if (ranks > 1) command = cat("mpirun -n ", ranks, " ", command);
+  const std::string command = studyCommand(study, asked, out, per, ranks);
   log::info(cat("fos --realizations: ", study.file, ", ", study.inputs.size(),
                 " random input(s), seed ", study.seed, "; ", asked, " realizations, ",
                 finished.size(), " already in ", out, "/realizations.csv; ", groups,
