@@ -19,7 +19,7 @@ std::string readSceneText(const std::string& path);
 /// Reads and checks the scene file at `path`.
 setup::Setup readScene(const std::string& path);
 
-/// Parses scene text; `name_for_messages` is the file name errors and Scene::file carry.
+/// Parses scene text; `name_for_messages` is the file name errors and Setup::file carry.
 setup::Setup parseScene(std::string_view text, const std::string& name_for_messages);
 
 /// Empty if two scene texts describe the same run up to its stop settings ([simulation] end_time

@@ -31,7 +31,7 @@ struct RockMassCut {
 };
 
 /// The joint planes the faces of `block` lie on (their indices offset by `first_plane`, the
-/// index of the mass's first plane in Scene::joint_planes).
+/// index of the mass's first plane in Setup::joint_planes).
 std::vector<setup::FacePlane> blockFacePlanes(const geometry::RockMass& mass,
                                               const geometry::RockBlock& block, int first_plane);
 

@@ -21,8 +21,8 @@ struct Dimension {
 };
 
 /// What a scene-file key holds: its dimension, the unit a plain number is taken in, and the unit
-/// the Scene stores. Angles are stored in degrees, except angular velocities (rad/s) and phases
-/// (rad), which is what scene.h says.
+/// the setup stores. Angles are stored in degrees, except angular velocities (rad/s) and phases
+/// (rad), as setup/setup.h states field by field.
 enum class Quantity {
   kDimensionless,
   kLength,

@@ -406,7 +406,7 @@ replaces the scene's whole stop condition: the other one is cleared.)")
         py::arg("steps") = py::none(), py::arg("end_time") = py::none(),
         py::arg("kernel") = py::none(), py::arg("snapshots") = true, py::arg("progress_every") = 0,
         py::arg("comm") = py::none(),
-        "sim::runScene: the run `polydem run` makes (use polydem.run, which takes paths too).");
+        "run::runScene: the run `polydem run` makes (use polydem.run, which takes paths too).");
 }
 
 }  // namespace polydem::python
