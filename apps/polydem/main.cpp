@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <string>
 
 #include "commands.h"
@@ -15,6 +16,16 @@
 #include "polydem/hdf5/library.h"
 #include "polydem/output/output_file.h"
 #include "polydem/run/run_checkpoint.h"
+
+namespace polydem::app {
+
+std::string programPath() {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string("polydem") : exe.string();
+}
+
+}  // namespace polydem::app
 
 namespace {
 

@@ -16,8 +16,6 @@ namespace polydem::run {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 // The parameters of one check, each read at most once; keys the kind does not know are errors.
 class Keys {
  public:
@@ -122,7 +120,8 @@ class FreeMotionCheck : public Check {
                " m, largest ", num(m.max_displacement), " m; mean speed ", num(m.mean_speed),
                " m/s; largest angular speed ", num(m.max_angular_speed), " rad/s");
     if (at_ == "end") return now_;
-    if (at_ == "max") return sim.time() >= after_ ? largest_ : kNaN;
+    if (at_ == "max")
+      return sim.time() >= after_ ? largest_ : std::numeric_limits<double>::quiet_NaN();
     if (std::isnan(first_below_))
       note += cat("; never below ", num(limit_), " after ", after_, " s");
     return first_below_;
