@@ -16,6 +16,9 @@ namespace polydem::run {
 
 namespace {
 
+// A figure not (yet) known.
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
+
 // The parameters of one check, each read at most once; keys the kind does not know are errors.
 class Keys {
  public:
@@ -120,8 +123,7 @@ class FreeMotionCheck : public Check {
                " m, largest ", num(m.max_displacement), " m; mean speed ", num(m.mean_speed),
                " m/s; largest angular speed ", num(m.max_angular_speed), " rad/s");
     if (at_ == "end") return now_;
-    if (at_ == "max")
-      return sim.time() >= after_ ? largest_ : std::numeric_limits<double>::quiet_NaN();
+    if (at_ == "max") return sim.time() >= after_ ? largest_ : kNoValue;
     if (std::isnan(first_below_))
       note += cat("; never below ", num(limit_), " after ", after_, " s");
     return first_below_;
@@ -154,7 +156,7 @@ class FreeMotionCheck : public Check {
   double after_ = 0.0, limit_ = -INFINITY;
   std::int64_t every_ = 1;
   std::optional<FreeMotionMeter> meter_;
-  double now_ = 0.0, largest_ = 0.0, first_below_ = kNaN;
+  double now_ = 0.0, largest_ = 0.0, first_below_ = kNoValue;
 };
 
 // Blocks on a tilting platform: positions and orientations in the platform's frame.
@@ -242,7 +244,7 @@ class TiltFailureCheck : public Check {
   Quat platform0_ = Quat::Identity();
   std::map<Uid, std::size_t> index_;
   std::vector<std::pair<Vec3, Quat>> start_;
-  double value_ = kNaN;
+  double value_ = kNoValue;
 };
 
 // The first time two particles that pressed on each other stop doing so (Zhao section 5.4: the
@@ -296,7 +298,7 @@ class PairSeparationCheck : public Check {
   particles::PairKey key_;
   double min_force_ = 0.0;
   bool pressed_ = false;
-  double time_ = kNaN;
+  double time_ = kNoValue;
 };
 
 }  // namespace
