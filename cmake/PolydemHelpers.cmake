@@ -64,29 +64,21 @@ function(polydem_use_pch target)
   endif()
 endfunction()
 
-# Unity builds (-DPOLYDEM_UNITY=ON): a module library or program compiles its files
+# Unity builds (POLYDEM_UNITY, on by default): a module library or program compiles its files
 # POLYDEM_UNITY_BATCH at a time, each batch as one file that includes them, so that the headers
 # they share are parsed and their inline functions compiled once per batch instead of once per
-# file. The code is the same; only what the compiler sees at once is larger. A file joins the
-# batches unless cmake/PolydemUnity.cmake lists it: files whose file-local names (anonymous
-# namespace, static) repeat those of another file of the same target compile on their own. A new
-# file that repeats such a name fails the build with "redefinition of ..." in a unity_*.cxx: give
-# the helper a distinct name or share it through a header, or list the file there. Off by default:
-# a new file can break it that way, which a precompiled header cannot.
-option(POLYDEM_UNITY "Compile each module's files in batches (unity build)" OFF)
-set(POLYDEM_UNITY_BATCH 8 CACHE STRING "Files per batch of a unity build")
-include(PolydemUnity)
+# file. The code is the same; only what the compiler sees at once is larger. Every file of a
+# target may land in a batch with any other, so a file-local name (anonymous namespace, static)
+# must not repeat one of another file of its target: a repeat fails the build with
+# "redefinition of ..." in a unity_*.cxx; give the helper a name of its own or share it through a
+# header (docs/DEVELOPING.md, "Build time").
+option(POLYDEM_UNITY "Compile each module's files in batches (unity build)" ON)
+set(POLYDEM_UNITY_BATCH 8 CACHE STRING "Files per batch of a unity build (0: one batch a target)")
 
-function(polydem_use_unity target name)
-  if(NOT POLYDEM_UNITY)
-    return()
-  endif()
-  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE BATCH
-                                             UNITY_BUILD_BATCH_SIZE ${POLYDEM_UNITY_BATCH})
-  # (Called from the target's own folder, so the listed paths are relative to it.)
-  if(POLYDEM_UNITY_ALONE_${name})
-    set_source_files_properties(${POLYDEM_UNITY_ALONE_${name}}
-                                PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
+function(polydem_use_unity target)
+  if(POLYDEM_UNITY)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE BATCH
+                                               UNITY_BUILD_BATCH_SIZE ${POLYDEM_UNITY_BATCH})
   endif()
 endfunction()
 
@@ -100,7 +92,7 @@ function(polydem_add_module)
     target_link_libraries(${target} PUBLIC ${M_DEPENDS})
     set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
     polydem_use_pch(${target})
-    polydem_use_unity(${target} ${M_NAME})
+    polydem_use_unity(${target})
   else()
     add_library(${target} INTERFACE)
     target_include_directories(${target} INTERFACE $<BUILD_INTERFACE:${POLYDEM_BUILD_INCLUDE_DIR}>

@@ -46,7 +46,7 @@ Timed round(const setup::Setup& scene, std::int64_t warmup, std::int64_t steps) 
   return t;
 }
 
-double median(std::vector<double> v) {
+double medianSeconds(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
 }
@@ -64,8 +64,8 @@ nlohmann::json compare(const std::string& name, setup::Setup scene, std::int64_t
       step[m].push_back(last[m].step_ms);
     }
   }
-  const double c0 = median(contact[0]), c1 = median(contact[1]);
-  const double s0 = median(step[0]), s1 = median(step[1]);
+  const double c0 = medianSeconds(contact[0]), c1 = medianSeconds(contact[1]);
+  const double s0 = medianSeconds(step[0]), s1 = medianSeconds(step[1]);
   if (mpi::rank() == 0) {
     std::printf("%-34s %9lld %12lld %11.3f %11.3f %7.2fx %10.3f %10.3f %7.2fx\n", name.c_str(),
                 static_cast<long long>(last[1].contacts),

@@ -68,7 +68,7 @@ setup::Setup boxScene(const PileBenchOptions& o) {
   return s;
 }
 
-double threadSeconds() {
+double pileThreadSeconds() {
   timespec ts;
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
@@ -134,9 +134,9 @@ PileResult runPolydemPile(setup::Setup scene, const std::string& kernel, const s
   scene.contact_model = model;
   sim::Simulation sim(scene, MPI_COMM_SELF);
   for (std::int64_t i = 0; i < o.warmup; ++i) sim.step();
-  const double t0 = threadSeconds();
+  const double t0 = pileThreadSeconds();
   for (std::int64_t i = 0; i < o.steps; ++i) sim.step();
-  const double seconds = threadSeconds() - t0;
+  const double seconds = pileThreadSeconds() - t0;
   const auto mon = sim.monitors();
   PileResult r{"polydem", kernel, model};
   r.particles = mon.particles;

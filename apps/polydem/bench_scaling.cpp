@@ -23,7 +23,7 @@ namespace polydem::app {
 
 namespace {
 
-struct Measurement {
+struct ScalingRun {
   int ranks = 0;
   bool control = false;  // independent 1-rank runs side by side, one per launched rank
   double seconds = 0.0;  // timed steps only (control: the mean over the runs)
@@ -46,8 +46,8 @@ std::vector<int> parseRanks(Args& args, int world) {
   return out;
 }
 
-Measurement measure(const setup::Setup& scene, MPI_Comm comm, std::int64_t warmup,
-                    std::int64_t steps) {
+ScalingRun measure(const setup::Setup& scene, MPI_Comm comm, std::int64_t warmup,
+                   std::int64_t steps) {
   sim::Simulation sim(scene, comm);
   for (std::int64_t i = 0; i < warmup; ++i) sim.step();
   sim.loop().timing().clear();
@@ -56,7 +56,7 @@ Measurement measure(const setup::Setup& scene, MPI_Comm comm, std::int64_t warmu
   for (std::int64_t i = 0; i < steps; ++i) sim.step();
   MPI_Barrier(comm);
   const auto t1 = std::chrono::steady_clock::now();
-  Measurement m;
+  ScalingRun m;
   m.ranks = mpi::size(comm);
   m.seconds = std::chrono::duration<double>(t1 - t0).count();
   m.steps = steps;
@@ -85,9 +85,9 @@ Measurement measure(const setup::Setup& scene, MPI_Comm comm, std::int64_t warmu
 }
 
 /// The 1-rank scene on every launched rank at once; the mean time of those runs.
-Measurement measureControl(const setup::Setup& scene, std::int64_t warmup, std::int64_t steps) {
+ScalingRun measureControl(const setup::Setup& scene, std::int64_t warmup, std::int64_t steps) {
   MPI_Barrier(MPI_COMM_WORLD);
-  Measurement m = measure(scene, MPI_COMM_SELF, warmup, steps);
+  ScalingRun m = measure(scene, MPI_COMM_SELF, warmup, steps);
   double sum = 0.0;
   MPI_Allreduce(&m.seconds, &sum, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
   m.seconds = sum / mpi::size();
@@ -96,7 +96,7 @@ Measurement measureControl(const setup::Setup& scene, std::int64_t warmup, std::
   return m;
 }
 
-nlohmann::json row(const Measurement& m, double rate, double eff, double hw_eff) {
+nlohmann::json row(const ScalingRun& m, double rate, double eff, double hw_eff) {
   nlohmann::json j = {{"ranks", m.ranks},
                       {"particles", m.particles},
                       {"contacts", m.contacts},
@@ -126,7 +126,7 @@ std::string percent(double x) {
   return text;
 }
 
-void printBalance(const std::vector<Measurement>& results) {
+void printBalance(const std::vector<ScalingRun>& results) {
   std::printf(
       "\nbalance after the last step, per rank max/mean (counts: the same on any machine):\n"
       "%5s %13s %7s %7s %10s %7s %8s %7s %8s %11s %9s %7s %26s %7s %8s\n",
@@ -210,12 +210,12 @@ int benchScaling(int argc, char** argv) {
     return scene;
   };
 
-  std::vector<Measurement> results;
+  std::vector<ScalingRun> results;
   for (int ranks : groups) {
     MPI_Comm group;
     const int rank = mpi::rank();
     MPI_Comm_split(MPI_COMM_WORLD, rank < ranks ? 0 : MPI_UNDEFINED, rank, &group);
-    Measurement m;
+    ScalingRun m;
     if (group != MPI_COMM_NULL) {
       m = measure(sceneFor(ranks), group, warmup, steps);
       MPI_Comm_free(&group);
@@ -226,7 +226,7 @@ int benchScaling(int argc, char** argv) {
   if (control) results.push_back(measureControl(sceneFor(1), warmup, steps));
   if (mpi::rank() != 0) return 0;
 
-  const Measurement& lone = results.front();
+  const ScalingRun& lone = results.front();
   const double t1 = lone.ranks == 1 ? lone.seconds : 0.0;
   double control_ratio = 0.0;  // lone 1-rank time / side-by-side 1-rank time
   if (control && t1 > 0) control_ratio = t1 / results.back().seconds;

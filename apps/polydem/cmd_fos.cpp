@@ -27,7 +27,7 @@ namespace polydem::app {
 
 namespace {
 
-void usage() {
+void fosUsage() {
   std::printf(
       "usage: [mpirun -n N] polydem fos SCENE.toml --out DIR [options]\n"
       "       [mpirun -n N] polydem fos --resume DIR [--ranks-per-trial K] [--quiet]\n"
@@ -58,12 +58,6 @@ void usage() {
       "displacement and time), DIR/fos_trials.csv, DIR/fos.svg (mean displacement against time\n"
       "per trial) and DIR/mechanism/ (the failed trial just above F: snapshots, blocks.csv,\n"
       "frames.png). Settings: docs/scene-format.md, [fos].\n");
-}
-
-std::string programPath() {
-  std::error_code ec;
-  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string("polydem") : exe.string();
 }
 
 // The scene and its settings as the stopped search in DIR/fos.json ran them; refuses a scene
@@ -273,7 +267,7 @@ int fosCommand(int argc, char** argv) {
   Args args(argc, argv, {"help", "quiet", "runout"});
   const auto resume = args.value("resume");
   if (args.flag("help") || args.positional().size() != (resume ? 0u : 1u)) {
-    usage();
+    fosUsage();
     return args.flag("help") ? 0 : 2;
   }
   const long long per_trial = args.integer("ranks-per-trial", 1, 1);

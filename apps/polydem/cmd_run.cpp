@@ -18,12 +18,6 @@ namespace polydem::app {
 
 namespace {
 
-std::string programPath() {
-  std::error_code ec;
-  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string("polydem") : exe.string();
-}
-
 /// The picture of a finished run (rank 0; the others wait, so that mpirun ends after it).
 void pictureOf(const run::RunOptions& options, const PictureOptions& picture) {
   if (mpi::rank(MPI_COMM_WORLD) == 0) {

@@ -20,7 +20,7 @@ namespace polydem::app {
 
 namespace {
 
-void usage() {
+void runoutUsage() {
   std::printf(
       "usage: [mpirun -n N] polydem runout SCENE.toml --out DIR [options]\n"
       "       [mpirun -n N] polydem runout --resume DIR\n"
@@ -36,12 +36,6 @@ void usage() {
       "                        the failed blocks)\n"
       "  --checkpoint-every N  steps between checkpoints (default: [checkpoint] every_steps)\n"
       "  --quiet               only the result, warnings and errors\n");
-}
-
-std::string programPath() {
-  std::error_code ec;
-  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string("polydem") : exe.string();
 }
 
 // The result's files and line (rank 0), agreed failure on every rank.
@@ -83,7 +77,7 @@ int runoutCommand(int argc, char** argv) {
   Args args(argc, argv, {"help", "quiet"});
   const auto resume = args.value("resume");
   if (args.flag("help") || args.positional().size() != (resume ? 0u : 1u)) {
-    usage();
+    runoutUsage();
     return args.flag("help") ? 0 : 2;
   }
   if (args.flag("quiet")) log::setLevel(log::Level::kWarning);

@@ -10,6 +10,9 @@
 namespace polydem::app {
 
 const char* version();
+/// The path of this executable (/proc/self/exe), for the command lines a run prints and
+/// starts; "polydem" where it cannot be read.
+std::string programPath();
 
 /// A mistake on the command line (exit code 2, no MPI_Abort).
 class UsageError : public std::runtime_error {

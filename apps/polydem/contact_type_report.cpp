@@ -35,7 +35,7 @@ double timeCalls(const contact::Kernel& kernel, const contact::ContactCase& c) {
   return std::chrono::duration<double>(t1 - t0).count() / n;
 }
 
-Mat3 randomRotation(std::mt19937_64& rng) {
+Mat3 randomRotationMatrix(std::mt19937_64& rng) {
   std::normal_distribution<double> g;
   Quat q(g(rng), g(rng), g(rng), g(rng));
   return q.normalized().toRotationMatrix();
@@ -46,7 +46,7 @@ void poseStudy(const contact::Kernel& kernel, const contact::ContactCase& c, int
   std::uniform_real_distribution<double> u(-5.0, 5.0);
   row.correct_in_all_poses = row.evaluation.correct();
   for (int k = 0; k < poses; ++k) {
-    const Mat3 r = randomRotation(rng);
+    const Mat3 r = randomRotationMatrix(rng);
     const Vec3 t(u(rng), u(rng), u(rng));
     const auto moved = contact::transformed(c, r, t, 1.0);
     const auto res = resolve(kernel, moved);

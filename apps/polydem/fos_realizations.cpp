@@ -23,7 +23,7 @@ namespace polydem::app {
 
 namespace {
 
-void usage() {
+void realizationsUsage() {
   std::printf(
       "usage: [mpirun -n N] polydem fos SCENE.toml --realizations COUNT --out DIR [options]\n"
       "Probability of failure: the factor of safety of COUNT realizations of a scene whose\n"
@@ -96,7 +96,7 @@ std::string studyCommand(const scene::Study& study, long long asked, const std::
 int fosRealizationsCommand(int argc, char** argv) {
   Args args(argc, argv, {"help", "quiet"});
   if (args.flag("help") || args.positional().size() != 1) {
-    usage();
+    realizationsUsage();
     return args.flag("help") ? 0 : 2;
   }
   const long long asked = args.integer("realizations", 0, 1, 1000000);

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <string>
 
 #include "commands.h"
@@ -15,6 +16,21 @@
 #include "polydem/hdf5/library.h"
 #include "polydem/output/output_file.h"
 #include "polydem/run/run_checkpoint.h"
+
+namespace polydem::app {
+
+std::string programPath() {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) return "polydem";
+  // A program rebuilt while it runs reads as "PATH (deleted)": the command to print is PATH.
+  std::string path = exe.string();
+  const std::string deleted = " (deleted)";
+  if (path.ends_with(deleted)) path.resize(path.size() - deleted.size());
+  return path;
+}
+
+}  // namespace polydem::app
 
 namespace {
 

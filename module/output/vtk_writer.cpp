@@ -71,7 +71,7 @@ using vtk::Section;
 // The particle and contact pieces
 
 template <typename T, int N, typename F>
-std::vector<T> perFace(const PolyhedraBatch& b, F value) {
+std::vector<T> faceValues(const PolyhedraBatch& b, F value) {
   std::vector<T> out;
   out.reserve(b.faceCount() * N);
   std::int64_t face = 0;
@@ -120,25 +120,25 @@ Piece particlePiece(const PolyhedraBatch& b, int rank) {
   using P = const ParticleFields&;
   Section cell{"CellData", " Scalars=\"speed\" Vectors=\"velocity\"", {}};
   cell.arrays.push_back(array<std::uint64_t>("uid", 1, cells, [&b] {
-    return perFace<std::uint64_t, 1>(b, [](P p) { return std::array<std::uint64_t, 1>{p.uid}; });
+    return faceValues<std::uint64_t, 1>(b, [](P p) { return std::array<std::uint64_t, 1>{p.uid}; });
   }));
   cell.arrays.push_back(array<std::int32_t>("rank", 1, cells, [&b, rank] {
-    return perFace<std::int32_t, 1>(b, [rank](P) { return std::array<std::int32_t, 1>{rank}; });
+    return faceValues<std::int32_t, 1>(b, [rank](P) { return std::array<std::int32_t, 1>{rank}; });
   }));
   cell.arrays.push_back(array<double>("velocity", 3, cells, [&b] {
-    return perFace<double, 3>(b, [](P p) { return components(p.velocity); });
+    return faceValues<double, 3>(b, [](P p) { return components(p.velocity); });
   }));
   cell.arrays.push_back(array<double>("angular_velocity", 3, cells, [&b] {
-    return perFace<double, 3>(b, [](P p) { return components(p.angular_velocity); });
+    return faceValues<double, 3>(b, [](P p) { return components(p.angular_velocity); });
   }));
   cell.arrays.push_back(array<double>("speed", 1, cells, [&b] {
-    return perFace<double, 1>(b, [](P p) { return std::array<double, 1>{p.velocity.norm()}; });
+    return faceValues<double, 1>(b, [](P p) { return std::array<double, 1>{p.velocity.norm()}; });
   }));
   cell.arrays.push_back(array<double>("displacement", 3, cells, [&b] {
-    return perFace<double, 3>(b, [](P p) { return components(p.displacement); });
+    return faceValues<double, 3>(b, [](P p) { return components(p.displacement); });
   }));
   cell.arrays.push_back(array<std::uint8_t>("fixed", 1, cells, [&b] {
-    return perFace<std::uint8_t, 1>(
+    return faceValues<std::uint8_t, 1>(
         b, [](P p) { return std::array<std::uint8_t, 1>{static_cast<std::uint8_t>(p.fixed)}; });
   }));
   cell.arrays.push_back(array<std::int32_t>("joint", 1, cells, [&b] { return b.face_joint; }));
@@ -157,7 +157,7 @@ Piece particlePiece(const PolyhedraBatch& b, int rank) {
 }
 
 template <typename T, typename F>
-std::vector<T> perContact(const ContactBatch& c, F value) {
+std::vector<T> contactValues(const ContactBatch& c, F value) {
   std::vector<T> out;
   out.reserve(c.contacts.size() * 3);
   for (const auto& r : c.contacts) {
@@ -176,29 +176,32 @@ Piece contactPiece(const ContactBatch& c, int rank) {
   using R = const ContactRecord&;
   Section data{"PointData", " Scalars=\"normal_force\" Vectors=\"normal\"", {}};
   data.arrays.push_back(array<std::uint64_t>("uid_a", 1, n, [&c] {
-    return perContact<std::uint64_t>(c, [](R r) { return std::array<std::uint64_t, 1>{r.uid_a}; });
+    return contactValues<std::uint64_t>(c,
+                                        [](R r) { return std::array<std::uint64_t, 1>{r.uid_a}; });
   }));
   data.arrays.push_back(array<std::uint64_t>("uid_b", 1, n, [&c] {
-    return perContact<std::uint64_t>(c, [](R r) { return std::array<std::uint64_t, 1>{r.uid_b}; });
+    return contactValues<std::uint64_t>(c,
+                                        [](R r) { return std::array<std::uint64_t, 1>{r.uid_b}; });
   }));
   data.arrays.push_back(array<std::int32_t>("rank", 1, n, [&c, rank] {
-    return perContact<std::int32_t>(c, [rank](R) { return std::array<std::int32_t, 1>{rank}; });
+    return contactValues<std::int32_t>(c, [rank](R) { return std::array<std::int32_t, 1>{rank}; });
   }));
   data.arrays.push_back(array<double>("normal", 3, n, [&c] {
-    return perContact<double>(c, [](R r) { return components(r.normal); });
+    return contactValues<double>(c, [](R r) { return components(r.normal); });
   }));
   data.arrays.push_back(array<double>("normal_force", 1, n, [&c] {
-    return perContact<double>(c, [](R r) { return std::array<double, 1>{r.normal_force}; });
+    return contactValues<double>(c, [](R r) { return std::array<double, 1>{r.normal_force}; });
   }));
   data.arrays.push_back(array<double>("shear_force", 3, n, [&c] {
-    return perContact<double>(c, [](R r) { return components(r.shear_force); });
+    return contactValues<double>(c, [](R r) { return components(r.shear_force); });
   }));
   data.arrays.push_back(array<std::int32_t>("joint", 1, n, [&c] {
-    return perContact<std::int32_t>(c, [](R r) { return std::array<std::int32_t, 1>{r.joint}; });
+    return contactValues<std::int32_t>(c, [](R r) { return std::array<std::int32_t, 1>{r.joint}; });
   }));
   piece.sections.push_back(std::move(data));
   piece.sections.push_back({"Points", "", {array<double>("Points", 3, n, [&c] {
-                              return perContact<double>(c, [](R r) { return components(r.point); });
+                              return contactValues<double>(c,
+                                                           [](R r) { return components(r.point); });
                             })}});
   auto iota = [n](std::int64_t first) {
     std::vector<std::int64_t> v(n);
@@ -224,7 +227,7 @@ std::string pieceName(const char* kind, std::int64_t step, int rank) {
   return stepName(kind, step) + buffer;
 }
 
-std::string formatTime(double time) {
+std::string formatTimestep(double time) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.17g", time);
   return buffer;
@@ -384,7 +387,7 @@ void SnapshotWriter::writeCollection(const Collection& collection) const {
   std::string text = vtk::fileHeader("Collection");
   text += "  <Collection>\n";
   for (const auto& [step, entry] : collection.entries) {
-    text += cat("    <DataSet timestep=\"", formatTime(entry.first),
+    text += cat("    <DataSet timestep=\"", formatTimestep(entry.first),
                 "\" group=\"\" part=\"0\" file=\"", entry.second, "\"/>\n");
   }
   text += "  </Collection>\n</VTKFile>\n";

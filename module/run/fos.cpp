@@ -27,17 +27,17 @@ particles::MaterialTable materialTable(const setup::Setup& scene) {
   return table;
 }
 
-const char* const kOutcomes[] = {"stable", "failed", "undecided", "interrupted"};
+const char* const kTrialOutcomes[] = {"stable", "failed", "undecided", "interrupted"};
 
 int outcomeCode(const std::string& outcome) {
   for (int k = 0; k < 4; ++k) {
-    if (outcome == kOutcomes[k]) return k;
+    if (outcome == kTrialOutcomes[k]) return k;
   }
   throw Error("fos: unknown trial outcome '" + outcome + "'");
 }
 
 // A trial as doubles, to be gathered from the group that ran it onto every rank.
-void pack(const FosTrial& t, std::vector<double>& out) {
+void packTrial(const FosTrial& t, std::vector<double>& out) {
   double hash = 0.0;
   std::memcpy(&hash, &t.state_hash, sizeof hash);
   out.insert(out.end(), {t.factor, double(outcomeCode(t.outcome)), t.mean_displacement,
@@ -50,10 +50,10 @@ void pack(const FosTrial& t, std::vector<double>& out) {
   }
 }
 
-FosTrial unpack(const double*& in) {
+FosTrial unpackTrial(const double*& in) {
   FosTrial t;
   t.factor = in[0];
-  t.outcome = kOutcomes[static_cast<int>(in[1])];
+  t.outcome = kTrialOutcomes[static_cast<int>(in[1])];
   t.mean_displacement = in[2];
   t.max_displacement = in[3];
   t.mean_speed = in[4];
@@ -78,11 +78,11 @@ FosTrial unpack(const double*& in) {
 // Every group root's trial, on every rank of `comm`, in group order.
 std::vector<FosTrial> gatherTrials(const std::optional<FosTrial>& mine, MPI_Comm comm) {
   std::vector<double> buffer;
-  if (mine) pack(*mine, buffer);
+  if (mine) packTrial(*mine, buffer);
   const std::vector<double> all = mpi::allgatherv(buffer, comm);  // in rank order
   std::vector<FosTrial> trials;
   const double* p = all.data();
-  while (p < all.data() + all.size()) trials.push_back(unpack(p));
+  while (p < all.data() + all.size()) trials.push_back(unpackTrial(p));
   std::sort(trials.begin(), trials.end(),
             [](const FosTrial& a, const FosTrial& b) { return a.group < b.group; });
   return trials;
@@ -164,13 +164,6 @@ std::vector<double> nextRound(FosResult& r, double f_min, double f_max, int grou
     return {};
   }
   return next;
-}
-
-// The stop signal some rank of `comm` has received, or 0 (collective).
-int receivedSignal(MPI_Comm comm) {
-  int local = stopSignalReceived(), global = 0;
-  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, comm);
-  return global;
 }
 
 void logTrial(const FosTrial& t) {
@@ -333,7 +326,7 @@ FosResult findFactorOfSafety(const setup::Setup& scene, const FosCriterion& crit
   const double f_min = scene.fos.f_min, f_max = scene.fos.f_max;
   for (std::vector<double> round = nextRound(r, f_min, f_max, groups); !round.empty();
        round = nextRound(r, f_min, f_max, groups)) {
-    if (const int sig = receivedSignal(comm)) {  // between rounds
+    if (const int sig = stopSignalOnAnyRank(comm)) {  // between rounds
       r.complete = false;
       r.stop_signal = signalName(sig);
       break;
@@ -351,7 +344,7 @@ FosResult findFactorOfSafety(const setup::Setup& scene, const FosCriterion& crit
       }
       finished.push_back(t);
     }
-    const int sig = receivedSignal(comm);
+    const int sig = stopSignalOnAnyRank(comm);
     if (interrupted || sig != 0) {
       // A signal during the round: keep what finished, as the cut-short round's trials.
       for (const FosTrial& t : finished) {

@@ -99,12 +99,6 @@ double largestReachFraction(const sim::Simulation& sim, const std::vector<Pose>&
   return global;
 }
 
-int receivedSignal(MPI_Comm comm) {
-  int local = stopSignalReceived(), global = 0;
-  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, comm);
-  return global;
-}
-
 std::string interactionName(const setup::Setup& scene, int joint, int a, int b) {
   if (joint >= 0) return scene.joints[joint].name;
   return scene.materials[a].name + "/" + scene.materials[b].name;
@@ -362,7 +356,7 @@ class MechanismObserver : public FosTrialObserver {
         m_.stopped_by = "window";
         break;
       }
-      if (const int sig = receivedSignal(sim.comm())) {
+      if (const int sig = stopSignalOnAnyRank(sim.comm())) {
         m_.stopped_by = signalName(sig);
         break;
       }

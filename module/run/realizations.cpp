@@ -17,8 +17,8 @@ namespace polydem::run {
 
 namespace {
 
-const char* const kOutcomes[] = {"resolved", "below f_min", "above f_max", "not resolved",
-                                 "invalid"};
+const char* const kRealizationOutcomes[] = {"resolved", "below f_min", "above f_max",
+                                            "not resolved", "invalid"};
 
 double bitsOf(std::uint64_t h) {
   double d = 0.0;
@@ -34,9 +34,9 @@ std::uint64_t hashOf(double d) {
 
 constexpr double kNone = -1.0;  // an absent bound (F > 0 always)
 
-void pack(const RealizationResult& r, std::vector<double>& out) {
+void packResult(const RealizationResult& r, std::vector<double>& out) {
   int code = 0;
-  while (r.outcome != kOutcomes[code]) ++code;
+  while (r.outcome != kRealizationOutcomes[code]) ++code;
   out.insert(out.end(),
              {double(r.index), bitsOf(r.seed), double(code), r.stable.value_or(kNone),
               r.failed.value_or(kNone), r.f_min, r.f_max, double(r.trials), r.wall_seconds,
@@ -45,11 +45,11 @@ void pack(const RealizationResult& r, std::vector<double>& out) {
   for (const std::uint64_t h : r.trial_hashes) out.push_back(bitsOf(h));
 }
 
-RealizationResult unpack(const double*& in) {
+RealizationResult unpackResult(const double*& in) {
   RealizationResult r;
   r.index = static_cast<std::int64_t>(in[0]);
   r.seed = hashOf(in[1]);
-  r.outcome = kOutcomes[static_cast<int>(in[2])];
+  r.outcome = kRealizationOutcomes[static_cast<int>(in[2])];
   if (in[3] != kNone) r.stable = in[3];
   if (in[4] != kNone) r.failed = in[4];
   if (r.outcome == std::string("resolved")) r.factor = 0.5 * (*r.stable + *r.failed);
@@ -69,10 +69,10 @@ RealizationResult unpack(const double*& in) {
 // Every group root's result (and every group's error), on every rank, in realization order.
 std::vector<RealizationResult> gather(const std::optional<RealizationResult>& mine, MPI_Comm comm) {
   std::vector<double> buffer;
-  if (mine) pack(*mine, buffer);
+  if (mine) packResult(*mine, buffer);
   const std::vector<double> all = mpi::allgatherv(buffer, comm);  // in rank order
   std::vector<RealizationResult> out;
-  for (const double* p = all.data(); p < all.data() + all.size();) out.push_back(unpack(p));
+  for (const double* p = all.data(); p < all.data() + all.size();) out.push_back(unpackResult(p));
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
   return out;
 }
@@ -116,13 +116,6 @@ RealizationResult invalid(const scene::Realization& real) {
   return r;
 }
 
-// The stop signal some rank of `comm` has received, or 0 (collective).
-int receivedSignal(MPI_Comm comm) {
-  int local = stopSignalReceived(), global = 0;
-  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, comm);
-  return global;
-}
-
 }  // namespace
 
 std::optional<bool> RealizationResult::fails() const {
@@ -146,7 +139,7 @@ bool runRealizations(const scene::Study& study, const std::vector<std::int64_t>&
   bool complete = true;
   const log::Level level = log::level();
   for (std::size_t first = 0; first < todo.size(); first += static_cast<std::size_t>(groups)) {
-    if (receivedSignal(comm) != 0) {
+    if (stopSignalOnAnyRank(comm) != 0) {
       complete = false;
       break;
     }
@@ -182,7 +175,7 @@ bool runRealizations(const scene::Study& study, const std::vector<std::int64_t>&
     }
     output::throwIfAnyRankFailed(error, comm);
     std::vector<RealizationResult> round = gather(mine, comm);
-    if (receivedSignal(comm) != 0) {
+    if (stopSignalOnAnyRank(comm) != 0) {
       // Keep the realizations this round finished before the signal; the others run again.
       if (!round.empty()) round_done(round);
       complete = false;

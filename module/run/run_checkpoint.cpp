@@ -58,6 +58,12 @@ int stopSignalReceived() {
   return g_stop_signal;
 }
 
+int stopSignalOnAnyRank(MPI_Comm comm) {
+  int local = stopSignalReceived(), global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, comm);
+  return global;
+}
+
 std::string signalName(int signal) {
   if (signal == SIGTERM) return "SIGTERM";
   if (signal == SIGUSR1) return "SIGUSR1";

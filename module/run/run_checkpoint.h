@@ -28,6 +28,8 @@ namespace polydem::run {
 void installStopSignals(bool interrupt = false);
 /// The signal number received since installStopSignals() on this process, or 0.
 int stopSignalReceived();
+/// The signal some rank of `comm` has received (the largest number), or 0 (collective).
+int stopSignalOnAnyRank(MPI_Comm comm);
 /// "SIGTERM", "SIGUSR1", "SIGINT" or "signal N".
 std::string signalName(int signal);
 

@@ -20,13 +20,6 @@ namespace polydem::run {
 
 namespace {
 
-// Whether some rank of `comm` has received a stop signal: its number, or 0 (collective).
-int receivedSignal(MPI_Comm comm) {
-  int local = stopSignalReceived(), global = 0;
-  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, comm);
-  return global;
-}
-
 // DIR/runout.h5 with the state and the run-on's counters (collective).
 std::string writeRunoutCheckpoint(sim::Simulation& sim, const RunoutSettings& s,
                                   const RunoutProgress& progress) {
@@ -78,7 +71,7 @@ RunoutResult runRunout(sim::Simulation& sim, const RunoutSettings& s, RunoutProg
     int sig = 0;
     for (std::int64_t k = 0; k < round && sig == 0; ++k) {
       sim.step();
-      sig = receivedSignal(sim.comm());  // finish this step, then stop
+      sig = stopSignalOnAnyRank(sim.comm());  // finish this step, then stop
     }
     if (sig != 0) {
       r.stopped_by = signalName(sig);

@@ -17,7 +17,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // One particle's pose, to gather over the ranks.
-struct PoseRow {
+struct DepositRow {
   Uid uid;
   int shape, free;
   double x, y, z, qw, qx, qy, qz;
@@ -70,8 +70,8 @@ bool verticalExtent(const Placed& b, double x, double y, double& lo, double& hi)
   return lo <= hi;
 }
 
-std::vector<PoseRow> gatherPoses(const sim::Simulation& sim) {
-  std::vector<PoseRow> mine;
+std::vector<DepositRow> gatherDepositRows(const sim::Simulation& sim) {
+  std::vector<DepositRow> mine;
   const auto& storage = sim.particles();
   const bool root = mpi::rank(sim.comm()) == 0;
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
@@ -84,7 +84,7 @@ std::vector<PoseRow> gatherPoses(const sim::Simulation& sim) {
   }
   auto all = mpi::allgatherv(mine, sim.comm());
   std::sort(all.begin(), all.end(),
-            [](const PoseRow& a, const PoseRow& b) { return a.uid < b.uid; });
+            [](const DepositRow& a, const DepositRow& b) { return a.uid < b.uid; });
   return all;
 }
 
@@ -191,7 +191,7 @@ RunoutDeposit measureDeposit(const sim::Simulation& sim, double cell) {
   Vec3 sum = Vec3::Zero();
   double toe = -kInf;
   std::vector<Placed> failed_start;
-  for (const PoseRow& r : gatherPoses(sim)) {
+  for (const DepositRow& r : gatherDepositRows(sim)) {
     const auto& shape = shapes[r.shape];
     const Vec3 c(r.x, r.y, r.z);
     const Quat q(r.qw, r.qx, r.qy, r.qz);

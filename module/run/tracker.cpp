@@ -17,7 +17,7 @@ namespace {
 // energy, contacts. The layout of the gather buffer and of the saved initial states.
 constexpr int kDoubles = 15;
 
-TrackedState unpack(const double* b) {
+TrackedState unpackState(const double* b) {
   TrackedState s;
   s.position = {b[0], b[1], b[2]};
   s.orientation = Quat(b[3], b[4], b[5], b[6]);
@@ -90,7 +90,7 @@ void Tracker::gather(const sim::Simulation& sim) {
   MPI_Allreduce(buffer_.data(), sum_.data(), static_cast<int>(buffer_.size()), MPI_DOUBLE, MPI_SUM,
                 sim.comm());
   states_.resize(n);
-  for (std::size_t k = 0; k < n; ++k) states_[k] = unpack(&sum_[k * kDoubles]);
+  for (std::size_t k = 0; k < n; ++k) states_[k] = unpackState(&sum_[k * kDoubles]);
   if (!have_initial_) {
     initial_ = states_;
     have_initial_ = true;
@@ -119,7 +119,7 @@ void Tracker::restoreInitial(const std::vector<double>& values) {
                     " tracked ones"));
   }
   initial_.resize(uids_.size());
-  for (std::size_t k = 0; k < uids_.size(); ++k) initial_[k] = unpack(&values[k * kDoubles]);
+  for (std::size_t k = 0; k < uids_.size(); ++k) initial_[k] = unpackState(&values[k * kDoubles]);
   have_initial_ = true;
 }
 

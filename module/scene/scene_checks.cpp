@@ -16,7 +16,8 @@ namespace {
 const std::vector<std::string_view> kFixedKeys = {"name",      "kind",    "expected",
                                                   "tolerance", "compare", "reference"};
 
-std::string show(double v) {
+// A bound or a value in messages, to 10 significant digits.
+std::string showBound(double v) {
   std::ostringstream out;
   out.precision(10);
   out << v;
@@ -27,10 +28,11 @@ std::string show(double v) {
 std::string rangeText(const CheckParam& p) {
   const bool lo = std::isfinite(p.lo), hi = std::isfinite(p.hi);
   if (lo && hi) {
-    return cat(p.lo_open ? "(" : "[", show(p.lo), ", ", show(p.hi), p.hi_open ? ")" : "]");
+    return cat(p.lo_open ? "(" : "[", showBound(p.lo), ", ", showBound(p.hi),
+               p.hi_open ? ")" : "]");
   }
-  if (lo) return cat(p.lo_open ? "> " : ">= ", show(p.lo));
-  if (hi) return cat(p.hi_open ? "< " : "<= ", show(p.hi));
+  if (lo) return cat(p.lo_open ? "> " : ">= ", showBound(p.lo));
+  if (hi) return cat(p.hi_open ? "< " : "<= ", showBound(p.hi));
   return "any finite number";
 }
 
@@ -76,7 +78,7 @@ void readParameter(const Section& s, const CheckParam& p, Quantity measured,
   switch (p.type) {
     case CheckParamType::kNumber: {
       const double v = *s.number(p.name, p.measured ? measured : p.quantity);
-      if (!inRange(p, v)) s.fail(p.name, cat("must be ", rangeText(p), ", got ", show(v)));
+      if (!inRange(p, v)) s.fail(p.name, cat("must be ", rangeText(p), ", got ", showBound(v)));
       c.numbers[key] = {v};
       break;
     }

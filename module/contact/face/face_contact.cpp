@@ -12,7 +12,6 @@ namespace polydem::contact {
 
 namespace {
 
-const double kCosFacing = std::cos(kFacingAngleDeg * std::numbers::pi / 180.0);
 const double kSinFacing = std::sin(kFacingAngleDeg * std::numbers::pi / 180.0);
 
 // Among the faces around vertex `support`, the one whose world outward normal is closest to

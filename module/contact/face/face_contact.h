@@ -24,7 +24,9 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <span>
 #include <vector>
 
@@ -48,6 +50,8 @@ inline FeatureKey featureKey(std::uint32_t a, std::uint32_t b) {
 /// that are apart simply carry no force, so a block tipping onto an edge keeps its springs until
 /// the tilt reaches this angle.
 inline constexpr double kFacingAngleDeg = 20.0;
+/// cos(kFacingAngleDeg): a face faces a direction when the cosine between them is larger.
+inline const double kCosFacing = std::cos(kFacingAngleDeg * std::numbers::pi / 180.0);
 
 struct SubContact {
   FeatureKey feature = 0;

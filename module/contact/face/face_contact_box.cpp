@@ -28,12 +28,6 @@
 
 namespace polydem::contact {
 
-namespace {
-
-const double kCosFacing = std::cos(kFacingAngleDeg * std::numbers::pi / 180.0);
-
-}  // namespace
-
 [[gnu::always_inline]] inline FaceContactBuilder::Facing FaceContactBuilder::boxFacing(
     const Body& body, const Vec3& direction) {
   // A face within the facing angle (20 deg) of `direction` lies along the box axis a_k closest to

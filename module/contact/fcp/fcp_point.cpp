@@ -14,13 +14,13 @@ namespace {
 
 using geometry::cross2;
 
-struct Scratch {
+struct PointScratch {
   std::vector<int> band_a, band_b;
   std::vector<Vec2> points_a, points_b, hull_a, hull_b, clipped, spare;
 };
 
-Scratch& scratch() {
-  thread_local Scratch s;
+PointScratch& pointScratch() {
+  thread_local PointScratch s;
   return s;
 }
 
@@ -113,7 +113,7 @@ Spot edgeFace(std::span<const Vec2> s, std::span<const Vec2> polygon, double tol
 }
 
 /// Two face polygons: the area centroid of their intersection (Keissar eqs. 2.17-2.19).
-Spot faceFace(std::span<const Vec2> p, std::span<const Vec2> q, double tol, Scratch& w) {
+Spot faceFace(std::span<const Vec2> p, std::span<const Vec2> q, double tol, PointScratch& w) {
   geometry::intersectConvex(p, q, w.clipped, w.spare);
   if (w.clipped.empty()) return {0.5 * (mean(p) + mean(q)), false};
   const geometry::AreaCentroid m = geometry::areaCentroid(w.clipped);
@@ -122,7 +122,7 @@ Spot faceFace(std::span<const Vec2> p, std::span<const Vec2> q, double tol, Scra
   return {m.centroid, true};
 }
 
-Spot featureSpot(std::span<const Vec2> fa, std::span<const Vec2> fb, double tol, Scratch& w) {
+Spot featureSpot(std::span<const Vec2> fa, std::span<const Vec2> fb, double tol, PointScratch& w) {
   if (fa.size() == 1) return vertexAgainst(fa[0], fb, tol);
   if (fb.size() == 1) return vertexAgainst(fb[0], fa, tol);
   if (fa.size() == 2 && fb.size() == 2) return edgeEdge(fa, fb, tol);
@@ -134,7 +134,7 @@ Spot featureSpot(std::span<const Vec2> fa, std::span<const Vec2> fb, double tol,
 }  // namespace
 
 Vec3 fcpFeaturePoint(const Body& a, const Body& b, const CommonPlane& plane, Status* status) {
-  Scratch& w = scratch();
+  PointScratch& w = pointScratch();
   const double tol = FcpTolerance::kBand * fcp_detail::lengthScale(a, b);
   const Vec3& n = plane.normal;
   fcp_detail::collectBand(a, -n, plane.vertex_a, -plane.level_a - tol, w.band_a);

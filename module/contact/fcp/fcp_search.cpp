@@ -54,7 +54,7 @@ struct Plane {
   double gap() const { return level_a - level_b; }
 };
 
-struct Scratch {
+struct SearchScratch {
   std::vector<int> band_a, band_b, edges_a, edges_b;
   std::vector<std::pair<int, int>> faces_a, faces_b;  // (face, a vertex of it)
   std::vector<EdgeCone> cones_a, cones_b;
@@ -63,15 +63,15 @@ struct Scratch {
 };
 
 /// Per-thread buffers (polydem runs one thread per rank): no allocation once they have grown.
-Scratch& scratch() {
-  thread_local Scratch s;
+SearchScratch& searchScratch() {
+  thread_local SearchScratch s;
   return s;
 }
 
-class Search {
+class FcpSearch {
  public:
-  Search(const Body& a, const Body& b, FcpTrace& trace)
-      : a_(a), b_(b), trace_(trace), w_(scratch()) {
+  FcpSearch(const Body& a, const Body& b, FcpTrace& trace)
+      : a_(a), b_(b), trace_(trace), w_(searchScratch()) {
     const double scale = fcp_detail::lengthScale(a, b);
     band_ = FcpTolerance::kBand * scale;
     improve_ = FcpTolerance::kImprove * scale;
@@ -366,7 +366,7 @@ class Search {
   const Body& a_;
   const Body& b_;
   FcpTrace& trace_;
-  Scratch& w_;
+  SearchScratch& w_;
   double band_ = 0.0, improve_ = 0.0, slack_ = 0.0;
   int hint_b_ = 0;  // the last support of B found by the full scan
   Vec3 ca_, cb_;    // world incentres
@@ -403,7 +403,7 @@ CommonPlane findCommonPlane(const Body& a, const Body& b, const Vec3* warm_norma
     const double length = d.norm();
     if (length > FcpTolerance::kImprove * scale) n = d / length;
   }
-  Search search(a, b, t);
+  FcpSearch search(a, b, t);
   Plane s = search.start(n);
   if (options.stop_when_separated && s.gap() > 0.0) return result(s, true);
   search.settle(s);

@@ -14,14 +14,14 @@ namespace {
 
 /// Reused buffers: they grow to the largest section seen and are never freed, so a warm thread
 /// allocates nothing.
-struct Scratch {
+struct IpmScratch {
   std::vector<double> heights_a, heights_b;
   std::vector<Vec2> points, section, clipped, spare;
   std::vector<geometry::HalfPlane> half_planes;
 };
 
-Scratch& scratch() {
-  thread_local Scratch s;
+IpmScratch& ipmScratch() {
+  thread_local IpmScratch s;
   return s;
 }
 
@@ -33,7 +33,7 @@ constexpr double kDegenerateWidth = RelTol::kIteration;
 std::optional<IntersectionPolygon> intersectionPolygon(const Body& a, const Body& b,
                                                        const Vec3& normal,
                                                        const Vec3& plane_point) {
-  Scratch& s = scratch();
+  IpmScratch& s = ipmScratch();
   const geometry::PlaneFrame frame = geometry::PlaneFrame::make(normal, plane_point);
   geometry::planeHeights(b.vertices, frame, s.heights_b);
   if (!geometry::sectionHalfPlanes(*b.shape, b.vertices, b.rotation, frame, s.heights_b,

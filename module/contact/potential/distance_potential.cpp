@@ -33,7 +33,7 @@ struct CellBuffers {
   }
 };
 
-struct Scratch {
+struct DistanceScratch {
   potential::OverlapIntegrator integrator;
   CellBuffers a, b;
   std::vector<Vec3> overlap_corners;
@@ -41,8 +41,8 @@ struct Scratch {
   std::vector<double> rhs;
 };
 
-Scratch& scratch() {
-  thread_local Scratch s;
+DistanceScratch& distanceScratch() {
+  thread_local DistanceScratch s;
   return s;
 }
 
@@ -93,7 +93,7 @@ bool innerPointInside(const potential::Cell& own, double inradius, const potenti
 // shape's in-centre `incentre` (in the cells' frame) is such a point; when it lies inside `other`
 // the answer is yes without the LP (the LP's optimum is t = r there: the same answer).
 bool innerDomainReached(const potential::Cell& own, double inradius, const Vec3& incentre,
-                        const potential::Cell& other, double size, Scratch& s) {
+                        const potential::Cell& other, double size, DistanceScratch& s) {
   if (innerPointInside(own, inradius, other, incentre, size)) return true;
   s.rows.clear();
   s.rhs.clear();
@@ -118,7 +118,7 @@ potential::PotentialResult DistancePotentialKernel::evaluate(const Body& a, cons
   Vec3 lo, hi;
   if (!potential::commonBox(a.vertices, b.vertices, lo, hi)) return result;
 
-  Scratch& s = scratch();
+  DistanceScratch& s = distanceScratch();
   const Vec3 origin = 0.5 * (lo + hi);
   buildCell(a, origin, s.a);
   buildCell(b, origin, s.b);

@@ -34,14 +34,14 @@ struct Tet {
   }
 };
 
-struct Scratch {
+struct FdemScratch {
   potential::OverlapIntegrator integrator;
   std::vector<Tet> tets_a, tets_b;
   std::vector<Vec3> overlap_corners;
 };
 
-Scratch& scratch() {
-  thread_local Scratch s;
+FdemScratch& fdemScratch() {
+  thread_local FdemScratch s;
   return s;
 }
 
@@ -113,7 +113,7 @@ potential::PotentialResult FdemKernel::evaluate(const Body& a, const Body& b) co
   Vec3 lo, hi;
   if (!potential::commonBox(a.vertices, b.vertices, lo, hi)) return result;
 
-  Scratch& s = scratch();
+  FdemScratch& s = fdemScratch();
   const Vec3 origin = 0.5 * (lo + hi);
   const Vec3 box_lo = lo - origin, box_hi = hi - origin;
   buildTets(a, origin, box_lo, box_hi, s.tets_a);

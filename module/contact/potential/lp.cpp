@@ -8,7 +8,7 @@
 // and gives the point. Newton's method then finds the analytic centre, the two potential
 // particles the normal, the planes the chord.
 //
-// Scratch: the planes of a pair, the LP rows and the slacks at the contact point live in
+// LpScratch: the planes of a pair, the LP rows and the slacks at the contact point live in
 // thread_local buffers (polydem runs one thread per MPI rank) that keep their capacity, so
 // collide() allocates nothing once warm.
 //
@@ -52,14 +52,14 @@ constexpr std::uint32_t kWarmBasis = 2u;
 constexpr std::uint32_t kWarmAxis = 4u;
 constexpr int kMaxPackedRows = 256;
 
-struct Scratch {
+struct LpScratch {
   Halfspaces faces;
   std::vector<Vec4> rows;
   std::vector<double> rhs;
   std::vector<double> slack;  // d_i - a_i . x at the contact point
 };
-Scratch& scratch() {
-  thread_local Scratch s;
+LpScratch& lpScratch() {
+  thread_local LpScratch s;
   return s;
 }
 
@@ -158,7 +158,7 @@ std::array<int, 4> unpackBasis(std::uint32_t packed) {
 // Boon et al. (2012): minimise s s.t. a_i . x - s <= d_i over both blocks' faces. Returns the
 // LP's point when s* < -touch (the blocks overlap), else nothing, keeping the optimal basis and
 // the dual's separating direction in `state`.
-std::optional<Vec3> overlapLp(Scratch& s, int na, double touch, particles::PairState* state) {
+std::optional<Vec3> overlapLp(LpScratch& s, int na, double touch, particles::PairState* state) {
   const int n = s.faces.size();
   LpKernel::Trace& tr = trace();
   s.rows.resize(n);
@@ -207,7 +207,7 @@ std::optional<Vec3> overlapLp(Scratch& s, int na, double touch, particles::PairS
 // start_rejected when the blocks are apart: the line of centres separates their vertices (tried
 // when it misses the overlap, before the LP) or the LP says so.
 geometry::AnalyticCentreResult contactCentre(const Body& a, const Body& b, const PairFrame& frame,
-                                             Scratch& s, int na, double touch,
+                                             LpScratch& s, int na, double touch,
                                              particles::PairState* state) {
   LpKernel::Trace& tr = trace();
   geometry::AnalyticCentreOptions newton;
@@ -248,7 +248,7 @@ geometry::AnalyticCentreResult contactCentre(const Body& a, const Body& b, const
 
 // The length of the overlap's chord along `u` through the point of slacks s.slack, exact from
 // the planes: plane i bounds t (a_i . u) <= s_i.
-double chordLength(const Scratch& s, const Vec3& u) {
+double chordLength(const LpScratch& s, const Vec3& u) {
   double t_min = -std::numeric_limits<double>::infinity();
   double t_max = std::numeric_limits<double>::infinity();
   for (int i = 0; i < s.faces.size(); ++i) {
@@ -305,7 +305,7 @@ Contact LpKernel::collide(const Body& a, const Body& b, particles::PairState* st
   }
 
   const PairFrame frame(a, b);
-  Scratch& s = scratch();
+  LpScratch& s = lpScratch();
   const int na = static_cast<int>(a.shape->faces().size());
   const int n = na + static_cast<int>(b.shape->faces().size());
   s.faces.resize(n);
