@@ -132,14 +132,15 @@ std::vector<CheckKind> makeKinds() {
       {"tilt_failure",
        Q::kAngle,
        "the platform's tilt when a block first moves `threshold` against it, deg; with measure = "
-       "\"rotation\", the largest rotation against the platform of the block that moved `reach`",
+       "\"rotation\", the slope's turn when a block first moves `reach`: the mass-weighted "
+       "median turn against the platform of the blocks that have moved reach / 10",
        {labelPrefix(true),
         {"platform", T::kParticle, true, {}, -kInf, kInf, false, false, {}, "the tilting body"},
         word("measure", {"angle", "rotation"}, "\"angle\" (the tilt; default) or \"rotation\""),
         number("threshold", false, Q::kLength, 0.0, kInf, true, false,
                "tilt: displacement against the platform that counts as failure, m"),
         number("reach", false, Q::kLength, 0.0, kInf, true, false,
-               "rotation: displacement of the block whose rotation is reported, m")}},
+               "rotation: displacement of the first block at which the slope's turn is read, m")}},
       {"pair_separation",
        Q::kTime,
        "first time two particles that pressed on each other with at least `min_force` stop, s",
