@@ -350,10 +350,25 @@ def limit(slope, base):
     others (C = 2.14 Pa adds under 0.01 deg)."""
     width = SLOPES[slope]["width"]
     if width is None:
-        return math.degrees(math.atan(mtt.MU)), "sliding, atan(mu)"
+        rate = mtt.TILT_RATE
+        return math.degrees(math.atan(mtt.MU)), (
+            f"sliding, atan(mu); a rigid block reaches 2 mm at {slide_angle(0.002, rate):.2f}")
     step = BASES[base][0]
     return gb_set_limit(step, heights_of(slope, base), width, SLOPES[slope]["layer"]), \
         "Goodman-Bray"
+
+
+def slide_angle(d, rate):
+    """The tilt (deg) at which a rigid block at rest on the platform until the tilt reaches
+    atan(mu), then sliding with friction mu while the platform turns at `rate`, has slid d (m):
+    x'' = g (sin th - mu cos th), th = atan(mu) + rate t. Near the friction angle
+    x = g rate t^3 / (6 cos(atan mu)); integrated here."""
+    g, th, x, v, dt = 9.81, math.atan(mtt.MU), 0.0, 0.0, 1e-5
+    while x < d:
+        v += g * (math.sin(th) - mtt.MU * math.cos(th)) * dt
+        x += v * dt
+        th += rate * dt
+    return math.degrees(th)
 
 
 def gb_steps():
