@@ -197,7 +197,7 @@ tolerance = "{half:g} deg"
 reference = "Li et al. 2007 experiment {low}-{high} deg (Zhao table 5); Zhao: {source}"
 
 [[check]]
-name = "{name}: {mode} (block turn when it has moved 5 cm)"
+name = "{name}: {mode} (slope's turn when a block has moved 5 cm)"
 kind = "tilt_failure"
 platform = "platform"
 label_prefix = "{name}"
@@ -208,14 +208,9 @@ reference = "Zhao table 4: {mode}"
 """
 
 
-def main():
-    text = HEADER
-    text += rock_mass("s1", 0.2, 5, 0.1, 0.0, 0.1)
-    text += brick_layers("s2", "big", 0.2, 0.1, 5, GAP + 0.05)
-    text += rock_mass("s3", 0.1, 6, 0.1, 2 * GAP, 0.1)
-    text += brick_layers("s4", "medium", 0.1, 0.1, 6, 3 * GAP + 0.05)
-    # Slope 5: a bed of 0.05 m cubes (persistent joints) under 4 stepped layers of big bricks.
-    text += f"""
+def slope5():
+    """Slope 5: a bed of 0.05 m cubes (persistent joints) under 4 stepped layers of big bricks."""
+    text = f"""
 [[rock_mass]]
 name = "s5"
 material = "small"
@@ -249,6 +244,16 @@ origin = [{0.1 * (k + 1):g}, {4 * GAP + 0.05:g}, {0.1 + 0.1 * (k + 0.5):g}]
 spacing = [0.2, 1, 1]
 count = [{5 - k}, 1, 1]
 """
+    return text
+
+
+def main():
+    text = HEADER
+    text += rock_mass("s1", 0.2, 5, 0.1, 0.0, 0.1)
+    text += brick_layers("s2", "big", 0.2, 0.1, 5, GAP + 0.05)
+    text += rock_mass("s3", 0.1, 6, 0.1, 2 * GAP, 0.1)
+    text += brick_layers("s4", "medium", 0.1, 0.1, 6, 3 * GAP + 0.05)
+    text += slope5()
     text += """
 [output]
 series_every = 2000

@@ -1,34 +1,40 @@
 #!/usr/bin/python3
-"""A-TILT-TABLE's toppling staircase (slope 3: six columns of 0.1 m cubes, 6 .. 1 high) run alone,
-on the flat platform as in the benchmark or on a stepped base, with a chosen contact kernel and
-tilt rate; reports the failure onset and the 2 mm angle of each run (docs/validation.md,
-"A-TILT-TABLE: onset, 2 mm, kernel, base and rate").
+"""A-TILT-TABLE's slopes run one at a time, on the flat platform as in the benchmark or (the
+staircases of columns, slopes 1 and 3) on a stepped base, with a chosen contact kernel and tilt
+rate; reports each run's failure onset, 2 mm and 5 cm angles and mode (docs/validation.md,
+"A-TILT-TABLE: each slope alone").
 
 Every variant keeps A-TILT-TABLE's materials, platform, floor, settling time and end angle
-(28 deg; make_tilt_table.HEADER), and slope 3's own checks. Only slope 3 stands on the platform,
-and its blocks are monitored, so that series.csv holds their history.
+(28 deg; make_tilt_table.HEADER), the slope's place on the platform and its own checks. Only
+that slope stands on the platform, and its blocks are monitored, so that series.csv holds their
+history.
 
-  flat:     slope 3 exactly as in A-TILT-TABLE (a rock mass cut into 21 cubes).
-  stepped:  the same six columns, each standing on its own tread, Goodman and Bray's geometry: the
-            tread under the k-th column from the toe is k b above the platform (b = 0.05 m, half
-            a cube; BASES below), a box turning with the platform. A column's face is then pressed by its lower
-            neighbour only above that neighbour's tread. The domain and the floor that catches
-            the fallen blocks reach 8 m down the tilt instead of 2.5 m.
-  columns5: six columns of 5 cubes each on treads rising b = 0.1 m (one cube): Goodman and Bray's
-            regular set, a staircase too, whose limit is that of one column, atan(1 / 5).
+  flat:     the slope exactly as in A-TILT-TABLE (tools/make_tilt_table.py).
+  stepped:  a staircase's columns (slope 1: 0.2 m wide, 1 .. 5 big blocks high; slope 3: 0.1 m,
+            1 .. 6 cubes), each standing on its own tread, Goodman and Bray's geometry: the tread
+            under the k-th column from the toe is k b above the platform, b = 0.05 m (half a
+            layer; Zhao gives no step: an assumption), a box turning with the platform. A
+            column's face is then pressed by its lower neighbour only above that neighbour's
+            tread. The domain and the floor that catches the fallen blocks reach 8 m down the
+            tilt instead of 2.5 m.
+  columns5: slope 3's cubes as six columns of 5 on treads rising b = 0.1 m (one cube): Goodman
+            and Bray's regular set, a staircase too, whose limit is that of one column, atan(1/5).
 
-Angles (from series.csv, every 1000 steps): d(t) is the largest displacement of a slope-3 block
-against the platform since the tilt started (t = 0.5 s, blocks settled), v(t) the largest speed
-of a block against the platform. Failure: d reaches REACH = 5 cm (half a block). Onset (scale-
-free): the tilt from which v stays above EPS sqrt(g L) (1e-3 x 0.99 m/s = 1 mm/s for L = 0.1 m)
-until that failure: the first sustained motion (a slip that jams again, v falling back, is not
-one). 2 mm: the benchmark's `tilt_failure` check (the first block to move 2 mm, jam or not). The mode is read when a block has first moved 5 cm: the turn
-against the platform of that block (the benchmark's check) and the median turn of all 21 blocks;
-toppling when the median turn is above 2 deg. The two differ when the block that moved first is
-the top cube of a leaning column sliding off it.
+Angles (from series.csv, every 1000 steps): d(t) is the largest displacement of a block of the
+slope against the platform since the tilt started (t = 0.5 s, blocks settled), v(t) the largest
+speed of a block against the platform. Failure: d reaches REACH = 5 cm (half a 0.1 m block).
+Onset (scale-free): the tilt from which v stays above EPS sqrt(g L) (L the slope's smallest
+block: 1 mm/s for 0.1 m) until that failure: the first sustained motion (a slip that jams again,
+v falling back, is not one). 2 mm: the benchmark's `tilt_failure` check (the first block to move
+2 mm, jam or not). The mode is read when a block has first moved 5 cm: the slope's turn, the
+`tilt_failure` check's reading (module/run/slope_turn.h: the mass-weighted median turn against
+the platform of the blocks that have moved a tenth of 5 cm), toppling when above 2 deg; beside
+it the turn of the first block to move 5 cm alone. The two differ when that block is a top cube
+sliding off a leaning column. Rigid limit: Goodman and Bray's recursion for the columns
+(tests/apps/goodman_bray.py), atan(mu) for the slopes that cannot topple.
 
 Run from the repository root, one case after another (each at full length, 1 rank, nice -n 10):
-  /usr/bin/python3 benchmark_scenes/tools/tilt_study.py --cases all --out results/tilt-study
+  /usr/bin/python3 benchmark_scenes/tools/tilt_study.py --cases s1-flat-gjk-0.03 --out results/tilt-study
   /usr/bin/python3 benchmark_scenes/tools/tilt_study.py --table results/tilt-study   (table only)
   /usr/bin/python3 benchmark_scenes/tools/tilt_study.py --goodman-bray   (limit against step rise)
 """
@@ -45,28 +51,57 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import make_tilt_table as mtt  # noqa: E402
 
 EDGE = 0.1            # m: slope 3's cubes
-COLUMNS = 6           # back column 6 cubes high, toe column 1
-X0, Y0 = 0.0, 0.6     # slope 3's back corner on the platform (as in A-TILT-TABLE)
+COLUMNS = 6           # slope 3: back column 6 cubes high, toe column 1
+X0 = 0.0              # every slope's back end on the platform (as in A-TILT-TABLE)
+BIG = 0.2 * 0.1 * 0.1     # m^3: a big block (Zhao table 3)
+MEDIUM = 0.1 ** 3
+SMALL = 0.05 ** 3
+# Each slope as in A-TILT-TABLE (tools/make_tilt_table.py): its y position on the platform, its
+# column width and layer height where it is a staircase of columns (None: it is not one), the
+# size L of its smallest block (onset), and the experiment's mode and range (Zhao table 5).
+SLOPES = {
+    "s1": dict(y0=0.0, width=0.2, layer=0.1, L=0.1,
+               reference=("toppling", 22.1, 24.2, "toppling 24 deg; Li: 23.0")),
+    "s2": dict(y0=mtt.GAP + 0.05, width=None, L=0.1,
+               reference=("sliding", 25.0, 26.3, "sliding 26 deg; Li: 25.5")),
+    "s3": dict(y0=2 * mtt.GAP, width=0.1, layer=0.1, L=0.1,
+               reference=("toppling", 9.8, 11.6, "toppling 11 deg; Li: 10.0")),
+    "s4": dict(y0=3 * mtt.GAP + 0.05, width=None, L=0.1,
+               reference=("sliding", 23.0, 24.9, "sliding 24 deg; Li: 23.5")),
+    "s5": dict(y0=4 * mtt.GAP, width=None, L=0.05,
+               reference=("sliding", 19.5, 21.8, "sliding 21 deg; Li: 20.0")),
+}
 # Each base: the rise b of each tread over the next lower one (m) and the columns' heights in
-# cubes from the toe up (None: slope 3 as in A-TILT-TABLE, on the flat platform).
+# layers from the toe up (None: the slope as in A-TILT-TABLE, on the flat platform).
 BASES = {
     "flat": (0.0, None),
-    "stepped": (0.05, [1, 2, 3, 4, 5, 6]),
+    "stepped": (0.05, "staircase"),
     "columns5": (0.1, [5] * COLUMNS),
 }
-REACH = 0.05          # m: the mode is read when a block has moved this far (as the check)
+REACH = 0.05          # m: failure, and where the mode is read (as the check)
+MOVED = 0.1           # the mode counts the blocks that have moved this fraction of REACH
 EPS = 1e-3            # onset: sustained speed against the platform, as a fraction of sqrt(g L)
 END_ANGLE = 28.0      # deg, as A-TILT-TABLE
-CASES = {             # name: (base, kernel, tilt rate rad/s)
-    "flat-gjk-0.03": ("flat", "gjk-epa-ipm", 0.03),
-    "flat-gjk-0.06": ("flat", "gjk-epa-ipm", 0.06),
-    "stepped-gjk-0.03": ("stepped", "gjk-epa-ipm", 0.03),
-    "stepped-gjk-0.06": ("stepped", "gjk-epa-ipm", 0.06),
-    "flat-dp-0.03": ("flat", "distance-potential", 0.03),
-    "stepped-dp-0.03": ("stepped", "distance-potential", 0.03),
-    "flat-dp-0.06": ("flat", "distance-potential", 0.06),
-    "stepped-dp-0.06": ("stepped", "distance-potential", 0.06),
-    "columns5-gjk-0.03": ("columns5", "gjk-epa-ipm", 0.03),
+GJK, DP = "gjk-epa-ipm", "distance-potential"
+CASES = {             # name: (slope, base, kernel, tilt rate rad/s); slope 3's keep short names
+    "flat-gjk-0.03": ("s3", "flat", GJK, 0.03),
+    "flat-gjk-0.06": ("s3", "flat", GJK, 0.06),
+    "stepped-gjk-0.03": ("s3", "stepped", GJK, 0.03),
+    "stepped-gjk-0.06": ("s3", "stepped", GJK, 0.06),
+    "flat-dp-0.03": ("s3", "flat", DP, 0.03),
+    "stepped-dp-0.03": ("s3", "stepped", DP, 0.03),
+    "flat-dp-0.06": ("s3", "flat", DP, 0.06),
+    "stepped-dp-0.06": ("s3", "stepped", DP, 0.06),
+    "columns5-gjk-0.03": ("s3", "columns5", GJK, 0.03),
+    "s1-flat-gjk-0.03": ("s1", "flat", GJK, 0.03),
+    "s2-flat-gjk-0.03": ("s2", "flat", GJK, 0.03),
+    "s4-flat-gjk-0.03": ("s4", "flat", GJK, 0.03),
+    "s5-flat-gjk-0.03": ("s5", "flat", GJK, 0.03),
+    "s1-stepped-gjk-0.03": ("s1", "stepped", GJK, 0.03),
+    "s1-flat-dp-0.03": ("s1", "flat", DP, 0.03),
+    "s2-flat-dp-0.03": ("s2", "flat", DP, 0.03),
+    "s4-flat-dp-0.03": ("s4", "flat", DP, 0.03),
+    "s5-flat-dp-0.03": ("s5", "flat", DP, 0.03),
 }
 
 
@@ -83,24 +118,42 @@ def header(rate, name):
             f"{name}.\n" + text)
 
 
-def flat_slope():
-    return mtt.rock_mass("s3", EDGE, COLUMNS, EDGE, Y0, EDGE), [f"s3_{i}" for i in range(21)]
+def flat_slope(slope):
+    """The slope exactly as in A-TILT-TABLE; its labels and each block's volume."""
+    if slope == "s1":
+        return mtt.rock_mass("s1", 0.2, 5, 0.1, SLOPES["s1"]["y0"], 0.1), {f"s1_{i}": BIG
+                                                                          for i in range(15)}
+    if slope == "s3":
+        return mtt.rock_mass("s3", EDGE, COLUMNS, EDGE, SLOPES["s3"]["y0"], EDGE), {
+            f"s3_{i}": MEDIUM for i in range(21)}
+    if slope == "s2":
+        return mtt.brick_layers("s2", "big", 0.2, 0.1, 5, SLOPES["s2"]["y0"]), {
+            f"s2_{k}_{i}_0_0": BIG for k in range(5) for i in range(5 - k)}
+    if slope == "s4":
+        return mtt.brick_layers("s4", "medium", 0.1, 0.1, 6, SLOPES["s4"]["y0"]), {
+            f"s4_{k}_{i}_0_0": MEDIUM for k in range(6) for i in range(6 - k)}
+    volumes = {f"s5_{i}": SMALL for i in range(80)}
+    volumes.update({f"s5_top{k}_{i}_0_0": BIG for k in range(4) for i in range(5 - k)})
+    return mtt.slope5(), volumes
 
 
-def stepped_slope(step, heights):
-    """Columns k = 0 (toe) .. 5 (back), heights[k] cubes, each on a driven tread k b high."""
-    text, labels = "", []
-    for k in range(COLUMNS):
-        x_hi = X0 + EDGE * (COLUMNS - k)
-        x_lo = x_hi - EDGE
+def stepped_slope(slope, step, heights):
+    """Columns k = 0 (toe) .. n - 1 (back), heights[k] layers, each on a driven tread k b high."""
+    width, layer, y0 = (SLOPES[slope][key] for key in ("width", "layer", "y0"))
+    shape, volume = ("medium", MEDIUM) if width == EDGE else ("big", BIG)
+    n = len(heights)
+    text, volumes = "", {}
+    for k in range(n):
+        x_hi = X0 + width * (n - k)
+        x_lo = x_hi - width
         base = k * step
         if k > 0:
             text += f"""
 [[shape]]
 name = "tread{k}"
 type = "box"
-min = [{x_lo:g}, {Y0 - 0.05:g}, 0]
-max = [{x_hi:g}, {Y0 + EDGE + 0.05:g}, {base:g}]
+min = [{x_lo:g}, {y0 - 0.05:g}, 0]
+max = [{x_hi:g}, {y0 + 0.1 + 0.05:g}, {base:g}]
 
 [[particle]]
 label = "tread{k}"
@@ -109,16 +162,25 @@ material = "block"
 driver = "tilt"
 """
         for j in range(heights[k]):
-            label = f"s3_c{k}_{j}"
-            labels.append(label)
+            label = f"{slope}_c{k}_{j}"
+            volumes[label] = volume
             text += f"""
 [[particle]]
 label = "{label}"
-shape = "medium"
+shape = "{shape}"
 material = "block"
-position = [{x_lo + 0.5 * EDGE:g}, {Y0 + 0.5 * EDGE:g}, {base + (j + 0.5) * EDGE:g}]
+position = [{x_lo + 0.5 * width:g}, {y0 + 0.05:g}, {base + (j + 0.5) * layer:g}]
 """
-    return text, labels
+    return text, volumes
+
+
+def heights_of(slope, base):
+    """The columns' heights in layers from the toe up: the staircase's own (1, 2, .., n) on the
+    flat and stepped bases, or the base's list."""
+    cubes = BASES[base][1]
+    if cubes not in (None, "staircase"):
+        return cubes
+    return list(range(1, (6 if slope == "s3" else 5) + 1))
 
 
 def wider(text):
@@ -131,30 +193,33 @@ def wider(text):
 
 
 def scene(name):
-    base, _, rate = CASES[name]
-    step, heights = BASES[base]
-    slope, labels = flat_slope() if heights is None else stepped_slope(step, heights)
-    text = header(rate, name) + slope
+    """The scene of one case: its text and its blocks' labels with their volumes."""
+    slope, base, _, rate = CASES[name]
+    step, _ = BASES[base]
+    heights = None if base == "flat" else heights_of(slope, base)
+    body, volumes = flat_slope(slope) if heights is None else stepped_slope(slope, step, heights)
+    text = header(rate, name) + body
     if heights is not None:
         text = wider(text)
-    text += "\n[output]\nseries_every = 1000\nmonitor = [" + ", ".join(f'"{x}"' for x in labels)
+    text += "\n[output]\nseries_every = 1000\nmonitor = [" + ", ".join(f'"{x}"' for x in volumes)
     text += "]\n"
-    text += mtt.checks("s3", "toppling", 9.8, 11.6, "toppling 11 deg; Li: 10.0")
-    return text, labels
+    text += mtt.checks(slope, *SLOPES[slope]["reference"])
+    return text, volumes
 
 
 def command(name, scene_file, out):
-    kernel = CASES[name][1]
+    kernel = CASES[name][2]
     cmd = ["nice", "-n", "10", "build/bin/polydem", "run", scene_file, "--out", out,
            "--no-snapshots", "--quiet"]
-    return cmd + (["--kernel", kernel] if kernel != "gjk-epa-ipm" else [])
+    return cmd + (["--kernel", kernel] if kernel != GJK else [])
 
 
-def onset_angle(history):
+def onset_angle(history, size=EDGE):
     """The tilt (deg) from which the fastest block's speed against the platform stays above
-    EPS x sqrt(g x block size) until a block has moved REACH: the start of the motion that fails
-    the slope, not an earlier slip that jams. NaN when no block moves REACH."""
-    v_min = EPS * math.sqrt(9.81 * EDGE)
+    EPS x sqrt(g x size) (size: the slope's smallest block) until a block has moved REACH: the
+    start of the motion that fails the slope, not an earlier slip that jams. NaN when no block
+    moves REACH."""
+    v_min = EPS * math.sqrt(9.81 * size)
     fail = next((i for i, (_, d, _) in enumerate(history) if d >= REACH), None)
     if fail is None:
         return math.nan
@@ -164,13 +229,28 @@ def onset_angle(history):
     return history[i][0]
 
 
-def analyse(name, out, labels):
-    """Onset, 2 mm angle and mode of one run from its series.csv and summary.json."""
-    rate = CASES[name][2]
+def slope_turn(moves):
+    """The `tilt_failure` check's mode reading (module/run/motion_checks.cpp): of (displacement,
+    turn, volume) of every block when the first has moved REACH, the volume-weighted median turn
+    of those that have moved MOVED x REACH."""
+    moved = sorted((turn, v) for d, turn, v in moves if d >= MOVED * REACH)
+    half = 0.5 * sum(v for _, v in moved)
+    total = 0.0
+    for turn, v in moved:
+        total += v
+        if total >= half:
+            return turn
+    return math.nan
+
+
+def analyse(name, out, volumes):
+    """Onset, 2 mm, 5 cm and the turns of one run from its series.csv and summary.json."""
+    slope, _, _, rate = CASES[name]
+    labels = list(volumes)
     with open(os.path.join(out, "series.csv")) as f:
         rows = list(csv.DictReader(f))
-    ref, median_turn = None, None
-    history = []   # (tilt deg, largest displacement against the platform)
+    ref, first_turn, turn = None, math.nan, math.nan
+    history = []   # (tilt deg, largest displacement against the platform, largest speed)
     for r in rows:
         t = float(r["time"])
         if t < mtt.START - 1e-12:
@@ -184,7 +264,8 @@ def analyse(name, out, labels):
             pts.append((c * x - s * z, y, s * x + c * z))
         if ref is None:
             ref = pts
-        d = max(math.dist(p, q) for p, q in zip(pts, ref))
+        moves = [math.dist(p, q) for p, q in zip(pts, ref)]
+        d = max(moves)
         # Speed against the platform: the block's velocity less the platform's, w x r (w along
         # y, the pivot at the origin).
         v = 0.0
@@ -193,20 +274,23 @@ def analyse(name, out, labels):
             vx, vy, vz = (float(r[f"{lab}_v{a}"]) for a in "xyz")
             v = max(v, math.hypot(vx - rate * z, vy, vz + rate * x))
         history.append((math.degrees(th), d, v))
-        if d >= REACH and median_turn is None:
+        if d >= REACH and math.isnan(turn):
             # The blocks turn about y as the platform does: their turn against it is the
             # difference of the angles.
-            turns = sorted(abs(math.degrees(float(r[f"{lab}_rotation"]) - th)) for lab in labels)
-            median_turn = turns[len(turns) // 2]
-    onset = onset_angle(history)
+            turns = [abs(math.degrees(float(r[f"{lab}_rotation"]) - th)) for lab in labels]
+            first_turn = turns[moves.index(d)]
+            turn = slope_turn(zip(moves, turns, volumes.values()))
+    onset = onset_angle(history, SLOPES[slope]["L"])
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
     checks = {c["name"]: c for c in summary.get("checks", [])}
-    angle = checks.get("s3: failure angle", {}).get("value")
-    turn = checks.get("s3: toppling (block turn when it has moved 5 cm)", {}).get("value")
-    angle, turn = (math.nan if v is None else v for v in (angle, turn))
-    return {"onset": onset, "angle_2mm": angle, "turn": turn,
-            "median_turn": math.nan if median_turn is None else median_turn,
+    angle = checks.get(f"{slope}: failure angle", {}).get("value")
+    mode = SLOPES[slope]["reference"][0]
+    check_turn = next((c.get("value") for n, c in checks.items()
+                       if n.startswith(f"{slope}: {mode} (")), None)
+    angle, check_turn = (math.nan if v is None else v for v in (angle, check_turn))
+    return {"onset": onset, "angle_2mm": angle, "check_turn": check_turn,
+            "first_turn": first_turn, "turn": turn,
             "end_d": history[-1][1] if history else math.nan,
             "reach_angle": next((th for th, d, _ in history if d >= REACH), math.nan)}
 
@@ -214,7 +298,7 @@ def analyse(name, out, labels):
 def run_case(name, root):
     out = os.path.join(root, name)
     os.makedirs(root, exist_ok=True)
-    text, labels = scene(name)
+    text, volumes = scene(name)
     scene_file = os.path.join(root, f"{name}.toml")
     with open(scene_file, "w") as f:
         f.write(text)
@@ -222,25 +306,26 @@ def run_case(name, root):
     t0 = time.time()
     subprocess.run(cmd, check=False)
     wall = time.time() - t0
-    result = analyse(name, out, labels)
+    result = analyse(name, out, volumes)
     result.update(name=name, wall=wall, command=" ".join(cmd))
     with open(os.path.join(root, f"{name}.json"), "w") as f:
         json.dump(result, f, indent=1)
     return result
 
 
-def gb_set_limit(step, cubes):
-    """Goodman and Bray's limit tilt (deg) of six columns of `cubes` cubes (toe first) on treads
-    rising `step` m: the platform's tilt at which their recursion (tests/apps/goodman_bray.py,
-    mu on bases and sides) first needs a force at a toe. Columns whose lower neighbour's top is
-    below their tread stand free of it: each connected run of columns is its own set."""
+def gb_set_limit(step, cubes, width=EDGE, layer=EDGE):
+    """Goodman and Bray's limit tilt (deg) of columns of `cubes` layers (toe first) `width` wide
+    on treads rising `step` m: the platform's tilt at which their recursion
+    (tests/apps/goodman_bray.py, mu on bases and sides) first needs a force at a toe. Columns
+    whose lower neighbour's top is below their tread stand free of it: each connected run of
+    columns is its own set."""
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../tests/apps"))
     from goodman_bray import toe_force
     phi = math.degrees(math.atan(mtt.MU))
-    heights = [EDGE * n for n in cubes]
-    bases = [k * step for k in range(COLUMNS)]
+    heights = [layer * n for n in cubes]
+    bases = [k * step for k in range(len(heights))]
     runs = [[0]]
-    for k in range(1, COLUMNS):
+    for k in range(1, len(heights)):
         if bases[k - 1] + heights[k - 1] - bases[k] > 1e-12:
             runs[-1].append(k)
         else:
@@ -251,7 +336,7 @@ def gb_set_limit(step, cubes):
         lo, hi = 0.01, phi - 1e-6
         for _ in range(80):
             mid = 0.5 * (lo + hi)
-            if toe_force(phi, mid, EDGE, h, b)[0] > 0.0:
+            if toe_force(phi, mid, width, h, b)[0] > 0.0:
                 hi = mid
             else:
                 lo = mid
@@ -259,10 +344,31 @@ def gb_set_limit(step, cubes):
     return min(limits)
 
 
-def gb_limit(base):
-    """Goodman and Bray's limit tilt (deg) of the six columns on that base."""
-    step, cubes = BASES[base]
-    return gb_set_limit(step, cubes or range(1, COLUMNS + 1))
+def limit(slope, base):
+    """The rigid-block limit tilt (deg) of a slope on a base, and what gives it: Goodman and
+    Bray's for a set of columns, the friction angle atan(mu) (sliding on the platform) for the
+    others (C = 2.14 Pa adds under 0.01 deg)."""
+    width = SLOPES[slope]["width"]
+    if width is None:
+        rate = mtt.TILT_RATE
+        return math.degrees(math.atan(mtt.MU)), (
+            f"sliding, atan(mu); a rigid block reaches 2 mm at {slide_angle(0.002, rate):.2f}")
+    step = BASES[base][0]
+    return gb_set_limit(step, heights_of(slope, base), width, SLOPES[slope]["layer"]), \
+        "Goodman-Bray"
+
+
+def slide_angle(d, rate):
+    """The tilt (deg) at which a rigid block at rest on the platform until the tilt reaches
+    atan(mu), then sliding with friction mu while the platform turns at `rate`, has slid d (m):
+    x'' = g (sin th - mu cos th), th = atan(mu) + rate t. Near the friction angle
+    x = g rate t^3 / (6 cos(atan mu)); integrated here."""
+    g, th, x, v, dt = 9.81, math.atan(mtt.MU), 0.0, 0.0, 1e-5
+    while x < d:
+        v += g * (math.sin(th) - mtt.MU * math.cos(th)) * dt
+        x += v * dt
+        th += rate * dt
+    return math.degrees(th)
 
 
 def gb_steps():
@@ -273,11 +379,15 @@ def gb_steps():
     return "\n".join(lines) + "\n"
 
 
+def mode_of(turn):
+    return "toppling" if turn > 2.0 else "sliding" if turn >= 0.0 else "-"
+
+
 def table(root):
-    lines = ["| case | base | kernel | tilt rate (rad/s) | onset (deg) | 2 mm (deg) | 5 cm (deg) "
-             "| turn at 5 cm (deg) "
-             "| median turn at 5 cm (deg) | mode | Goodman-Bray limit (deg) | wall (s) | command |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| case | slope | base | kernel | tilt rate (rad/s) | onset (deg) | 2 mm (deg) "
+             "| 5 cm (deg) | first block's turn at 5 cm (deg) | slope's turn at 5 cm (deg) "
+             "| mode | experiment (deg) | rigid limit (deg) | wall (s) | command |",
+             "|" + "---|" * 15]
     for name in CASES:
         path = os.path.join(root, f"{name}.json")
         if not os.path.exists(path):
@@ -286,16 +396,15 @@ def table(root):
             r = json.load(f)
         # Read the run's outputs again: the table follows this file's definitions.
         r.update(analyse(name, os.path.join(root, name), scene(name)[1]))
-        base, kernel, rate = CASES[name]
-        m = r.get("median_turn", math.nan)
-        mode = "toppling" if m > 2.0 else "sliding" if m >= 0.0 else "-"
-        step, cubes = BASES[base]
-        where = f"{base} (b = {step:g} m)" if cubes else base
-        lines.append(f"| {name} | {where} "
-                     f"| {kernel} | {rate:g} | {r['onset']:.2f} | {r['angle_2mm']:.2f} "
-                     f"| {r['reach_angle']:.2f} "
-                     f"| {r['turn']:.1f} | {m:.1f} | {mode} | {gb_limit(base):.2f} | {r['wall']:.0f} "
-                     f"| `{r['command']}` |")
+        slope, base, kernel, rate = CASES[name]
+        step = BASES[base][0]
+        where = f"{base} (b = {step:g} m)" if base != "flat" else base
+        mode, low, high, _ = SLOPES[slope]["reference"]
+        lim, what = limit(slope, base)
+        lines.append(f"| {name} | {slope} | {where} | {kernel} | {rate:g} | {r['onset']:.2f} "
+                     f"| {r['angle_2mm']:.2f} | {r['reach_angle']:.2f} | {r['first_turn']:.1f} "
+                     f"| {r['turn']:.1f} | {mode_of(r['turn'])} | {mode} {low}-{high} "
+                     f"| {lim:.2f} ({what}) | {r['wall']:.0f} | `{r['command']}` |")
     text = "\n".join(lines) + "\n"
     with open(os.path.join(root, "table.md"), "w") as f:
         f.write(text)
@@ -323,7 +432,8 @@ def main():
     for name in names:
         r = run_case(name, args.out)
         print(f"{name}: onset {r['onset']:.2f} deg, 2 mm {r['angle_2mm']:.2f} deg, "
-              f"turn {r['turn']:.1f} deg, {r['wall']:.0f} s", flush=True)
+              f"5 cm {r['reach_angle']:.2f} deg, slope's turn {r['turn']:.1f} deg, "
+              f"{r['wall']:.0f} s", flush=True)
     print(table(args.out), end="")
 
 

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """benchmark_scenes/tools/tilt_study.py: its onset is the start of the motion that fails the
-slope (not an earlier slip that jams), and its stepped bases hold the columns where they were put:
+slope (not an earlier slip that jams), its mode is read as the `tilt_failure` check reads it (the
+slope's median turn), and its stepped bases hold the columns where they were put:
 over the first 0.1 s of settling (the tilt starts at 0.5 s) no block moves 1e-3 of its size (a
 tread 1 cm too low would let a column fall it in 45 ms; one too high would push it off).
 
@@ -31,6 +32,18 @@ def check_onset(ts):
     print("onset: the start of the sustained motion (12.0 deg), not the jammed slip (10.0)")
 
 
+def check_mode(ts):
+    # The state of slope 3 when its first block had moved 5 cm (as the SlopeTurn test of
+    # tests/run/motion_checks_test.cpp): the top cube slid off a leaning column without turning.
+    moves = [(0.05, 0.0, 1.0)] + [(0.008 * (i + 1), 6.0, 1.0) for i in range(5)]
+    moves += [(0.007 * (i + 1), 4.5, 1.0) for i in range(5)]
+    moves += [(0.0003 * i, 0.1 * i, 1.0) for i in range(10)]
+    turn = ts.slope_turn(moves)
+    if turn != 4.5:
+        sys.exit(f"FAIL: the slope's turn is {turn} deg, expected 4.5 (the check's reading)")
+    print("mode: the slope's turn 4.5 deg (toppling), its first block's 0 deg")
+
+
 def check_settles(ts, polydem, work, case):
     text, labels = ts.scene(case)
     path = os.path.join(work, f"{case}.toml")
@@ -58,7 +71,8 @@ def main():
     import tilt_study as ts
     os.makedirs(work, exist_ok=True)
     check_onset(ts)
-    for case in ("stepped-gjk-0.03", "columns5-gjk-0.03"):
+    check_mode(ts)
+    for case in ("stepped-gjk-0.03", "columns5-gjk-0.03", "s1-stepped-gjk-0.03"):
         check_settles(ts, polydem, work, case)
     print("PASS")
 

@@ -4,12 +4,14 @@
 // tilting platform that slide or topple at the angle rigid-block statics gives (tilt_failure).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
 #include "polydem/core/logging.h"
 #include "polydem/core/strings.h"
 #include "polydem/run/run.h"
+#include "polydem/run/slope_turn.h"
 #include "polydem/scene/scene_reader.h"
 
 namespace polydem::sim {
@@ -222,6 +224,34 @@ TEST(TiltFailure, AColumnOfSixCubesToppling) {
   const auto c = run(scene);
   EXPECT_NEAR(c.at("angle").value, 10.0, 1.0) << c.at("angle").note;
   EXPECT_GT(c.at("turn").value, 5.0) << c.at("turn").note << " | " << c.at("angle").note;
+}
+
+// The tilt_failure check's mode is the slope's (run/slope_turn.h), not its first block's: the
+// state of A-TILT-TABLE's slope 3 when its first block had moved 5 cm. The back column of six
+// 0.1 m cubes leans 6 deg and its top cube has slid 5 cm off it without turning; its neighbours
+// lean less; the toe columns have not moved. The first block alone reads "sliding".
+TEST(SlopeTurn, AToppingColumnWhoseTopCubeSlidesOffFirst) {
+  const double cube = 2000.0 * 1e-3;                          // kg
+  std::vector<run::BlockMove> blocks = {{0.050, 0.0, cube}};  // the top cube sliding off
+  for (int i = 0; i < 5; ++i) blocks.push_back({0.008 * (i + 1), 6.0, cube});       // back column
+  for (int i = 0; i < 5; ++i) blocks.push_back({0.007 * (i + 1), 4.5, cube});       // the next one
+  for (int i = 0; i < 10; ++i) blocks.push_back({0.001 * i * 0.3, 0.1 * i, cube});  // at rest
+  const double reach = 0.05;
+  const double turn = run::slopeTurn(blocks, run::kMovedFraction * reach);
+  EXPECT_GT(turn, 2.0) << "the slope topples; its first block alone turned 0 deg";
+  EXPECT_EQ(turn, 4.5);  // 11 blocks moved 5 mm: 1 at 0 deg, 5 at 4.5, 5 at 6
+  // The same median whatever order the ranks gathered the blocks in.
+  std::reverse(blocks.begin(), blocks.end());
+  EXPECT_EQ(run::slopeTurn(blocks, run::kMovedFraction * reach), turn);
+}
+
+TEST(SlopeTurn, WeightedByMassAndNaNWhenNothingMoved) {
+  // A big brick sliding on a bed of small cubes that roll: the brick's turn is the slope's.
+  const std::vector<run::BlockMove> blocks = {
+      {0.05, 0.3, 16.0}, {0.02, 30.0, 1.0}, {0.02, 25.0, 1.0}, {0.01, 40.0, 1.0}};
+  EXPECT_EQ(run::slopeTurn(blocks, 0.005), 0.3);
+  EXPECT_TRUE(std::isnan(run::slopeTurn(blocks, 0.1)));
+  EXPECT_TRUE(std::isnan(run::slopeTurn({}, 0.005)));
 }
 
 }  // namespace

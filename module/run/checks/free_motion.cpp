@@ -19,8 +19,6 @@ namespace polydem::run::kinds {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 double pick(const FreeMotion& m, const std::string& quantity) {
   if (quantity == "mean_displacement") return m.mean_displacement;
   if (quantity == "max_displacement") return m.max_displacement;
@@ -60,7 +58,7 @@ class FreeMotionCheck : public Check {
                " m, largest ", num(m.max_displacement), " m; mean speed ", num(m.mean_speed),
                " m/s; largest angular speed ", num(m.max_angular_speed), " rad/s");
     if (at_ == "end") return now_;
-    if (at_ == "max") return sim.time() >= after_ ? largest_ : kNaN;
+    if (at_ == "max") return sim.time() >= after_ ? largest_ : kNoValue;
     if (std::isnan(first_below_))
       note += cat("; never below ", num(limit_), " after ", after_, " s");
     return first_below_;
@@ -91,7 +89,7 @@ class FreeMotionCheck : public Check {
   double after_ = 0.0, limit_ = -INFINITY;
   std::int64_t every_ = 1;
   std::optional<FreeMotionMeter> meter_;
-  double now_ = 0.0, largest_ = 0.0, first_below_ = kNaN;
+  double now_ = 0.0, largest_ = 0.0, first_below_ = kNoValue;
 };
 
 }  // namespace

@@ -3,6 +3,7 @@
 // the same name under module/scene/check_kinds/. check_table.cpp registers them by name.
 #pragma once
 
+#include <limits>
 #include <memory>
 
 #include "polydem/run/checks.h"
@@ -10,6 +11,9 @@
 #include "polydem/setup/setup.h"
 
 namespace polydem::run::kinds {
+
+/// A check's value not (yet) known: a check that has not decided.
+inline constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 std::unique_ptr<Check> displacement(const setup::Setup& scene, const setup::CheckSpec& spec,
                                     Tracker& tracker);

@@ -14,8 +14,6 @@ namespace polydem::run::kinds {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 // The first time two particles that pressed on each other stop doing so (Zhao section 5.4: the
 // front block of a pillar leaves the block behind it when the compression wave reaches it).
 class PairSeparationCheck : public Check {
@@ -67,7 +65,7 @@ class PairSeparationCheck : public Check {
   particles::PairKey key_;
   double min_force_ = 0.0;
   bool pressed_ = false;
-  double time_ = kNaN;
+  double time_ = kNoValue;
 };
 
 }  // namespace

@@ -1,7 +1,8 @@
 // Check kind "tilt_failure": blocks on a tilting platform (Zhao section 5.3). The platform's tilt
-// (deg) when a block first moves `threshold` against it, or (measure = "rotation") the largest
-// rotation (deg) against the platform of the block that has moved `reach`: near 0 when the slope
-// slides, large when it topples.
+// (deg) when a block first moves `threshold` against it, or (measure = "rotation") the slope's
+// turn (deg) when a block first moves `reach`: the mass-weighted median turn against the platform
+// of the blocks that have moved reach / 10 (slope_turn.h): near 0 when the slope slides, large
+// when it topples.
 #include <cmath>
 #include <limits>
 #include <map>
@@ -12,13 +13,12 @@
 #include "polydem/run/checks/keys.h"
 #include "polydem/run/checks/kinds.h"
 #include "polydem/run/free_motion.h"
+#include "polydem/run/slope_turn.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::run::kinds {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Blocks on a tilting platform: positions and orientations in the platform's frame.
 class TiltFailureCheck : public Check {
@@ -47,29 +47,34 @@ class TiltFailureCheck : public Check {
     if (!std::isnan(value_)) return;  // decided (the same on every rank)
     if (start_.empty()) start(sim);
     const particles::Particle* platform = find(sim, platform_.uid);
-    const Quat q_platform = platform->orientation;
-    const Vec3 c_platform = platform->position;
-    // Largest displacement of a block in the platform's frame, and that block's rotation.
+    const std::vector<BlockMove> moves = blockMoves(sim, *platform);
+    // The largest displacement of a block in the platform's frame, and that block's turn.
     double local[2] = {0.0, 0.0};
-    const auto& storage = sim.particles();
-    for (std::size_t i = 0; i < storage.localCount(); ++i) {
-      const auto& p = storage[i];
-      const auto it = index_.find(p.uid);
-      if (!p.isFree() || it == index_.end()) continue;
-      const Vec3 x = q_platform.conjugate() * (p.position - c_platform);
-      const double d = (x - start_[it->second].first).norm();
-      if (d <= local[0]) continue;
-      local[0] = d;
-      const Quat q = q_platform.conjugate() * p.orientation;
-      local[1] = radToDeg(rotationAngle(start_[it->second].second, q));
+    for (const BlockMove& m : moves) {
+      if (m.displacement <= local[0]) continue;
+      local[0] = m.displacement;
+      local[1] = m.turn;
     }
     const double largest = mpi::allreduceMax(local[0], sim.comm());
-    const double rotation = mpi::allreduceMax(local[0] == largest ? local[1] : -1.0, sim.comm());
     if (largest < reach_) return;
-    const double tilt = radToDeg(rotationAngle(platform0_, q_platform));
-    value_ = rotation_ ? rotation : tilt;
+    const double first_turn = mpi::allreduceMax(local[0] == largest ? local[1] : -1.0, sim.comm());
+    const double tilt = radToDeg(rotationAngle(platform0_, platform->orientation));
     note = cat("a block moved ", num(largest), " m against the platform at t = ", num(sim.time()),
-               " s, tilt ", num(tilt), " deg; that block turned ", num(rotation), " deg");
+               " s, tilt ", num(tilt), " deg; that block turned ", num(first_turn), " deg");
+    if (!rotation_) {
+      value_ = tilt;
+      return;
+    }
+    // The mode is the slope's: the median turn of every block that has moved (slope_turn.h).
+    const double moved = kMovedFraction * reach_;
+    std::vector<BlockMove> counted;
+    for (const BlockMove& m : moves) {
+      if (m.displacement >= moved) counted.push_back(m);
+    }
+    counted = mpi::allgatherv(counted, sim.comm());
+    value_ = slopeTurn(counted, moved);
+    note += cat("; the ", counted.size(), " blocks that had moved ", num(moved), " m turned ",
+                num(value_), " deg (mass-weighted median)");
   }
   double value(sim::Simulation&) override {
     if (std::isnan(value_)) note = cat("no block moved ", num(reach_), " m against the platform");
@@ -86,6 +91,23 @@ class TiltFailureCheck : public Check {
     }
     throw SimulationError(
         cat("tilt_failure: the platform (particle ", uid, ") is not on this rank"));
+  }
+  // Each local block's displacement and turn against the platform since the start.
+  std::vector<BlockMove> blockMoves(const sim::Simulation& sim,
+                                    const particles::Particle& platform) const {
+    const Quat q_platform = platform.orientation;
+    std::vector<BlockMove> moves;
+    const auto& storage = sim.particles();
+    for (std::size_t i = 0; i < storage.localCount(); ++i) {
+      const auto& p = storage[i];
+      const auto it = index_.find(p.uid);
+      if (!p.isFree() || it == index_.end()) continue;
+      const auto& [x0, q0] = start_[it->second];
+      const Vec3 x = q_platform.conjugate() * (p.position - platform.position);
+      const Quat q = q_platform.conjugate() * p.orientation;
+      moves.push_back({(x - x0).norm(), radToDeg(rotationAngle(q0, q)), storage.mass(i)});
+    }
+    return moves;
   }
   // Where the blocks start in the platform's frame, from the scene.
   void start(const sim::Simulation& sim) {
@@ -105,7 +127,7 @@ class TiltFailureCheck : public Check {
   Quat platform0_ = Quat::Identity();
   std::map<Uid, std::size_t> index_;
   std::vector<std::pair<Vec3, Quat>> start_;
-  double value_ = kNaN;
+  double value_ = kNoValue;
 };
 
 }  // namespace

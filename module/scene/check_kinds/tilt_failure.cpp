@@ -11,7 +11,8 @@ CheckKind tiltFailure() {
       "tilt_failure",
       Quantity::kAngle,
       "the platform's tilt when a block first moves `threshold` against it, deg; with measure = "
-      "\"rotation\", the largest rotation against the platform of the block that moved `reach`",
+      "\"rotation\", the slope's turn when a block first moves `reach`: the mass-weighted "
+      "median turn against the platform of the blocks that have moved reach / 10",
       {labelPrefix(true),
        {"platform",
         CheckParamType::kParticle,
@@ -27,7 +28,7 @@ CheckKind tiltFailure() {
        number("threshold", false, Quantity::kLength, 0.0, kInf, true, false,
               "tilt: displacement against the platform that counts as failure, m"),
        number("reach", false, Quantity::kLength, 0.0, kInf, true, false,
-              "rotation: displacement of the block whose rotation is reported, m")}};
+              "rotation: displacement of the first block at which the slope's turn is read, m")}};
 }
 
 }  // namespace polydem::scene::kinds
