@@ -2,6 +2,7 @@
 // reports the runout and the deposit (run/runout.h); --resume DIR continues one a signal stopped.
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "commands.h"
 #include "polydem/checkpoint/checkpoint.h"
@@ -23,14 +24,15 @@ namespace {
 void runoutUsage() {
   std::printf(
       "usage: [mpirun -n N] polydem runout SCENE.toml --out DIR [options]\n"
-      "       [mpirun -n N] polydem runout --resume DIR\n"
+      "       [mpirun -n N] polydem runout --resume DIR [--time-cap T]\n"
       "Runs the scene (its initial-equilibrium stage first, if it has one) until every free\n"
       "block is at rest, or the time cap, and writes DIR/runout.json (runout distance of the\n"
       "failed mass's front, largest block travel, the deposit's area, length, width and volume),\n"
       "DIR/thickness.csv and thickness.png (the deposit's thickness above the ground on a\n"
       "horizontal grid) and DIR/runout_series.csv. SIGTERM/SIGUSR1 stop it with a checkpoint\n"
       "(DIR/runout.h5) that --resume DIR continues, the same bits as a run that never stopped.\n"
-      "  --time-cap T          simulated seconds at most (default: the scene's end_time)\n"
+      "  --time-cap T          simulated seconds of run-on at most (default: the scene's\n"
+      "                        end_time); with --resume, a new cap for the continued run\n"
       "  --check-every N       steps between checks of rest (default 100)\n"
       "  --cell H              the thickness map's cell, m (default: 1/4 of the median size of\n"
       "                        the failed blocks)\n"
@@ -83,6 +85,10 @@ int runoutCommand(int argc, char** argv) {
   if (args.flag("quiet")) log::setLevel(log::Level::kWarning);
   if (resume) {
     const std::string out = *resume;
+    // Only the cap may change on a resume: it decides when the run stops, never its states.
+    std::optional<double> cap;
+    if (args.value("time-cap")) cap = args.number("time-cap", 0.0);
+    if (cap && !(*cap > 0.0)) throw UsageError("the run-on's time cap must be > 0");
     args.rejectUnknown();
     const std::string file = out + "/runout.h5";
     const sim::CheckpointData data = checkpoint::readCheckpoint(file, MPI_COMM_WORLD);
@@ -90,6 +96,7 @@ int runoutCommand(int argc, char** argv) {
     run::prepareContinuation(data, file, scene);
     run::RunoutSettings settings;
     const run::RunoutProgress progress = run::runoutStateFrom(data.run_state, file, settings);
+    if (cap) settings.time_cap = *cap;
     settings.dir = out;
     settings.scene_text = data.scene_toml;
     settings.scene_file = data.scene_file;
