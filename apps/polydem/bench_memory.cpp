@@ -1,4 +1,5 @@
-// polydem bench memory: the heap a P-PILE run holds, by structure, per particle and per contact,
+// polydem bench memory: the heap a P-PILE run (or a scene file's) holds, by structure, per particle
+// and per contact,
 // counted from what is allocated (Simulation::memoryUse, capacities times element sizes): the
 // same figures on any machine for the same build and input. Figures at the end of the set-up
 // (with the caller's own copy of the setup, which a scene reader or generator holds while the
@@ -21,6 +22,8 @@
 #include "polydem/core/logging.h"
 #include "polydem/core/memory.h"
 #include "polydem/core/mpi_env.h"
+#include "polydem/geometry/shape_memory.h"
+#include "polydem/scene/scene_reader.h"
 #include "polydem/setup/setup.h"
 #include "polydem/sim/simulation.h"
 
@@ -31,7 +34,8 @@ namespace {
 // The caller's setup: its particle and shape lists.
 std::uint64_t callerSetupBytes(const setup::Setup& scene) {
   std::uint64_t bytes = capacityBytes(scene.particles) + capacityBytes(scene.shapes);
-  for (const auto& s : scene.shapes) bytes += capacityBytes(s.vertices);
+  for (const auto& s : scene.shapes)
+    bytes += capacityBytes(s.vertices) + capacityBytes(s.face_planes);
   return bytes;
 }
 
@@ -42,6 +46,26 @@ std::vector<std::uint64_t> sumOverRanks(const sim::MemoryUse& use, MPI_Comm comm
   MPI_Allreduce(mine.data(), sum.data(), static_cast<int>(mine.size()), MPI_UINT64_T, MPI_SUM,
                 comm);
   return sum;
+}
+
+// The rank's shape table by part (geometry/shape_memory.h), summed over the ranks, per particle.
+void printShapeParts(const sim::Simulation& sim, double particles, MPI_Comm comm) {
+  const auto parts = geometry::shapeMemory(sim.shapes());
+  std::vector<std::uint64_t> mine, sum(2 * parts.size());
+  for (const auto& p : parts) mine.insert(mine.end(), {p.bytes, p.blocks});
+  MPI_Allreduce(mine.data(), sum.data(), static_cast<int>(mine.size()), MPI_UINT64_T, MPI_SUM,
+                comm);
+  if (mpi::rank() != 0) return;
+  std::printf("shapes by part, at the end of the steps (%zu shapes on rank 0):\n",
+              sim.shapes().size());
+  std::printf("  %-12s %12s %10s %10s %10s  %s\n", "part", "bytes", "B/particle", "blocks",
+              "blk/part.", "what");
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    std::printf("  %-12s %12llu %10.1f %10llu %10.2f  %s\n", parts[i].name.c_str(),
+                static_cast<unsigned long long>(sum[2 * i]), sum[2 * i] / particles,
+                static_cast<unsigned long long>(sum[2 * i + 1]), sum[2 * i + 1] / particles,
+                parts[i].what.c_str());
+  }
 }
 
 // Peak resident memory of this process (VmHWM), kB; 0 where /proc is not there.
@@ -62,11 +86,13 @@ int benchMemory(int argc, char** argv) {
     std::printf(
         "usage: mpirun -n P polydem bench memory [--particles N] [--shapes cubes|mixed]\n"
         "         [--gap G] [--layers L] [--steps S] [--contact-model sub-contacts|point]\n"
-        "         [--json FILE]\n"
+        "         [--scene FILE] [--json FILE]\n"
         "  builds the P-PILE scene of bench scaling (--gap -0.001 with cubes: a dense pack, every\n"
         "  face in contact), runs S steps (default 20) and prints the heap it holds by structure,\n"
         "  per particle and per touching pair, summed over the ranks: counted from capacities\n"
-        "  (the same on any machine), at the end of the set-up and the largest over the steps.\n");
+        "  (the same on any machine), at the end of the set-up and the largest over the steps.\n"
+        "  --scene FILE: the scene file's run instead of the pile (its own contact model; the\n"
+        "  pile's options do not apply), with its shape table by part.\n");
     return 0;
   }
   sim::PileOptions pile;
@@ -80,11 +106,12 @@ int benchMemory(int argc, char** argv) {
   }
   const std::int64_t steps = args.integer("steps", 20, 0, Args::kInt64Max);
   const auto json_path = args.value("json");
+  const auto scene_path = args.value("scene");
   args.rejectUnknown();
   log::setLevel(log::Level::kWarning);
 
-  setup::Setup scene = sim::makePileScene(pile);
-  scene.contact_model = model;
+  setup::Setup scene = scene_path ? scene::readScene(*scene_path) : sim::makePileScene(pile);
+  if (!scene_path) scene.contact_model = model;
   const std::uint64_t caller = callerSetupBytes(scene);
   std::uint64_t caller_sum = 0;
   MPI_Allreduce(&caller, &caller_sum, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
@@ -109,6 +136,7 @@ int benchMemory(int argc, char** argv) {
                             static_cast<std::int64_t>(sim.history().subCount())},
                sums[2] = {0, 0};
   MPI_Allreduce(counts, sums, 2, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+  printShapeParts(sim, static_cast<double>(mon.particles), MPI_COMM_WORLD);
   const struct mallinfo2 heap = mallinfo2();
   long long rss_kb = peakResidentKb(), rss_sum = 0;
   double heap_mine = static_cast<double>(heap.uordblks + heap.hblkhd), heap_sum = 0;
@@ -121,11 +149,13 @@ int benchMemory(int argc, char** argv) {
   std::uint64_t setup_total = caller_sum;
   for (const auto b : setup_bytes) setup_total += b;
   std::printf(
-      "P-PILE memory: %lld %s, gap %g, contact model %s, %d rank(s), %lld steps: %lld touching "
+      "%s memory: %lld %s, gap %g, contact model %s, %d rank(s), %lld steps: %lld touching "
       "pairs (%.2f per particle); the history holds %lld pairs and %lld sub-contacts\n",
-      static_cast<long long>(mon.particles), pile.shapes.c_str(), pile.gap, model.c_str(),
-      mpi::size(), static_cast<long long>(steps), static_cast<long long>(mon.contacts),
-      mon.contacts / n, static_cast<long long>(sums[0]), static_cast<long long>(sums[1]));
+      scene_path ? scene_path->c_str() : "P-PILE", static_cast<long long>(mon.particles),
+      scene_path ? "particles" : pile.shapes.c_str(), scene_path ? 0.0 : pile.gap,
+      sim.scene().contact_model.c_str(), mpi::size(), static_cast<long long>(steps),
+      static_cast<long long>(mon.contacts), mon.contacts / n, static_cast<long long>(sums[0]),
+      static_cast<long long>(sums[1]));
   std::printf("%-14s %12s %12s %10s %10s  %s\n", "structure", "set-up [B]", "steps [B]",
               "B/particle", "B/contact", "what");
   nlohmann::json structures = nlohmann::json::object();

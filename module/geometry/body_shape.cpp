@@ -78,7 +78,7 @@ BodyFrameResult toBodyFrame(const ConvexPolyhedron& input, std::string name) {
   shape.principal_moments = body.inertia().diagonal();
   shape.circumradius = body.circumradius();
   shape.inradius = body.inradius();
-  shape.polyhedron = std::move(body);
+  shape.polyhedron = std::make_shared<const ConvexPolyhedron>(std::move(body));
   return out;
 }
 

@@ -1,9 +1,13 @@
 // BodyShape: a particle shape in its body frame (centroid at the origin, axes along the principal
 // axes of inertia) with its mass properties per unit density. Particles carry an id into one table
-// of BodyShapes that every rank holds; messages and checkpoints carry the id, not the mesh.
+// of BodyShapes that every rank holds; messages and checkpoints carry the id, not the mesh. Shapes
+// whose body-frame polyhedra are the same to the last bit (the congruent blocks of a rock mass cut
+// on exactly representable planes) share one polyhedron (shape_sharing.h); each keeps its own
+// joint plane per face.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,7 +17,8 @@ namespace polydem::geometry {
 
 struct BodyShape {
   std::string name;
-  ConvexPolyhedron polyhedron;  // body frame
+  /// Body frame; never null once built, possibly shared with other shapes (read only).
+  std::shared_ptr<const ConvexPolyhedron> polyhedron = std::make_shared<const ConvexPolyhedron>();
   double volume = 0.0;
   Vec3 principal_moments = Vec3::Zero();  // diagonal inertia per unit density, body frame
   double circumradius = 0.0;

@@ -121,9 +121,14 @@ void ConvexPolyhedron::buildVertexAdjacency() {
                                           face.vertices[(i + n - 1) % n], face.edges[i]});
     }
   }
-  vertex_edges_.assign(nv, {});
-  vertex_faces_.assign(nv, {});
-  vertex_neighbours_.assign(nv, {});
+  std::size_t corner_count = 0;
+  for (const auto& corners : around) corner_count += corners.size();
+  adjacency_ = {};
+  adjacency_.begin.reserve(static_cast<std::size_t>(nv) + 1);
+  adjacency_.edges.reserve(corner_count);
+  adjacency_.faces.reserve(corner_count);
+  adjacency_.neighbours.reserve(corner_count);
+  adjacency_.begin.push_back(0);
   for (int v = 0; v < nv; ++v) {
     auto& corners = around[v];
     if (corners.size() < 3) {
@@ -136,9 +141,9 @@ void ConvexPolyhedron::buildVertexAdjacency() {
     int at = 0;
     for (std::size_t step = 0; step < corners.size(); ++step) {
       const Corner& c = corners[at];
-      vertex_neighbours_[v].push_back(c.next);
-      vertex_edges_[v].push_back(c.edge_to_next);
-      vertex_faces_[v].push_back(c.face);
+      adjacency_.neighbours.push_back(c.next);
+      adjacency_.edges.push_back(c.edge_to_next);
+      adjacency_.faces.push_back(c.face);
       const auto it = std::lower_bound(corners.begin(), corners.end(), c.prev,
                                        [](const Corner& x, int key) { return x.next < key; });
       if (it == corners.end() || it->next != c.prev) {
@@ -151,6 +156,7 @@ void ConvexPolyhedron::buildVertexAdjacency() {
       throw GeometryError("inconsistent polyhedron topology: vertex " + std::to_string(v) +
                           " is not a manifold corner");
     }
+    adjacency_.begin.push_back(static_cast<int>(adjacency_.neighbours.size()));
   }
 }
 
@@ -176,7 +182,7 @@ int ConvexPolyhedron::supportIndex(const Vec3& direction, int hint) const {
   for (bool moved = true; moved;) {
     moved = false;
     tie = false;
-    for (int u : vertex_neighbours_[best]) {
+    for (int u : vertexNeighbours()[best]) {
       const double value = direction.dot(vertices_[u]);
       if (value > best_value) {
         best = u;
@@ -190,7 +196,7 @@ int ConvexPolyhedron::supportIndex(const Vec3& direction, int hint) const {
   if (!tie) return best;
   // Several maximisers: they span an edge or a face through `best`; take the lowest index.
   int lowest = best;
-  for (int f : vertex_faces_[best]) {
+  for (int f : vertexFaces()[best]) {
     for (int u : faces_[f].vertices) {
       if (u < lowest && direction.dot(vertices_[u]) == best_value) lowest = u;
     }

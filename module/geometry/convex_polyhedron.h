@@ -12,6 +12,7 @@
 #include "polydem/core/types.h"
 #include "polydem/geometry/box_frame.h"
 #include "polydem/geometry/face_regions.h"
+#include "polydem/geometry/jagged_view.h"
 
 namespace polydem::geometry {
 
@@ -35,6 +36,13 @@ struct Edge {
   int v0 = -1, v1 = -1;  // v0 < v1
   int f0 = -1, f1 = -1;  // the two faces sharing the edge; the edge runs v0 -> v1 in f0's
                          // counter-clockwise order (and v1 -> v0 in f1's)
+};
+
+/// The edges, faces and neighbours of each vertex, one list per vertex stored one after another:
+/// vertex v's are edges[begin[v] .. begin[v + 1]), and so on (JaggedView reads them).
+struct VertexAdjacency {
+  std::vector<int> begin;  // vertices + 1 entries
+  std::vector<int> edges, faces, neighbours;
 };
 
 /// What fromPoints() found besides the hull: input points that are not vertices of the hull.
@@ -63,9 +71,11 @@ class ConvexPolyhedron {
   /// Edges, faces and neighbouring vertices of each vertex, counter-clockwise around the vertex
   /// seen from outside, starting at the lowest-index neighbour: vertexEdges()[v][k] joins v and
   /// vertexNeighbours()[v][k]; vertexFaces()[v][k] lies between edges k and k + 1.
-  const std::vector<std::vector<int>>& vertexEdges() const { return vertex_edges_; }
-  const std::vector<std::vector<int>>& vertexFaces() const { return vertex_faces_; }
-  const std::vector<std::vector<int>>& vertexNeighbours() const { return vertex_neighbours_; }
+  JaggedView vertexEdges() const { return {adjacency_.begin, adjacency_.edges}; }
+  JaggedView vertexFaces() const { return {adjacency_.begin, adjacency_.faces}; }
+  JaggedView vertexNeighbours() const { return {adjacency_.begin, adjacency_.neighbours}; }
+  /// The arrays behind the three views above.
+  const VertexAdjacency& vertexAdjacency() const { return adjacency_; }
   /// The faces whose normals differ in direction up to sign, and the edges likewise (the first of
   /// each parallel family, parallel meaning within kParallelAxes rad): the axes a separating-axis
   /// test of two polyhedra needs (contact/sat/sat.h). Indices, so they hold in any placed frame.
@@ -128,7 +138,7 @@ class ConvexPolyhedron {
   std::vector<Vec3> vertices_;
   std::vector<Face> faces_;
   std::vector<Edge> edges_;
-  std::vector<std::vector<int>> vertex_edges_, vertex_faces_, vertex_neighbours_;
+  VertexAdjacency adjacency_;
   std::vector<int> axis_faces_, axis_edges_;
   std::optional<BoxFrame> box_;
   double volume_ = 0.0;

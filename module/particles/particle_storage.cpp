@@ -84,8 +84,8 @@ void ParticleStorage::updateDerived(const ShapeTable& shapes, std::span<const do
   for (std::size_t i = 0; i < n; ++i) {
     vertex_begin_[i] = total;
     face_begin_[i] = total_faces;
-    total += shapes[state_[i].shape].polyhedron.vertices().size();
-    total_faces += shapes[state_[i].shape].polyhedron.faces().size();
+    total += shapes[state_[i].shape].polyhedron->vertices().size();
+    total_faces += shapes[state_[i].shape].polyhedron->faces().size();
   }
   vertex_begin_[n] = total;
   face_begin_[n] = total_faces;
@@ -101,12 +101,12 @@ void ParticleStorage::updateDerived(const ShapeTable& shapes, std::span<const do
     angular_velocity_[i] =
         p.isFixed() ? Vec3::Zero()
                     : angularVelocityOf(r, density * shape.principal_moments, p.angular_momentum);
-    const auto& body = shape.polyhedron.vertices();
+    const auto& body = shape.polyhedron->vertices();
     Vec3* out = world_vertices_.data() + vertex_begin_[i];
     const Vec3 placed = p.position + shift_[i];
     for (std::size_t v = 0; v < body.size(); ++v) out[v] = placed + r * body[v];
     // The same product as contact::Body::faceNormal() computes on demand.
-    const auto& faces = shape.polyhedron.faces();
+    const auto& faces = shape.polyhedron->faces();
     Vec3* normal = world_face_normals_.data() + face_begin_[i];
     for (std::size_t f = 0; f < faces.size(); ++f) normal[f] = r * faces[f].normal;
   }

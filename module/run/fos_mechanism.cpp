@@ -42,7 +42,7 @@ std::vector<Pose> gatherPoses(const sim::Simulation& sim) {
   const auto& storage = sim.particles();
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
     const auto& p = storage[i];
-    const auto& shape = sim.shapes()[p.shape].polyhedron;
+    const auto& shape = *sim.shapes()[p.shape].polyhedron;
     const Quat& q = p.orientation;
     mine.push_back({p.uid, p.position.x(), p.position.y(), p.position.z(), q.w(), q.x(), q.y(),
                     q.z(), std::cbrt(shape.volume()), shape.circumradius(), p.isFree() ? 1 : 0});

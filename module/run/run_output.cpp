@@ -125,7 +125,7 @@ void RunOutput::facePressures(const sim::Simulation& sim, std::size_t i, const M
                               std::vector<double>& out) {
   const auto& p = sim.particles()[i];
   const auto& shape = sim.shapes()[p.shape];
-  const auto& faces = shape.polyhedron.faces();
+  const auto& faces = shape.polyhedron->faces();
   const auto& water = sim.scene().water;
   if (!water.enabled || !p.isFree()) {
     out.assign(faces.size(), 0.0);
@@ -148,7 +148,7 @@ void RunOutput::writeSnapshot(const sim::Simulation& sim) {
     const auto& p = storage[i];
     if (p.isGlobal() && !root) continue;  // replicated bodies appear once
     const auto& body = sim.shapes()[p.shape];
-    const auto& shape = body.polyhedron;
+    const auto& shape = *body.polyhedron;
     const Mat3 r = p.orientation.toRotationMatrix();
     vertices_.clear();
     for (const Vec3& v : shape.vertices()) vertices_.push_back(p.position + r * v);

@@ -34,7 +34,7 @@ struct Placed {
 Placed place(const geometry::BodyShape& shape, const Vec3& c, const Quat& q) {
   Placed b;
   const Mat3 r = q.toRotationMatrix();
-  for (const Vec3& v : shape.polyhedron.vertices()) {
+  for (const Vec3& v : shape.polyhedron->vertices()) {
     const Vec3 w = c + r * v;
     b.vertices.push_back(w);
     b.xlo = std::min(b.xlo, w.x());
@@ -42,7 +42,7 @@ Placed place(const geometry::BodyShape& shape, const Vec3& c, const Quat& q) {
     b.ylo = std::min(b.ylo, w.y());
     b.yhi = std::max(b.yhi, w.y());
   }
-  for (const auto& f : shape.polyhedron.faces()) {
+  for (const auto& f : shape.polyhedron->faces()) {
     const Vec3 n = r * f.normal;
     b.normals.push_back(n);
     b.offsets.push_back(f.offset + n.dot(c));

@@ -58,7 +58,7 @@ std::vector<BoltCrossing> boltCrossings(const setup::Setup& scene, const setup::
     const double s = std::clamp((b.centroid - start).dot(bolt.direction), 0.0, bolt.length);
     if ((start + s * bolt.direction - b.centroid).norm() > b.shape->circumradius) continue;
     const Mat3 to_body = b.orientation.toRotationMatrix().transpose();
-    Interval in = clipSegment(b.shape->polyhedron, to_body * (start - b.centroid),
+    Interval in = clipSegment(*b.shape->polyhedron, to_body * (start - b.centroid),
                               to_body * (end - b.centroid));
     if (in.t1 - in.t0 <= min_share) continue;
     in.particle = i;

@@ -15,7 +15,7 @@ std::vector<std::int32_t> matchFacePlanes(const geometry::BodyShape& shape, cons
   const double cos_parallel = 1.0 - 1e-9;
   const double reach = shape.circumradius + centroid.norm();
   const double tolerance = 1e-9 * reach;
-  const auto& faces = shape.polyhedron.faces();
+  const auto& faces = shape.polyhedron->faces();
   out.assign(faces.size(), -1);
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const Vec3 n = rotation * faces[f].normal;

@@ -34,7 +34,7 @@ bool boxesOverlap(std::span<const Vec3> a, std::span<const Vec3> b, double slack
 // World vertices of entry i placed at `position` (used when an image shift moves the frame).
 std::span<const Vec3> verticesAt(const ParticleStorage& s, const particles::ShapeTable& shapes,
                                  std::size_t i, const Vec3& position, std::vector<Vec3>& out) {
-  const auto& body = shapes[s[i].shape].polyhedron.vertices();
+  const auto& body = shapes[s[i].shape].polyhedron->vertices();
   out.resize(body.size());
   const Mat3& r = s.rotation(i);
   for (std::size_t v = 0; v < body.size(); ++v) out[v] = position + r * body[v];
@@ -51,8 +51,8 @@ void PairFilter::prepare(const ParticleStorage& storage, const particles::ShapeT
   for (std::size_t i = 0; i < storage.size(); ++i) {
     bounds(storage.worldVertices(i), box_lo_[i], box_hi_[i]);
     unshifted_[i] = storage.shift(i).isZero(0.0);
-    bodies_[i] = {&shapes[storage[i].shape].polyhedron, storage[i].position, storage.rotation(i),
-                  storage.worldVertices(i), storage.worldFaceNormals(i)};
+    bodies_[i] = {shapes[storage[i].shape].polyhedron.get(), storage[i].position,
+                  storage.rotation(i), storage.worldVertices(i), storage.worldFaceNormals(i)};
   }
 }
 
@@ -88,9 +88,9 @@ void PairFilter::placeOwn(const ParticleStorage& storage, const particles::Shape
                           const OrderedPair& c, const Vec3& xb, std::span<const Vec3> va,
                           std::span<const Vec3> vb, PairFrame& frame) {
   const Vec3& xa = storage[c.a].position;
-  shifted_a_ = {&shapes[storage[c.a].shape].polyhedron, xa, storage.rotation(c.a), va,
+  shifted_a_ = {shapes[storage[c.a].shape].polyhedron.get(), xa, storage.rotation(c.a), va,
                 storage.worldFaceNormals(c.a)};
-  shifted_b_ = {&shapes[storage[c.b].shape].polyhedron, xb, storage.rotation(c.b), vb,
+  shifted_b_ = {shapes[storage[c.b].shape].polyhedron.get(), xb, storage.rotation(c.b), vb,
                 storage.worldFaceNormals(c.b)};
   frame = {xa, xb, &shifted_a_, &shifted_b_};
 }

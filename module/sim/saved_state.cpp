@@ -27,13 +27,13 @@ std::vector<CheckpointShape> shapeRecords(const particles::ShapeTable& shapes) {
   for (const auto& s : shapes) {
     CheckpointShape r;
     r.name = s.name;
-    r.vertices = s.polyhedron.vertices();
-    for (const auto& f : s.polyhedron.faces()) r.faces.push_back(f.vertices);
+    r.vertices = s.polyhedron->vertices();
+    for (const auto& f : s.polyhedron->faces()) r.faces.push_back(f.vertices);
     r.volume = s.volume;
     r.principal_moments = s.principal_moments;
     r.circumradius = s.circumradius;
     r.inradius = s.inradius;
-    r.face_plane.emplace(s.polyhedron.faces().size(), -1);
+    r.face_plane.emplace(s.polyhedron->faces().size(), -1);
     for (std::size_t f = 0; f < r.face_plane->size(); ++f)
       (*r.face_plane)[f] = s.facePlane(static_cast<int>(f));
     out.push_back(std::move(r));
@@ -73,10 +73,10 @@ void restoreFacePlanes(const std::vector<CheckpointShape>& stored, particles::Sh
     face_plane.clear();
     if (!stored[s].face_plane) continue;
     const auto& ids = *stored[s].face_plane;
-    if (ids.size() != built[s].polyhedron.faces().size()) {
+    if (ids.size() != built[s].polyhedron->faces().size()) {
       throw CheckpointError(cat(file, ": shape ", s, " '", stored[s].name, "': ", ids.size(),
                                 " face joint planes stored for ",
-                                built[s].polyhedron.faces().size(), " faces"));
+                                built[s].polyhedron->faces().size(), " faces"));
     }
     bool any = false;
     for (const std::int32_t id : ids) {

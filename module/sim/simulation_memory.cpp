@@ -1,21 +1,11 @@
 // Simulation::memoryUse: the rank's heap by structure, from capacities (sim/memory_use.h).
 #include "polydem/core/memory.h"
+#include "polydem/geometry/shape_memory.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
 
 namespace {
-
-std::uint64_t shapeBytes(const geometry::BodyShape& s) {
-  const auto& p = s.polyhedron;
-  std::uint64_t bytes = s.name.capacity() > 15 ? s.name.capacity() + 1 : 0;
-  bytes += capacityBytes(s.face_plane) + capacityBytes(p.vertices()) + capacityBytes(p.faces()) +
-           capacityBytes(p.edges()) + capacityBytes(p.vertexEdges()) +
-           capacityBytes(p.vertexFaces()) + capacityBytes(p.vertexNeighbours()) +
-           capacityBytes(p.axisFaces()) + capacityBytes(p.axisEdges());
-  for (const auto& f : p.faces()) bytes += capacityBytes(f.vertices) + capacityBytes(f.edges);
-  return bytes;
-}
 
 // The particle and shape lists of the setup the simulation keeps (its other members are a few
 // strings and per-material tables).
@@ -31,9 +21,11 @@ std::uint64_t sceneBytes(const setup::Setup& scene) {
 }  // namespace
 
 MemoryUse Simulation::memoryUse() const {
-  std::uint64_t shapes = capacityBytes(state_.shapes) + capacityBytes(state_.shape_frames) +
-                         capacityBytes(state_.densities);
-  for (const auto& s : state_.shapes) shapes += shapeBytes(s);
+  // The shape table by part (a polyhedron shared by several shapes counted once).
+  std::uint64_t shapes = capacityBytes(state_.shapes) -
+                         state_.shapes.size() * sizeof(geometry::BodyShape) +
+                         capacityBytes(state_.shape_frames) + capacityBytes(state_.densities);
+  for (const auto& part : geometry::shapeMemory(state_.shapes)) shapes += part.bytes;
   const ContactPhase::Memory phase = state_.contact_phase.memory();
   const std::uint64_t broadphase = state_.broadphase->heapBytes() + state_.cell_order.heapBytes() +
                                    capacityBytes(state_.candidates) +

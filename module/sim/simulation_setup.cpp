@@ -13,6 +13,7 @@
 #include "polydem/dynamics/integrator.h"
 #include "polydem/dynamics/time_step.h"
 #include "polydem/geometry/body_shape.h"
+#include "polydem/geometry/shape_sharing.h"
 #include "polydem/sim/face_planes.h"
 #include "polydem/sim/load_balancing.h"
 #include "polydem/sim/simulation.h"
@@ -53,6 +54,7 @@ Simulation::~Simulation() = default;
 void Simulation::buildTables() {
   // A stop signal ends a long build (a rock mass of many blocks) every 256 shapes.
   constexpr std::size_t kPollEvery = 256;
+  geometry::PolyhedronPool pool;  // congruent blocks of a rock mass keep one polyhedron
   for (const auto& spec : state_.scene.shapes) {
     if ((state_.shapes.size() + 1) % kPollEvery == 0) {
       throwIfInterrupted([&] {
@@ -66,6 +68,7 @@ void Simulation::buildTables() {
       auto frame = geometry::toBodyFrame(poly, spec.name);
       frame.shape.face_plane =
           matchFacePlanes(frame.shape, frame.rotation, frame.centroid, spec.face_planes);
+      frame.shape.polyhedron = pool.share(std::move(frame.shape.polyhedron));
       state_.shapes.push_back(std::move(frame.shape));
       state_.shape_frames.push_back({frame.rotation, frame.centroid});
     } catch (const GeometryError& e) {  // e.g. a shape scaled flat after the reader built it
@@ -301,7 +304,7 @@ void Simulation::suggestTimeStep() {
     const auto& props = state_.materials.pair(spec.material, spec.material);
     // A joint stiffness per area meets its largest value on the particle's largest face.
     double largest_face = 0.0;
-    for (const auto& f : s.polyhedron.faces()) largest_face = std::max(largest_face, f.area);
+    for (const auto& f : s.polyhedron->faces()) largest_face = std::max(largest_face, f.area);
     const double k =
         std::max({props.kn, props.ks, props.jkn * largest_face, props.jks * largest_face});
     dt_particles.push_back({spec.uid, density * s.volume, density * s.principal_moments,

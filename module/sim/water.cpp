@@ -165,7 +165,7 @@ void faceWaterPressures(const setup::WaterSpec& water, double time,
                         const geometry::BodyShape& shape, std::span<const Vec3> vertices,
                         std::span<const Vec3> normals, const Vec3& centroid,
                         std::vector<double>& out) {
-  const auto& faces = shape.polyhedron.faces();
+  const auto& faces = shape.polyhedron->faces();
   out.assign(faces.size(), 0.0);
   if (shape.face_plane.empty()) return;
   WaterNow now(water, time);
@@ -191,7 +191,7 @@ void addWaterForces(const setup::WaterSpec& water, double time, const particles:
     now.about(particles.placedPosition(i));
     const auto vertices = particles.worldVertices(i);
     const auto normals = particles.worldFaceNormals(i);
-    const auto& faces = shape.polyhedron.faces();
+    const auto& faces = shape.polyhedron->faces();
     for (std::size_t f = 0; f < faces.size(); ++f) {
       if (shape.face_plane[f] < 0) continue;
       const SurfaceNow* surface = now.on(shape.face_plane[f]);

@@ -331,7 +331,7 @@ polydem.Error when called from fn): its step is half done.)")
           "shapes",
           [](const Simulation& s) {
             std::vector<geometry::ConvexPolyhedron> out;
-            for (const auto& shape : s.shapes()) out.push_back(shape.polyhedron);
+            for (const auto& shape : s.shapes()) out.push_back(*shape.polyhedron);
             return out;
           },
           "The shape table in body frames (centroid at the origin, principal axes), indexed by\n"

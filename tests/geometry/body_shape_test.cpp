@@ -18,18 +18,18 @@ double offDiagonal(const Mat3& m) {
 /// The result puts the body-frame shape back onto the input: x_input = R x_body + c.
 void expectReproducesInput(const BodyFrameResult& r, const ConvexPolyhedron& input) {
   const Mat3 rot = r.rotation.toRotationMatrix();
-  const auto& body = r.shape.polyhedron.vertices();
+  const auto& body = r.shape.polyhedron->vertices();
   ASSERT_EQ(body.size(), input.vertices().size());
   for (std::size_t i = 0; i < body.size(); ++i) {
     EXPECT_LT((rot * body[i] + r.centroid - input.vertices()[i]).norm(),
               1e-14 * (input.lengthScale() + input.centroid().norm()));
   }
-  const auto back = r.shape.polyhedron.transformed(rot, r.centroid);
+  const auto back = r.shape.polyhedron->transformed(rot, r.centroid);
   EXPECT_LT((back.inertia() - input.inertia()).norm(), 1e-14 * input.inertia().norm());
 }
 
 void expectBodyFrame(const BodyFrameResult& r) {
-  const auto& p = r.shape.polyhedron;
+  const auto& p = *r.shape.polyhedron;
   EXPECT_EQ(p.centroid(), Vec3::Zero());
   EXPECT_LE(offDiagonal(p.inertia()), 1e-12 * p.inertia().diagonal().maxCoeff());
   EXPECT_NEAR(r.rotation.norm(), 1.0, 1e-15);
@@ -48,7 +48,7 @@ TEST(BodyShape, AxisAlignedBoxKeepsIdentityAndExactCoordinates) {
   EXPECT_EQ(r.rotation.coeffs(), Quat::Identity().coeffs());
   EXPECT_EQ(r.centroid, Vec3(1.5, 3, 5));
   for (std::size_t i = 0; i < 8; ++i) {
-    EXPECT_EQ(r.shape.polyhedron.vertices()[i], box.vertices()[i] - Vec3(1.5, 3, 5));
+    EXPECT_EQ(r.shape.polyhedron->vertices()[i], box.vertices()[i] - Vec3(1.5, 3, 5));
   }
   const double v = 1 * 2 * 4;
   EXPECT_NEAR(r.shape.principal_moments.x(), v * (4 + 16) / 12.0, 1e-14);
@@ -77,12 +77,12 @@ TEST(BodyShape, RotatedCuboidFindsItsPrincipalAxes) {
     EXPECT_LT((r.shape.principal_moments - expected).norm(), 1e-13 * expected.norm());
     // The body-frame box is axis-aligned again: half-extents recovered.
     Vec3 extent = Vec3::Zero();
-    for (const Vec3& x : r.shape.polyhedron.vertices()) extent = extent.cwiseMax(x.cwiseAbs());
+    for (const Vec3& x : r.shape.polyhedron->vertices()) extent = extent.cwiseMax(x.cwiseAbs());
     EXPECT_LT((extent - Vec3(half.z(), half.y(), half.x())).norm(), 1e-14);
     // Deterministic: the same input gives the same bits.
     const auto again = toBodyFrame(input);
     EXPECT_EQ(again.rotation.coeffs(), r.rotation.coeffs());
-    EXPECT_EQ(again.shape.polyhedron.vertices(), r.shape.polyhedron.vertices());
+    EXPECT_EQ(again.shape.polyhedron->vertices(), r.shape.polyhedron->vertices());
   }
 }
 
