@@ -183,6 +183,10 @@ struct SubColumns {
   std::optional<ReadColumn<double>> law_state;
 };
 
+/// The most bytes of history rows a rank reads per round: a restart routes each round's records
+/// to their owners as one chunk, which holds a few times this in transit on every rank.
+constexpr std::size_t kHistoryRoundBytes = std::size_t{8} << 20;
+
 /// A history table read in collective rounds of the file's round size (few large transfers, a
 /// bounded buffer): rank r of P reads slice r, one round per next(); each round is hashed block by
 /// block while in cache, and the checksums are verified after the last.
@@ -194,7 +198,8 @@ class TableRounds {
         comm_(comm),
         columns_(f, format_version),
         slice_(hdf5::readerSlice(columns_.total, mpi::rank(comm), mpi::size(comm))),
-        rounds_(slice_, columns_.rowBytes(), f.options().round_bytes) {}
+        rounds_(slice_, columns_.rowBytes(),
+                std::min(f.options().round_bytes, kHistoryRoundBytes)) {}
 
   /// The next round into `chunk` (appended), or false once every round is read and verified.
   bool next(particles::HistoryRecords& chunk) {
