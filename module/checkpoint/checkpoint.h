@@ -21,6 +21,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,7 @@
 #include "polydem/particles/particle.h"
 #include "polydem/particles/particle_storage.h"
 #include "polydem/setup/setup.h"
+#include "polydem/sim/history_chunks.h"
 #include "polydem/sim/saved_state.h"
 
 namespace polydem::checkpoint {
@@ -66,6 +68,32 @@ std::filesystem::path checkpointTarget(const std::filesystem::path& path, MPI_Co
 /// Reads and verifies `path` (collective; see the top of this file).
 sim::CheckpointData readCheckpoint(const std::filesystem::path& path, MPI_Comm comm,
                                    const hdf5::CheckpointIoOptions& options = {});
+
+/// A checkpoint read in two parts, so that a restart never holds a rank's whole share of the pair
+/// histories in transit form: opening reads and verifies everything but the histories (data(),
+/// its pair and sub-contact tables empty); next() then hands out this rank's share of the pair
+/// histories, then of the sub-contact histories, one collective round of the file
+/// (CheckpointIoOptions::round_bytes) at a time. Their checksums are verified, and the file is
+/// checked for datasets the reader does not know and closed, when next() returns false. Every
+/// call is collective; problems are CheckpointErrors naming the file and the dataset.
+class CheckpointReader final : public sim::HistoryChunks {
+ public:
+  CheckpointReader(const std::filesystem::path& path, MPI_Comm comm,
+                   const hdf5::CheckpointIoOptions& options = {});
+  ~CheckpointReader() override;
+  const sim::CheckpointData& data() const;
+  bool next(particles::HistoryRecords& chunk) override;
+  /// The datasets verified, once next() has returned false.
+  const std::vector<hdf5::CheckpointDatasetInfo>& datasets() const { return datasets_; }
+  /// Moves data() out (it is empty afterwards).
+  sim::CheckpointData takeData();
+
+ private:
+  struct Open;
+  std::unique_ptr<Open> open_;
+  std::vector<hdf5::CheckpointDatasetInfo> datasets_;
+  bool done_ = false;
+};
 
 /// What `polydem checkpoint info` prints; the same on every rank.
 struct CheckpointSummary {

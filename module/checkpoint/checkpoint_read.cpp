@@ -79,11 +79,165 @@ struct ReadColumn {
   std::vector<T> buffer;
 };
 
+std::uint64_t rowsOf(const hdf5::File& f, const layout::Dataset& d) {
+  const auto dims = f.dims(d.name);
+  if (dims.empty()) throw CheckpointError(f.context(cat("dataset ", d.name, " is a scalar")));
+  return dims[0];
+}
+
+/// The pair table's columns (/contacts), one round at a time.
+struct PairColumns {
+  PairColumns(hdf5::File& f, int /*format_version*/)
+      : total(rowsOf(f, layout::kPair)),
+        pair(f, layout::kPair, total, 2),
+        shear(f, layout::kShearForce, total, 3),
+        normal(f, layout::kNormal, total, 3),
+        warm_direction(f, layout::kWarmDirection, total, 3),
+        warm_point(f, layout::kWarmPoint, total, 3),
+        warm_valid(f, layout::kWarmValid, total, 1),
+        reserved(f, layout::kKernelReserved, total, 1),
+        touching(f, layout::kTouching, total, 1) {}
+  std::size_t rowBytes() const { return layout::kPairRowBytes; }
+  template <typename F>
+  void each(F f) {
+    f(pair), f(shear), f(normal), f(warm_direction), f(warm_point), f(warm_valid), f(reserved),
+        f(touching);
+  }
+  void reserve(particles::HistoryRecords& chunk, std::uint64_t rows) {
+    chunk.keys.reserve(rows);
+    chunk.entries.reserve(rows);
+  }
+  /// Rows [from, from + count) of the round, file rows from `first_row`, appended to `chunk`.
+  void unpack(std::uint64_t from, std::uint64_t count, std::uint64_t first_row,
+              particles::HistoryRecords& chunk, std::optional<std::string>& problem,
+              const hdf5::File& f) {
+    for (std::uint64_t i = from; i < from + count; ++i) {
+      const PairKey& key = chunk.keys.emplace_back(PairKey{pair.row(i)[0], pair.row(i)[1]});
+      if (!(key.lo < key.hi) && !problem) {
+        problem = f.context(cat(layout::kPair.name, ": row ", first_row + i - from, " (", key.lo,
+                                ", ", key.hi, ") is not ordered lo < hi (inconsistent data)"));
+      }
+      PairHistory& h = chunk.entries.emplace_back();
+      h.shear_force = vec3At(shear.row(i));
+      h.normal = vec3At(normal.row(i));
+      h.kernel.warm_direction = vec3At(warm_direction.row(i));
+      h.kernel.warm_point = vec3At(warm_point.row(i));
+      h.kernel.warm_valid = *warm_valid.row(i);
+      h.kernel.reserved = *reserved.row(i);
+      h.touching = *touching.row(i);
+    }
+  }
+
+  std::uint64_t total;
+  ReadColumn<std::uint64_t> pair;
+  ReadColumn<double> shear, normal, warm_direction, warm_point;
+  ReadColumn<std::uint32_t> warm_valid, reserved, touching;
+};
+
+/// The sub-contact table's columns (/subcontacts). Version 5 added the joint laws' history;
+/// older files continue with it 0 (intact joints, not yet sheared: docs/checkpoint.md, 'Older
+/// files').
+struct SubColumns {
+  SubColumns(hdf5::File& f, int format_version)
+      : total(rowsOf(f, layout::kSubPair)),
+        pair(f, layout::kSubPair, total, 2),
+        feature(f, layout::kSubFeature, total, 1),
+        shear(f, layout::kSubShearForce, total, 3),
+        normal(f, layout::kSubNormal, total, 3) {
+    if (format_version >= 5)
+      law_state.emplace(f, layout::kSubLawState, total, particles::kMaxLawHistory);
+  }
+  std::size_t rowBytes() const {
+    return law_state ? layout::kSubRowBytes : layout::kSubRowBytes - particles::kMaxLawHistory * 8;
+  }
+  template <typename F>
+  void each(F f) {
+    f(pair), f(feature), f(shear), f(normal);
+    if (law_state) f(*law_state);
+  }
+  void reserve(particles::HistoryRecords& chunk, std::uint64_t rows) {
+    chunk.sub_keys.reserve(rows);
+    chunk.sub_entries.reserve(rows);
+  }
+  void unpack(std::uint64_t from, std::uint64_t count, std::uint64_t first_row,
+              particles::HistoryRecords& chunk, std::optional<std::string>& problem,
+              const hdf5::File& f) {
+    for (std::uint64_t i = from; i < from + count; ++i) {
+      const particles::SubKey& key = chunk.sub_keys.emplace_back(
+          particles::SubKey{{pair.row(i)[0], pair.row(i)[1]}, *feature.row(i)});
+      if (!(key.pair.lo < key.pair.hi) && !problem) {
+        problem =
+            f.context(cat(layout::kSubPair.name, ": row ", first_row + i - from, " (", key.pair.lo,
+                          ", ", key.pair.hi, ") is not ordered lo < hi (inconsistent data)"));
+      }
+      particles::SubHistory& h = chunk.sub_entries.emplace_back();
+      h.shear_force = vec3At(shear.row(i));
+      h.normal = vec3At(normal.row(i));
+      if (law_state) std::copy_n(law_state->row(i), h.law.size(), h.law.begin());
+    }
+  }
+
+  std::uint64_t total;
+  ReadColumn<std::uint64_t> pair, feature;
+  ReadColumn<double> shear, normal;
+  std::optional<ReadColumn<double>> law_state;
+};
+
+/// The most bytes of history rows a rank reads per round: a restart routes each round's records
+/// to their owners as one chunk, which holds a few times this in transit on every rank.
+constexpr std::size_t kHistoryRoundBytes = std::size_t{8} << 20;
+
+/// A history table read in collective rounds of the file's round size (few large transfers, a
+/// bounded buffer): rank r of P reads slice r, one round per next(); each round is hashed block by
+/// block while in cache, and the checksums are verified after the last.
+template <typename Columns>
+class TableRounds {
+ public:
+  TableRounds(hdf5::File& f, MPI_Comm comm, int format_version = 0)
+      : f_(f),
+        comm_(comm),
+        columns_(f, format_version),
+        slice_(hdf5::readerSlice(columns_.total, mpi::rank(comm), mpi::size(comm))),
+        rounds_(slice_, columns_.rowBytes(),
+                std::min(f.options().round_bytes, kHistoryRoundBytes)) {}
+
+  /// The next round into `chunk` (appended), or false once every round is read and verified.
+  bool next(particles::HistoryRecords& chunk) {
+    if (k_ == rounds_.count) {
+      std::vector<hdf5::Dataset*> all;
+      columns_.each([&](auto& column) { all.push_back(&column.dataset); });
+      f_.finish(all);
+      hdf5::agree(problem_, comm_);
+      return false;
+    }
+    const std::uint64_t b = rounds_.begin(k_), e = rounds_.end(k_);
+    columns_.each([&](auto& column) { column.read(slice_.offset + b, e - b); });
+    columns_.reserve(chunk, e - b);
+    for (std::uint64_t sb = b; sb < e; sb += layout::kBlockRows) {
+      const std::uint64_t se = std::min(e, sb + layout::kBlockRows);
+      columns_.each([&](auto& column) { column.hash(sb - b, se - sb, slice_.offset + sb); });
+      columns_.unpack(sb - b, se - sb, slice_.offset + sb, chunk, problem_, f_);
+    }
+    ++k_;
+    return true;
+  }
+
+ private:
+  hdf5::File& f_;
+  MPI_Comm comm_;
+  Columns columns_;
+  hdf5::Slice slice_;
+  hdf5::Rounds rounds_;
+  std::uint64_t k_ = 0;
+  std::optional<std::string> problem_;
+};
+
 class Reader {
  public:
   explicit Reader(hdf5::File& file) : f_(file), comm_(file.comm()) {}
 
-  sim::CheckpointData run() {
+  /// Everything but the pair histories (nextHistories reads them).
+  void run() {
     readRoot();
     readRun();
     readShapes();
@@ -91,11 +245,9 @@ class Reader {
     readDomain();
     if (d_.format_version >= 6) readBolts();
     readParticles();
-    readContacts();
-    if (d_.format_version >= 2) readSubContacts();
-    refuseUnread();
-    return std::move(d_);
   }
+
+  const sim::CheckpointData& data() const { return d_; }
 
  private:
   /// Thrown where every rank finds the same problem (replicated data); distributed problems go
@@ -432,100 +584,104 @@ class Reader {
     hdf5::agree(problem, comm_);
   }
 
-  void readContacts() {
-    const std::uint64_t m = rows(layout::kPair);
-    const hdf5::Slice slice = hdf5::readerSlice(m, mpi::rank(comm_), mpi::size(comm_));
-    ReadColumn<std::uint64_t> pair(f_, layout::kPair, m, 2);
-    ReadColumn<double> shear(f_, layout::kShearForce, m, 3);
-    ReadColumn<double> normal(f_, layout::kNormal, m, 3);
-    ReadColumn<double> warm_direction(f_, layout::kWarmDirection, m, 3);
-    ReadColumn<double> warm_point(f_, layout::kWarmPoint, m, 3);
-    ReadColumn<std::uint32_t> warm_valid(f_, layout::kWarmValid, m, 1);
-    ReadColumn<std::uint32_t> reserved(f_, layout::kKernelReserved, m, 1);
-    ReadColumn<std::uint32_t> touching(f_, layout::kTouching, m, 1);
-    std::optional<std::string> problem;
-    d_.pair_keys.reserve(slice.rows);
-    d_.pair_histories.reserve(slice.rows);
-    auto unpack = [&](std::uint64_t from, std::uint64_t count) {
-      for (std::uint64_t i = from; i < from + count; ++i) {
-        const std::uint64_t at = d_.pair_keys.size();
-        const PairKey& key = d_.pair_keys.emplace_back(PairKey{pair.row(i)[0], pair.row(i)[1]});
-        if (!(key.lo < key.hi) && !problem) {
-          problem =
-              f_.context(cat(layout::kPair.name, ": row ", slice.offset + at + i, " (", key.lo,
-                             ", ", key.hi, ") is not ordered lo < hi (inconsistent data)"));
-        }
-        PairHistory& h = d_.pair_histories.emplace_back();
-        h.shear_force = vec3At(shear.row(i));
-        h.normal = vec3At(normal.row(i));
-        h.kernel.warm_direction = vec3At(warm_direction.row(i));
-        h.kernel.warm_point = vec3At(warm_point.row(i));
-        h.kernel.warm_valid = *warm_valid.row(i);
-        h.kernel.reserved = *reserved.row(i);
-        h.touching = *touching.row(i);
+ public:
+  /// The next chunk of this rank's pair histories (one collective round of the pair table, then
+  /// of the sub-contact table), or false once both are read and verified. Collective.
+  bool nextHistories(particles::HistoryRecords& chunk) {
+    chunk = {};
+    while (true) {
+      if (!pairs_ && phase_ == Phase::kPairs) pairs_.emplace(f_, comm_);
+      if (!subs_ && phase_ == Phase::kSubs) subs_.emplace(f_, comm_, d_.format_version);
+      if (pairs_) {
+        if (pairs_->next(chunk)) return true;
+        pairs_.reset();
+        phase_ = d_.format_version >= 2 ? Phase::kSubs : Phase::kDone;
+      } else if (subs_) {
+        if (subs_->next(chunk)) return true;
+        subs_.reset();
+        phase_ = Phase::kDone;
+      } else {
+        return false;
       }
-    };
-    stream(0, slice, layout::kPairRowBytes, unpack, pair, shear, normal, warm_direction, warm_point,
-           warm_valid, reserved, touching);
-    hdf5::agree(problem, comm_);
+    }
   }
 
-  void readSubContacts() {
-    const std::uint64_t m = rows(layout::kSubPair);
-    const hdf5::Slice slice = hdf5::readerSlice(m, mpi::rank(comm_), mpi::size(comm_));
-    ReadColumn<std::uint64_t> pair(f_, layout::kSubPair, m, 2);
-    ReadColumn<std::uint64_t> feature(f_, layout::kSubFeature, m, 1);
-    ReadColumn<double> shear(f_, layout::kSubShearForce, m, 3);
-    ReadColumn<double> normal(f_, layout::kSubNormal, m, 3);
-    std::optional<ReadColumn<double>> law_state;
-    std::optional<std::string> problem;
-    d_.sub_keys.reserve(slice.rows);
-    d_.sub_histories.reserve(slice.rows);
-    auto unpack = [&](std::uint64_t from, std::uint64_t count) {
-      for (std::uint64_t i = from; i < from + count; ++i) {
-        const std::uint64_t at = d_.sub_keys.size();
-        const particles::SubKey& key = d_.sub_keys.emplace_back(
-            particles::SubKey{{pair.row(i)[0], pair.row(i)[1]}, *feature.row(i)});
-        if (!(key.pair.lo < key.pair.hi) && !problem) {
-          problem = f_.context(cat(layout::kSubPair.name, ": row ", slice.offset + at + i, " (",
-                                   key.pair.lo, ", ", key.pair.hi,
-                                   ") is not ordered lo < hi (inconsistent data)"));
-        }
-        particles::SubHistory& h = d_.sub_histories.emplace_back();
-        h.shear_force = vec3At(shear.row(i));
-        h.normal = vec3At(normal.row(i));
-        if (law_state) std::copy_n(law_state->row(i), h.law.size(), h.law.begin());
-      }
-    };
-    // Version 5 added the joint laws' history; older files continue with it 0 (intact joints,
-    // not yet sheared: docs/checkpoint.md, 'Older files').
-    if (d_.format_version >= 5) {
-      law_state.emplace(f_, layout::kSubLawState, m, particles::kMaxLawHistory);
-      stream(0, slice, layout::kSubRowBytes, unpack, pair, feature, shear, normal, *law_state);
-    } else {
-      stream(0, slice, layout::kSubRowBytes - particles::kMaxLawHistory * 8, unpack, pair, feature,
-             shear, normal);
-    }
-    hdf5::agree(problem, comm_);
-  }
+  /// After the last chunk: no dataset left unread.
+  void finish() { refuseUnread(); }
+
+  sim::CheckpointData take() { return std::move(d_); }
+
+ private:
+  enum class Phase { kPairs, kSubs, kDone };
 
   hdf5::File& f_;
   MPI_Comm comm_;
   sim::CheckpointData d_;
   hdf5::FileDigest digest_;
   std::uint64_t replicated_ = 0;
+  Phase phase_ = Phase::kPairs;
+  std::optional<TableRounds<PairColumns>> pairs_;
+  std::optional<TableRounds<SubColumns>> subs_;
 };
 
 }  // namespace
 
+// The open file and its reader; the silencer first, so that HDF5 prints nothing until the end.
+struct CheckpointReader::Open {
+  Open(const std::filesystem::path& path, MPI_Comm comm, const hdf5::CheckpointIoOptions& options)
+      : file(hdf5::File::open(path, comm, options)), reader(file) {
+    reader.run();
+  }
+  hdf5::ErrorSilencer silence;
+  hdf5::File file;
+  Reader reader;
+};
+
+CheckpointReader::CheckpointReader(const std::filesystem::path& path, MPI_Comm comm,
+                                   const hdf5::CheckpointIoOptions& options)
+    : open_(std::make_unique<Open>(path, comm, options)) {}
+
+CheckpointReader::~CheckpointReader() = default;
+
+const sim::CheckpointData& CheckpointReader::data() const {
+  return open_->reader.data();
+}
+
+sim::CheckpointData CheckpointReader::takeData() {
+  return open_->reader.take();
+}
+
+bool CheckpointReader::next(particles::HistoryRecords& chunk) {
+  if (done_) {
+    chunk = {};
+    return false;
+  }
+  if (open_->reader.nextHistories(chunk)) return true;
+  open_->reader.finish();
+  datasets_ = open_->file.datasets();
+  open_->file.close();
+  done_ = true;
+  return false;
+}
+
 sim::CheckpointData readCheckpointVerified(const std::filesystem::path& path, MPI_Comm comm,
                                            const hdf5::CheckpointIoOptions& options,
                                            std::vector<hdf5::CheckpointDatasetInfo>* datasets) {
-  const hdf5::ErrorSilencer silence;
-  hdf5::File file = hdf5::File::open(path, comm, options);
-  sim::CheckpointData data = Reader(file).run();
-  if (datasets) *datasets = file.datasets();
-  file.close();
+  CheckpointReader reader(path, comm, options);
+  particles::HistoryRecords all, chunk;
+  auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+  while (reader.next(chunk)) {
+    append(all.keys, chunk.keys);
+    append(all.entries, chunk.entries);
+    append(all.sub_keys, chunk.sub_keys);
+    append(all.sub_entries, chunk.sub_entries);
+  }
+  sim::CheckpointData data = reader.takeData();
+  data.pair_keys = std::move(all.keys);
+  data.pair_histories = std::move(all.entries);
+  data.sub_keys = std::move(all.sub_keys);
+  data.sub_histories = std::move(all.sub_entries);
+  if (datasets) *datasets = reader.datasets();
   return data;
 }
 

@@ -85,9 +85,11 @@ std::optional<std::string> invalidData(const sim::CheckpointData& data, int rank
 /// Bytes the file will take, about: every dataset's payload (the replicated tables are small) and
 /// room for HDF5's metadata. Collective.
 std::uint64_t estimatedBytes(const sim::CheckpointData& data, MPI_Comm comm) {
+  const auto& view = data.history_view;
+  const std::uint64_t pairs = view.table ? view.pairs.size() : data.pair_keys.size();
+  const std::uint64_t subs = view.table ? view.subCount() : data.sub_keys.size();
   std::uint64_t mine = data.particles.size() * layout::kParticleRowBytes +
-                       data.pair_keys.size() * layout::kPairRowBytes +
-                       data.sub_keys.size() * layout::kSubRowBytes;
+                       pairs * layout::kPairRowBytes + subs * layout::kSubRowBytes;
   if (mpi::rank(comm) == 0) {
     mine += data.scene_toml.size() + data.run_state.size();
     for (const auto& s : data.shapes) mine += 48 * s.vertices.size() + 64 * s.faces.size() + 256;

@@ -4,6 +4,7 @@
 #include "polydem/checkpoint/checkpoint_writer.h"
 
 #include <algorithm>
+#include <tuple>
 
 #include "polydem/checkpoint/checkpoint_layout.h"
 #include "polydem/core/byte_buffer.h"
@@ -15,6 +16,8 @@ namespace polydem::checkpoint {
 
 namespace {
 
+using particles::PairHistory;
+using particles::PairKey;
 using particles::Particle;
 
 hdf5::Info info(const layout::Dataset& d) {
@@ -101,6 +104,56 @@ std::vector<double> column(const auto& items, Getter get) {
   for (const auto& item : items) out.push_back(get(item));
   return out;
 }
+
+/// This rank's pair rows: the data's pair tables, or the pairs of its history view read in place.
+class PairRows {
+ public:
+  explicit PairRows(const sim::CheckpointData& d) : d_(d), view_(d.history_view) {}
+  std::size_t size() const { return view_.table ? view_.pairs.size() : d_.pair_keys.size(); }
+  const PairKey& key(std::size_t r) const {
+    return view_.table ? view_.table->keys()[view_.pairs[r]] : d_.pair_keys[r];
+  }
+  const PairHistory& history(std::size_t r) const {
+    return view_.table ? view_.table->entries()[view_.pairs[r]] : d_.pair_histories[r];
+  }
+
+ private:
+  const sim::CheckpointData& d_;
+  const sim::HistoryView& view_;
+};
+
+/// This rank's sub-contact rows in order (next() once per row): the data's tables, or the blocks
+/// of the view's pairs one after the other.
+class SubRows {
+ public:
+  struct Row {
+    PairKey pair;
+    std::uint64_t feature = 0;
+    const particles::SubHistory* history = nullptr;
+  };
+  explicit SubRows(const sim::CheckpointData& d)
+      : d_(d), view_(d.history_view), size_(view_.table ? view_.subCount() : d.sub_keys.size()) {}
+  std::size_t size() const { return size_; }
+  Row next() {
+    if (!view_.table) {
+      const particles::SubKey& key = d_.sub_keys[row_];
+      return {key.pair, key.feature, &d_.sub_histories[row_++]};
+    }
+    while (sub_ == sub_end_) {  // the next written pair's block (a pair may have none)
+      std::tie(sub_, sub_end_) = view_.table->subsOf(view_.pairs[pair_]);
+      pair_key_ = view_.table->keys()[view_.pairs[pair_++]];
+    }
+    const std::size_t s = sub_++;
+    return {pair_key_, view_.table->subFeatures()[s].feature, &view_.table->subEntries()[s]};
+  }
+
+ private:
+  const sim::CheckpointData& d_;
+  const sim::HistoryView& view_;
+  std::size_t size_;
+  std::size_t row_ = 0, pair_ = 0, sub_ = 0, sub_end_ = 0;
+  PairKey pair_key_;
+};
 
 class Writer {
  public:
@@ -340,9 +393,8 @@ class Writer {
   }
 
   void writeContacts() {
-    const auto& keys = data_.pair_keys;
-    const auto& h = data_.pair_histories;
-    const hdf5::Slice slice = hdf5::writerSlice(h.size(), comm_);
+    const PairRows rows(data_);
+    const hdf5::Slice slice = hdf5::writerSlice(rows.size(), comm_);
     const std::uint64_t m = slice.total;
     Column<std::uint64_t> pair(f_, layout::kPair, m, 2);
     Column<double> shear(f_, layout::kShearForce, m, 3);
@@ -355,15 +407,17 @@ class Writer {
     auto pack = [&](std::uint64_t begin, std::uint64_t end, std::uint64_t base) {
       for (std::uint64_t r = begin; r < end; ++r) {
         const std::size_t i = r - base;
-        pair.row(i)[0] = keys[r].lo;
-        pair.row(i)[1] = keys[r].hi;
-        put(h[r].shear_force, shear.row(i));
-        put(h[r].normal, normal.row(i));
-        put(h[r].kernel.warm_direction, warm_direction.row(i));
-        put(h[r].kernel.warm_point, warm_point.row(i));
-        *warm_valid.row(i) = h[r].kernel.warm_valid;
-        *reserved.row(i) = h[r].kernel.reserved;
-        *touching.row(i) = h[r].touching;
+        const PairKey& key = rows.key(r);
+        const PairHistory& h = rows.history(r);
+        pair.row(i)[0] = key.lo;
+        pair.row(i)[1] = key.hi;
+        put(h.shear_force, shear.row(i));
+        put(h.normal, normal.row(i));
+        put(h.kernel.warm_direction, warm_direction.row(i));
+        put(h.kernel.warm_point, warm_point.row(i));
+        *warm_valid.row(i) = h.kernel.warm_valid;
+        *reserved.row(i) = h.kernel.reserved;
+        *touching.row(i) = h.touching;
       }
     };
     stream(slice, layout::kPairRowBytes, pack, pair, shear, normal, warm_direction, warm_point,
@@ -371,9 +425,8 @@ class Writer {
   }
 
   void writeSubContacts() {
-    const auto& keys = data_.sub_keys;
-    const auto& h = data_.sub_histories;
-    const hdf5::Slice slice = hdf5::writerSlice(h.size(), comm_);
+    SubRows rows(data_);
+    const hdf5::Slice slice = hdf5::writerSlice(rows.size(), comm_);
     const std::uint64_t m = slice.total;
     Column<std::uint64_t> pair(f_, layout::kSubPair, m, 2);
     Column<std::uint64_t> feature(f_, layout::kSubFeature, m, 1);
@@ -383,12 +436,13 @@ class Writer {
     auto pack = [&](std::uint64_t begin, std::uint64_t end, std::uint64_t base) {
       for (std::uint64_t r = begin; r < end; ++r) {
         const std::size_t i = r - base;
-        pair.row(i)[0] = keys[r].pair.lo;
-        pair.row(i)[1] = keys[r].pair.hi;
-        *feature.row(i) = keys[r].feature;
-        put(h[r].shear_force, shear.row(i));
-        put(h[r].normal, normal.row(i));
-        std::copy(h[r].law.begin(), h[r].law.end(), law_state.row(i));
+        const SubRows::Row row = rows.next();
+        pair.row(i)[0] = row.pair.lo;
+        pair.row(i)[1] = row.pair.hi;
+        *feature.row(i) = row.feature;
+        put(row.history->shear_force, shear.row(i));
+        put(row.history->normal, normal.row(i));
+        std::copy(row.history->law.begin(), row.history->law.end(), law_state.row(i));
       }
     };
     stream(slice, layout::kSubRowBytes, pack, pair, feature, shear, normal, law_state);

@@ -7,6 +7,7 @@
 
 #include "polydem/comm/sparse_exchange.h"
 #include "polydem/core/error.h"
+#include "polydem/core/memory.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 
@@ -22,9 +23,9 @@ using particles::SubKey;
 
 constexpr int kRegisterTag = 7303;
 constexpr int kDeliverTag = 7304;
+constexpr int kHistoryTag = 7306;
 
 // Record types of round 1.
-constexpr std::uint8_t kOwner = 0;     // uid, owning rank
 constexpr std::uint8_t kHistory = 1;   // the member uid this directory answers for, then a record
 constexpr std::uint8_t kEveryone = 2;  // a record of two replicated particles: keep it
 
@@ -70,18 +71,6 @@ Unpacked unpackRecord(RecvBuffer& in, HistoryRecords& into) {
   return {k, false, into.keys.size() - 1};
 }
 
-// Uids of replicated particles, sorted for lookup.
-class ReplicatedSet {
- public:
-  explicit ReplicatedSet(std::span<const Uid> uids) : uids_(uids.begin(), uids.end()) {
-    std::sort(uids_.begin(), uids_.end());
-  }
-  bool contains(Uid u) const { return std::binary_search(uids_.begin(), uids_.end(), u); }
-
- private:
-  std::vector<Uid> uids_;
-};
-
 // Particles without exactly one owner, counted on this rank; the last one seen as the example.
 struct Problems {
   std::int64_t count = 0;
@@ -92,6 +81,10 @@ struct Problems {
   }
 };
 
+bool isReplicated(const std::vector<Uid>& sorted, Uid u) {
+  return std::binary_search(sorted.begin(), sorted.end(), u);
+}
+
 void requireMatchingSizes(const HistoryRecords& records) {
   if (records.keys.size() != records.entries.size() ||
       records.sub_keys.size() != records.sub_entries.size()) {
@@ -101,18 +94,30 @@ void requireMatchingSizes(const HistoryRecords& records) {
   }
 }
 
-// Round 1, sending: every owned uid registers its owner at its directory; every record goes to
-// the directories of its non-replicated members, or to every rank if both are replicated.
-std::map<int, SendBuffer> registrations(const HistoryRecords& records, std::span<const Uid> owned,
-                                        const ReplicatedSet& replicated, int rank, int ranks,
-                                        HistoryRoutingStats& stats) {
+std::uint64_t messageBytes(const std::map<int, SendBuffer>& messages) {
+  std::uint64_t bytes = 0;
+  for (const auto& [rank, out] : messages) bytes += out.bytes().capacity();
+  return bytes;
+}
+
+std::uint64_t messageBytes(const std::vector<Message>& messages) {
+  std::uint64_t bytes = 0;
+  for (const auto& m : messages) bytes += m.bytes.capacity();
+  return bytes;
+}
+
+std::uint64_t recordBytes(const HistoryRecords& r) {
+  return capacityBytes(r.keys) + capacityBytes(r.entries) + capacityBytes(r.sub_keys) +
+         capacityBytes(r.sub_entries);
+}
+
+// Round 1, sending: every record goes to the directories of its non-replicated members, or to
+// every rank if both are replicated.
+std::map<int, SendBuffer> toDirectories(const HistoryRecords& records,
+                                        const std::vector<Uid>& replicated, int ranks) {
   std::map<int, SendBuffer> outgoing;
-  for (Uid u : owned) {
-    outgoing[directoryOf(u, ranks)] << kOwner << u << static_cast<std::int32_t>(rank);
-    ++stats.registered;
-  }
   auto send = [&](const PairKey& k, bool sub, std::size_t i) {
-    if (replicated.contains(k.lo) && replicated.contains(k.hi)) {
+    if (isReplicated(replicated, k.lo) && isReplicated(replicated, k.hi)) {
       for (int r = 0; r < ranks; ++r) {
         outgoing[r] << kEveryone;
         packRecord(outgoing[r], records, sub, i);
@@ -120,7 +125,7 @@ std::map<int, SendBuffer> registrations(const HistoryRecords& records, std::span
       return;
     }
     for (Uid member : {k.lo, k.hi}) {
-      if (replicated.contains(member)) continue;
+      if (isReplicated(replicated, member)) continue;
       SendBuffer& out = outgoing[directoryOf(member, ranks)];
       out << kHistory << member;
       packRecord(out, records, sub, i);
@@ -131,28 +136,21 @@ std::map<int, SendBuffer> registrations(const HistoryRecords& records, std::span
   return outgoing;
 }
 
-// Round 1, receiving: what this rank's directory learnt. Records of two replicated particles go
-// straight to `kept`; the others wait in `arrived` for their member's owner.
+// Round 1, receiving: records of two replicated particles go straight to `kept`; the others wait
+// in `arrived` for their member's owner.
 struct Directory {
-  std::unordered_map<Uid, int> owner_of;
   HistoryRecords arrived;
   std::vector<std::pair<Uid, Unpacked>> waiting;  // (member, record in `arrived`)
 };
 
-Directory receiveRegistrations(const std::map<int, SendBuffer>& outgoing, MPI_Comm comm,
-                               HistoryRecords& kept, Problems& problems) {
+Directory receiveAtDirectory(const std::vector<Message>& messages, HistoryRecords& kept) {
   Directory directory;
-  for (const auto& m : sparseExchange(outgoing, comm, kRegisterTag)) {
+  for (const auto& m : messages) {
     RecvBuffer in(m.bytes.data(), m.bytes.size());
     while (!in.atEnd()) {
       std::uint8_t type = 0;
       in >> type;
-      if (type == kOwner) {
-        Uid u = 0;
-        std::int32_t owner = 0;
-        in >> u >> owner;
-        if (!directory.owner_of.emplace(u, owner).second) problems.add(u);  // two owners
-      } else if (type == kHistory) {
+      if (type == kHistory) {
         Uid member = 0;
         in >> member;
         directory.waiting.push_back({member, unpackRecord(in, directory.arrived)});
@@ -164,23 +162,21 @@ Directory receiveRegistrations(const std::map<int, SendBuffer>& outgoing, MPI_Co
   return directory;
 }
 
-// Round 2: the directory forwards each waiting record to its member's owner, which keeps it.
-void forwardToOwners(const Directory& directory, MPI_Comm comm, HistoryRecords& kept,
-                     Problems& problems, HistoryRoutingStats& stats) {
+// Round 2, sending: the directory forwards each waiting record to its member's owner.
+std::map<int, SendBuffer> toOwners(const Directory& directory,
+                                   const std::unordered_map<Uid, int>& owner_of, Problems& problems,
+                                   HistoryRoutingStats& stats) {
   std::map<int, SendBuffer> outgoing;
   for (const auto& [member, record] : directory.waiting) {
-    const auto it = directory.owner_of.find(member);
-    if (it == directory.owner_of.end()) {
+    const auto it = owner_of.find(member);
+    if (it == owner_of.end()) {
       problems.add(member);  // a pair with a particle nobody owns
       continue;
     }
     packRecord(outgoing[it->second], directory.arrived, record.sub, record.index);
     stats.forwarded += !record.sub;
   }
-  for (const auto& m : sparseExchange(outgoing, comm, kDeliverTag)) {
-    RecvBuffer in(m.bytes.data(), m.bytes.size());
-    while (!in.atEnd()) unpackRecord(in, kept);
-  }
+  return outgoing;
 }
 
 // Collective: if any rank found a problem, every rank throws, naming the smallest example uid.
@@ -194,28 +190,92 @@ void agreeOnProblems(const Problems& problems, MPI_Comm comm) {
                   ")"));
 }
 
+void ownedAndReplicated(const particles::ParticleStorage& storage, std::vector<Uid>& owned,
+                        std::vector<Uid>& replicated) {
+  for (std::size_t i = 0; i < storage.localCount(); ++i) {
+    const auto& p = storage[i];
+    (p.isGlobal() ? replicated : owned).push_back(p.uid);
+  }
+}
+
 }  // namespace
 
-// Two rounds through directories (rank uid % P answers for uid): owners and records meet at the
-// directories, which forward each record to the owners of its particles.
+// Every owned uid registers its owner at its directory (rank uid % P), once for all chunks.
+HistoryRouter::HistoryRouter(std::span<const Uid> owned, std::span<const Uid> replicated,
+                             MPI_Comm comm)
+    : comm_(comm),
+      rank_(mpi::rank(comm)),
+      ranks_(mpi::size(comm)),
+      replicated_(replicated.begin(), replicated.end()) {
+  std::sort(replicated_.begin(), replicated_.end());
+  std::map<int, SendBuffer> outgoing;
+  for (Uid u : owned) {
+    outgoing[directoryOf(u, ranks_)] << u << static_cast<std::int32_t>(rank_);
+    ++stats_.registered;
+  }
+  Problems problems;
+  for (const auto& m : sparseExchange(outgoing, comm_, kRegisterTag)) {
+    RecvBuffer in(m.bytes.data(), m.bytes.size());
+    while (!in.atEnd()) {
+      Uid u = 0;
+      std::int32_t owner = 0;
+      in >> u >> owner;
+      if (!owner_of_.emplace(u, owner).second) problems.add(u);  // two owners
+    }
+  }
+  agreeOnProblems(problems, comm_);
+}
+
+HistoryRouter::HistoryRouter(const particles::ParticleStorage& storage, MPI_Comm comm)
+    : HistoryRouter([&] {
+        std::vector<Uid> owned, replicated;
+        ownedAndReplicated(storage, owned, replicated);
+        return HistoryRouter(owned, replicated, comm);
+      }()) {}
+
+// Two rounds through the directories, which forward each record to the owners of its particles.
+void HistoryRouter::route(const HistoryRecords& chunk, particles::ContactHistory& into) {
+  requireMatchingSizes(chunk);
+  Problems problems;
+  HistoryRecords kept;
+  std::uint64_t transit = 0;
+  {
+    std::vector<Message> arriving;
+    {
+      const auto outgoing = toDirectories(chunk, replicated_, ranks_);
+      arriving = sparseExchange(outgoing, comm_, kHistoryTag);
+      transit = messageBytes(outgoing) + messageBytes(arriving);
+    }
+    const Directory directory = receiveAtDirectory(arriving, kept);
+    transit = std::max(transit,
+                       messageBytes(arriving) + recordBytes(directory.arrived) + recordBytes(kept));
+    arriving = {};
+    const auto forwarding = toOwners(directory, owner_of_, problems, stats_);
+    const auto delivered = sparseExchange(forwarding, comm_, kDeliverTag);
+    transit = std::max(transit, recordBytes(directory.arrived) + messageBytes(forwarding) +
+                                    messageBytes(delivered) + recordBytes(kept));
+    for (const auto& m : delivered) {
+      RecvBuffer in(m.bytes.data(), m.bytes.size());
+      while (!in.atEnd()) unpackRecord(in, kept);
+    }
+    transit = std::max(transit, messageBytes(delivered) + recordBytes(kept));
+  }
+  agreeOnProblems(problems, comm_);
+  // Copies of one record (from its two directories) are the same: merge keeps one.
+  const std::uint64_t kept_bytes = recordBytes(kept);
+  into.merge(std::move(kept));
+  stats_.kept = static_cast<std::int64_t>(into.size());
+  stats_.peak_transit_bytes = std::max(stats_.peak_transit_bytes, transit + kept_bytes);
+  ++stats_.chunks;
+}
+
 particles::ContactHistory routeHistories(const HistoryRecords& records, std::span<const Uid> owned,
                                          std::span<const Uid> replicated, MPI_Comm comm,
                                          HistoryRoutingStats* stats) {
-  requireMatchingSizes(records);
-  const int rank = mpi::rank(comm), ranks = mpi::size(comm);
-  const ReplicatedSet everywhere(replicated);
-  HistoryRoutingStats local_stats;
-  Problems problems;
-  HistoryRecords kept;
-  const Directory directory = receiveRegistrations(
-      registrations(records, owned, everywhere, rank, ranks, local_stats), comm, kept, problems);
-  forwardToOwners(directory, comm, kept, problems, local_stats);
-  agreeOnProblems(problems, comm);
-  // Copies of one record (from its two directories) are the same: merge keeps one.
+  HistoryRouter router(owned, replicated, comm);
   particles::ContactHistory out;
-  out.merge(kept);
-  local_stats.kept = static_cast<std::int64_t>(out.size());
-  if (stats) *stats = local_stats;
+  router.route(records, out);
+  if (stats) *stats = router.stats();
   return out;
 }
 
@@ -229,16 +289,6 @@ particles::ContactHistory routeHistories(std::span<const PairKey> keys,
   records.entries.assign(entries.begin(), entries.end());
   return routeHistories(records, owned, replicated, comm, stats);
 }
-
-namespace {
-void ownedAndReplicated(const particles::ParticleStorage& storage, std::vector<Uid>& owned,
-                        std::vector<Uid>& replicated) {
-  for (std::size_t i = 0; i < storage.localCount(); ++i) {
-    const auto& p = storage[i];
-    (p.isGlobal() ? replicated : owned).push_back(p.uid);
-  }
-}
-}  // namespace
 
 particles::ContactHistory routeHistories(const HistoryRecords& records,
                                          const particles::ParticleStorage& storage, MPI_Comm comm,

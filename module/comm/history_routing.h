@@ -15,6 +15,8 @@
 
 #include <cstdint>
 #include <span>
+#include <unordered_map>
+#include <vector>
 
 #include "polydem/core/types.h"
 #include "polydem/particles/contact_history.h"
@@ -26,6 +28,39 @@ struct HistoryRoutingStats {
   std::int64_t registered = 0;  // uids this rank registered at their directories
   std::int64_t forwarded = 0;   // histories this rank forwarded as a directory
   std::int64_t kept = 0;        // histories this rank holds afterwards
+  std::int64_t chunks = 0;      // route() calls
+  /// The most bytes one chunk's routing held on this rank at once: the messages sent and
+  /// received in both rounds and the records waiting at the directory and kept (capacities).
+  /// Bounded by the chunk size, whatever the size of the whole history.
+  std::uint64_t peak_transit_bytes = 0;
+};
+
+/// Routing in chunks, so that the records in transit stay bounded: the owners register at their
+/// directories once, then each route() delivers one chunk of every rank's records to their
+/// owners and merges them into this rank's history in place (ContactHistory::merge).
+class HistoryRouter {
+ public:
+  /// Collective. `owned`: uids of the free particles this rank owns; `replicated`: uids of the
+  /// fixed/driven particles, the same on every rank. Throws polydem::Error on every rank if a uid
+  /// is owned by two ranks.
+  HistoryRouter(std::span<const Uid> owned, std::span<const Uid> replicated, MPI_Comm comm);
+  /// The same, with `owned` and `replicated` taken from the storage's local particles.
+  HistoryRouter(const particles::ParticleStorage& storage, MPI_Comm comm);
+
+  /// Collective: every rank calls it equally often (with an empty chunk when it has no records
+  /// left). Delivers the chunks' records to every rank owning the lo or the hi particle of their
+  /// pair and merges them into `into`. Throws polydem::Error on every rank if a pair names a free
+  /// particle that no rank owns.
+  void route(const particles::HistoryRecords& chunk, particles::ContactHistory& into);
+
+  const HistoryRoutingStats& stats() const { return stats_; }
+
+ private:
+  MPI_Comm comm_;
+  int rank_ = 0, ranks_ = 1;
+  std::vector<Uid> replicated_;            // sorted
+  std::unordered_map<Uid, int> owner_of_;  // the uids this rank is the directory of
+  HistoryRoutingStats stats_;
 };
 
 /// Delivers the histories (`keys[i]`, `entries[i]`) of all ranks to every rank that owns the lo

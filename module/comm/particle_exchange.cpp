@@ -137,7 +137,7 @@ void unpackMessages(const std::vector<Message>& messages, particles::ParticleSto
       }
     }
   }
-  if (!received.empty()) history.merge(received);
+  if (!received.empty()) history.merge(std::move(received));
 }
 
 // Ghosts into the storage once every local particle is in: those kept here first (periodic self

@@ -1,38 +1,12 @@
 #include "polydem/particles/contact_history.h"
 
 #include <algorithm>
-#include <numeric>
 
 #include "polydem/core/error.h"
 #include "polydem/core/memory.h"
 #include "polydem/core/strings.h"
 
 namespace polydem::particles {
-
-namespace {
-
-// Sorts (keys, entries) by key into `out_keys`, `out_entries`, keeping the first of equal keys.
-template <typename Key, typename Entry>
-void mergeTable(std::vector<Key>& out_keys, std::vector<Entry>& out_entries,
-                std::span<const Key> keys, std::span<const Entry> entries) {
-  std::vector<Key> all_keys(out_keys);
-  std::vector<Entry> all_entries(out_entries);
-  all_keys.insert(all_keys.end(), keys.begin(), keys.end());
-  all_entries.insert(all_entries.end(), entries.begin(), entries.end());
-  std::vector<std::size_t> order(all_keys.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return all_keys[a] < all_keys[b]; });
-  out_keys.clear();
-  out_entries.clear();
-  for (std::size_t i : order) {
-    if (!out_keys.empty() && out_keys.back() == all_keys[i]) continue;
-    out_keys.push_back(all_keys[i]);
-    out_entries.push_back(all_entries[i]);
-  }
-}
-
-}  // namespace
 
 void pack(SendBuffer& out, const PairKey& key, const PairHistory& h) {
   out << key.lo << key.hi << h.shear_force << h.normal << h.kernel.warm_direction
@@ -188,54 +162,6 @@ void ContactHistory::appendSubs(const PairKey& pair, std::span<const SubEntry> s
 
 void ContactHistory::refuse(const char* what) {
   throw Error(cat("ContactHistory::", what));
-}
-
-void ContactHistory::assign(std::vector<PairKey> keys, std::vector<PairHistory> entries,
-                            const std::vector<SubKey>& sub_keys,
-                            std::vector<SubHistory> sub_entries) {
-  std::vector<std::size_t> sub_end(keys.size(), 0);
-  std::size_t s = 0;
-  for (std::size_t k = 0; k < keys.size(); ++k) {
-    if (s < sub_keys.size() && sub_keys[s].pair < keys[k]) break;  // no pair entry: below
-    while (s < sub_keys.size() && sub_keys[s].pair == keys[k]) ++s;
-    sub_end[k] = s;
-  }
-  if (s != sub_keys.size()) {
-    const PairKey& orphan = sub_keys[s].pair;
-    throw Error(cat("ContactHistory: sub-contact history of pair (", orphan.lo, ", ", orphan.hi,
-                    ") without the pair's own history (inconsistent data)"));
-  }
-  std::vector<SubFeature> features(sub_keys.size());
-  for (std::size_t i = 0; i < sub_keys.size(); ++i) features[i].feature = sub_keys[i].feature;
-  pairs_ = keys.size();
-  subs_ = features.size();
-  keys_ = std::move(keys);
-  entries_ = std::move(entries);
-  sub_end_ = std::move(sub_end);
-  sub_keys_ = std::move(features);
-  sub_entries_ = std::move(sub_entries);
-  open_ = 0;
-  open_scratch_ = false;
-  rebuilding_ = false;
-  dropOld();
-}
-
-void ContactHistory::merge(std::span<const PairKey> keys, std::span<const PairHistory> entries) {
-  HistoryRecords records;
-  records.keys.assign(keys.begin(), keys.end());
-  records.entries.assign(entries.begin(), entries.end());
-  merge(records);
-}
-
-void ContactHistory::merge(const HistoryRecords& records) {
-  if (rebuilding_ || open_ > 0) refuse("merge: during a rebuild");
-  HistoryRecords all;
-  for (std::size_t k = 0; k < pairs_; ++k) copyPair(k, all);
-  // The table's own entries (sorted, one per key) first: they are kept over equal records.
-  mergeTable<PairKey, PairHistory>(all.keys, all.entries, records.keys, records.entries);
-  mergeTable<SubKey, SubHistory>(all.sub_keys, all.sub_entries, records.sub_keys,
-                                 records.sub_entries);
-  assign(std::move(all.keys), std::move(all.entries), all.sub_keys, std::move(all.sub_entries));
 }
 
 void ContactHistory::copyPair(std::size_t pair_index, HistoryRecords& records) const {

@@ -2,10 +2,10 @@
 //
 // It holds the tangential (shear) force, the previous contact normal (to rotate the shear force
 // onto the new contact plane, Zhao eqs. 33-34) and the kernel's warm start (previous common plane
-// or separating axis). With the sub-contact model (contact/face/face_contact.h) every sub-contact of a
-// pair has a shear spring of its own, kept in a second table under its features alone: a pair's
-// sub-contacts are one contiguous block, and each pair keeps the end of its block, so the pair of
-// a sub-contact is implied by where it lies. Both live outside the kernels so that they can
+// or separating axis). With the sub-contact model (contact/face/face_contact.h) every sub-contact
+// of a pair has a shear spring of its own, kept in a second table under its features alone: a
+// pair's sub-contacts are one contiguous block, and each pair keeps the end of its block, so the
+// pair of a sub-contact is implied by where it lies. Both live outside the kernels so that they can
 // migrate with particles and be written to checkpoints.
 //
 // Both tables are sorted by key. The narrow phase visits candidate pairs in the same key order,
@@ -171,11 +171,15 @@ class ContactHistory {
   /// the pair's features are strictly increasing.
   void closeSubs(std::size_t used);
 
-  /// Adds entries in any order (e.g. received from other ranks); sorts, and keeps one copy of
-  /// keys present twice (copies of the same pair from two ranks are identical by construction).
+  /// Adds entries in any order (e.g. received from other ranks, or a checkpoint read in chunks),
+  /// in place: the records are sorted (pass them by std::move to spare a copy), and the table
+  /// grows by the entries it lacks, merged from its end, without a second copy of the table. Keeps
+  /// one copy of keys present twice, the table's over the records' and the first of equal records
+  /// (copies of the same pair from two ranks are identical by construction). Throws, leaving the
+  /// table as it was, if a sub-contact's pair has no entry in the table or the records.
+  void merge(HistoryRecords records);
+  /// The same for pairs without sub-contacts.
   void merge(std::span<const PairKey> keys, std::span<const PairHistory> entries);
-  /// The same for pairs and sub-contacts.
-  void merge(const HistoryRecords& records);
   /// Adds this history's entries for the pair at `pair_index` (pair and sub-contacts) to
   /// `records`.
   void copyPair(std::size_t pair_index, HistoryRecords& records) const;
@@ -225,9 +229,11 @@ class ContactHistory {
   bool increasingFrom(std::size_t first, std::size_t last) const;
   /// First sub-contact of pair `k` (the end of the block of pair k - 1).
   std::size_t subBegin(std::size_t k) const { return k == 0 ? 0 : sub_end_[k - 1]; }
-  /// Replaces the table by sorted full-key tables; throws if a sub-contact has no pair entry.
-  void assign(std::vector<PairKey> keys, std::vector<PairHistory> entries,
-              const std::vector<SubKey>& sub_keys, std::vector<SubHistory> sub_entries);
+  /// merge's steps (contact_history_merge.cpp): the sorted records' pairs the table lacks
+  /// merged in, sub_end_ holding each pair's sub-contact count afterwards; then the sub-contacts
+  /// the table lacks merged into their pairs' blocks, sub_end_ holding block ends again.
+  void mergePairs(const HistoryRecords& sorted, std::size_t added);
+  void mergeSubs(const HistoryRecords& sorted, std::size_t added);
   PairHistory& place(const PairKey& key, const PairHistory& h) {
     keys_[pairs_] = key;
     entries_[pairs_] = h;

@@ -125,7 +125,8 @@ setup::CheckpointSpec checkpointSpec(const setup::Setup& scene, const RunOptions
 
 // A new run (`restart` null) or the continuation of a checkpoint's.
 RunResult runWith(setup::Setup scene, const RunOptions& options, MPI_Comm comm,
-                  const sim::CheckpointData* restart, const std::string& restart_file) {
+                  const sim::CheckpointData* restart, sim::HistoryChunks* histories,
+                  const std::string& restart_file) {
   applyOverrides(scene, options);
   sim::requireStopCondition(scene);  // before anything is built or written
   // One run per output folder: held until this run's last file is written (output_lock.h).
@@ -134,9 +135,9 @@ RunResult runWith(setup::Setup scene, const RunOptions& options, MPI_Comm comm,
   const auto wall0 = std::chrono::steady_clock::now();
   log::info(cat("scene ", scene.id, " (", scene.file, "): ", scene.particles.size(),
                 " particles, kernel ", scene.kernel, ", ", mpi::size(comm), " rank(s)"));
-  const auto sim_ptr = restart
-                           ? std::make_unique<sim::Simulation>(scene, *restart, restart_file, comm)
-                           : std::make_unique<sim::Simulation>(scene, comm);
+  const auto sim_ptr =
+      restart ? std::make_unique<sim::Simulation>(scene, *restart, *histories, restart_file, comm)
+              : std::make_unique<sim::Simulation>(scene, comm);
   sim::Simulation& sim = *sim_ptr;
   const std::int64_t every =
       options.progress_every > 0 ? options.progress_every : scene.output.progress_every;
@@ -277,12 +278,14 @@ RunResult runWith(setup::Setup scene, const RunOptions& options, MPI_Comm comm,
 }  // namespace
 
 RunResult runScene(setup::Setup scene, const RunOptions& options, MPI_Comm comm) {
-  return runWith(std::move(scene), options, comm, nullptr, "");
+  return runWith(std::move(scene), options, comm, nullptr, nullptr, "");
 }
 
 RunResult continueRun(const std::string& file, const std::optional<std::string>& scene_file,
                       RunOptions options, MPI_Comm comm) {
-  const sim::CheckpointData data = checkpoint::readCheckpoint(file, comm);
+  // Everything but the pair histories now; those in chunks while the simulation is built.
+  checkpoint::CheckpointReader reader(file, comm);
+  const sim::CheckpointData& data = reader.data();
   setup::Setup scene;
   if (scene_file) {
     const std::string text = scene::readSceneText(*scene_file);
@@ -302,7 +305,7 @@ RunResult continueRun(const std::string& file, const std::optional<std::string>&
   }
   // The kernel and contact model the run used (a command line may have set them over the scene).
   prepareContinuation(data, file, scene);
-  return runWith(std::move(scene), options, comm, &data, file);
+  return runWith(std::move(scene), options, comm, &data, &reader, file);
 }
 
 }  // namespace polydem::run

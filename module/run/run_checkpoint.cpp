@@ -224,8 +224,8 @@ std::filesystem::path CheckpointSchedule::write(sim::Simulation& sim) {
   const auto path = checkpoint::checkpointFileName(dir_ / "checkpoints", runSteps(sim), run_id_);
   if (mpi::rank(comm_) == 0) std::filesystem::create_directories(path.parent_path());
   MPI_Barrier(comm_);
-  sim::CheckpointData data =
-      sim.checkpoint(scene_toml_, scene_file_, runStateJson(sim.scene(), tracker_, checks_));
+  sim::CheckpointData data = sim.checkpointForWriting(scene_toml_, scene_file_,
+                                                      runStateJson(sim.scene(), tracker_, checks_));
   data.code_version = code_version_;
   checkpoint::writeCheckpoint(path, data, comm_);
   if (mpi::rank(comm_) == 0) {

@@ -25,8 +25,8 @@ std::string writeRunoutCheckpoint(sim::Simulation& sim, const RunoutSettings& s,
                                   const RunoutProgress& progress) {
   if (s.dir.empty()) return "";
   const std::filesystem::path path = std::filesystem::path(s.dir) / "runout.h5";
-  const sim::CheckpointData data =
-      sim.checkpoint(s.scene_text, s.scene_file, runoutStateJson(progress, s, sim.scene()));
+  const sim::CheckpointData data = sim.checkpointForWriting(
+      s.scene_text, s.scene_file, runoutStateJson(progress, s, sim.scene()));
   checkpoint::writeCheckpoint(checkpoint::checkpointTarget(path, sim.comm()), data, sim.comm());
   return path.string();
 }

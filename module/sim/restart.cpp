@@ -8,6 +8,8 @@
 // Everything else (derived particle data, candidate pairs, ghosts, forces) is recomputed from
 // these at the start of the next step, and is the same on any rank count (contact_phase.h).
 #include <algorithm>
+#include <limits>
+#include <memory>
 
 #include "polydem/comm/history_routing.h"
 #include "polydem/core/error.h"
@@ -15,6 +17,7 @@
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
 #include "polydem/domain/rebalance.h"
+#include "polydem/sim/history_chunks.h"
 #include "polydem/sim/load_balancing.h"
 #include "polydem/sim/simulation.h"
 #include "polydem/sim/step/operators.h"
@@ -42,8 +45,9 @@ bool writesPair(const particles::ParticleStorage& storage, const particles::Pair
 
 }  // namespace
 
-CheckpointData Simulation::checkpoint(const std::string& scene_toml, const std::string& scene_file,
-                                      const std::string& run_state) const {
+// Everything but the pair histories.
+CheckpointData Simulation::capture(const std::string& scene_toml, const std::string& scene_file,
+                                   const std::string& run_state) const {
   requireBetweenSteps("checkpoint");
   CheckpointData d;
   d.scene_toml = scene_toml;
@@ -73,22 +77,53 @@ CheckpointData Simulation::checkpoint(const std::string& scene_toml, const std::
     if (p.isGlobal() && state_.rank != 0) continue;  // replicated: rank 0's copy only
     d.particles.push_back(p);
   }
-  const auto keys = state_.history.keys();
-  const auto entries = state_.history.entries();
-  particles::ContactHistory::Cursor cursor(state_.history);
-  for (std::size_t k = 0; k < keys.size(); ++k) {
-    if (!writesPair(state_.storage, keys[k], state_.rank)) continue;
-    d.pair_keys.push_back(keys[k]);
-    d.pair_histories.push_back(entries[k]);
-    const auto [sub_keys, subs] = cursor.subs(keys[k]);
-    for (const auto& s : sub_keys) d.sub_keys.push_back({keys[k], s.feature});
-    d.sub_histories.insert(d.sub_histories.end(), subs.begin(), subs.end());
-  }
   return d;
+}
+
+CheckpointData Simulation::checkpoint(const std::string& scene_toml, const std::string& scene_file,
+                                      const std::string& run_state) const {
+  CheckpointData d = capture(scene_toml, scene_file, run_state);
+  particles::HistoryRecords records;
+  const HistoryView view = historyView();
+  for (std::uint32_t k : view.pairs) state_.history.copyPair(k, records);
+  d.pair_keys = std::move(records.keys);
+  d.pair_histories = std::move(records.entries);
+  d.sub_keys = std::move(records.sub_keys);
+  d.sub_histories = std::move(records.sub_entries);
+  return d;
+}
+
+CheckpointData Simulation::checkpointForWriting(const std::string& scene_toml,
+                                                const std::string& scene_file,
+                                                const std::string& run_state) const {
+  CheckpointData d = capture(scene_toml, scene_file, run_state);
+  d.history_view = historyView();
+  return d;
+}
+
+HistoryView Simulation::historyView() const {
+  HistoryView view;
+  view.table = &state_.history;
+  const auto keys = state_.history.keys();
+  if (keys.size() > std::numeric_limits<std::uint32_t>::max()) {
+    throw Error(cat("checkpoint: ", keys.size(), " pair histories on rank ", state_.rank,
+                    ", more than a checkpoint's index of them counts"));
+  }
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    if (writesPair(state_.storage, keys[k], state_.rank)) {
+      view.pairs.push_back(static_cast<std::uint32_t>(k));
+    }
+  }
+  return view;
 }
 
 Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoint,
                        const std::string& file, MPI_Comm comm)
+    : Simulation(scene, checkpoint, *std::make_unique<SavedHistoryChunks>(checkpoint, comm), file,
+                 comm) {}
+
+Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoint,
+                       HistoryChunks& histories, const std::string& file, MPI_Comm comm)
     : Simulation(scene, comm, Unbuilt{}) {
   buildTables();
   // The shapes are rebuilt by the code that built them in the first run; a change in that code
@@ -118,7 +153,7 @@ Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoi
   }
   buildLaws();
   computeExtents();
-  restoreParticles(checkpoint, file);
+  restoreParticles(checkpoint, histories, file);
   suggestTimeStep();
   registerSteps();
   equilibrium_steps_ = checkpoint.equilibrium_steps;
@@ -142,7 +177,8 @@ Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoi
 // free particles for this rank count (the scene's blocks if it gives them), balanced on their
 // counts. Then every particle to its owner and every history to the
 // owners of its particles.
-void Simulation::restoreParticles(const CheckpointData& checkpoint, const std::string& file) {
+void Simulation::restoreParticles(const CheckpointData& checkpoint, HistoryChunks& histories,
+                                  const std::string& file) {
   const auto& dom = checkpoint.domain;
   const domain::Aabb box{dom.lo, dom.hi};
   const bool same_ranks = dom.ranks == state_.ranks && !dom.rank_map.empty();
@@ -185,9 +221,13 @@ void Simulation::restoreParticles(const CheckpointData& checkpoint, const std::s
     state_.forest->setRankMap(rankMap(state_, weights), state_.ranks);
   }
   state_.exchange.migrate(*state_.forest, state_.storage, state_.history, checkpoint.step);
-  particles::HistoryRecords records{checkpoint.pair_keys, checkpoint.pair_histories,
-                                    checkpoint.sub_keys, checkpoint.sub_histories};
-  state_.history = comm::routeHistories(records, state_.storage, state_.comm);
+  // Chunk by chunk: the records in transit stay bounded, and each chunk merges into the table in
+  // place (the table's order and contents are those of one merge of all records).
+  comm::HistoryRouter router(state_.storage, state_.comm);
+  state_.history.clear();
+  particles::HistoryRecords chunk;
+  while (histories.next(chunk)) router.route(chunk, state_.history);
+  restore_routing_ = router.stats();
   log::info(cat("restored step ", checkpoint.step, " (", toString(checkpoint.stage),
                 " stage) from ", file, ", written by ", dom.ranks, " rank(s), on ", state_.ranks,
                 " rank(s)"));

@@ -21,6 +21,21 @@
 
 namespace polydem::sim {
 
+/// Rows of a contact history a rank writes, without a copy: the pairs at `pairs` (indices into
+/// `table`, increasing), each with its block of sub-contacts.
+struct HistoryView {
+  const particles::ContactHistory* table = nullptr;
+  std::vector<std::uint32_t> pairs;
+  std::size_t subCount() const {
+    std::size_t n = 0;
+    for (std::uint32_t k : pairs) {
+      const auto [first, last] = table->subsOf(k);
+      n += last - first;
+    }
+    return n;
+  }
+};
+
 /// The stage a run was in (see sim::Stage): the initial-equilibrium stage or the main stage.
 enum class CheckpointStage : std::int32_t { kEquilibrium = 0, kMain = 1 };
 
@@ -110,6 +125,10 @@ struct CheckpointData {
   /// writer; read as a slice of their own).
   std::vector<particles::SubKey> sub_keys;
   std::vector<particles::SubHistory> sub_histories;
+  /// Write only, instead of the four tables above (Simulation::checkpointForWriting): this rank's
+  /// pair histories left in the simulation's table, which a writer reads row by row, so that a
+  /// checkpoint holds no copy of the history. Valid until the simulation steps.
+  HistoryView history_view;
 };
 
 }  // namespace polydem::sim

@@ -23,6 +23,7 @@
 
 #include "polydem/broadphase/broad_phase.h"
 #include "polydem/broadphase/cell_order.h"
+#include "polydem/comm/history_routing.h"
 #include "polydem/comm/particle_exchange.h"
 #include "polydem/comm/state_hash.h"
 #include "polydem/contact/contact.h"
@@ -37,6 +38,7 @@
 #include "polydem/sim/contact_phase.h"
 #include "polydem/sim/force_operator.h"
 #include "polydem/sim/ground_motion.h"
+#include "polydem/sim/history_chunks.h"
 #include "polydem/sim/load_balance.h"
 #include "polydem/sim/memory_use.h"
 #include "polydem/sim/saved_state.h"
@@ -71,6 +73,11 @@ class Simulation {
   /// built from `scene` differ from the stored ones, or the time step does.
   Simulation(const setup::Setup& scene, const CheckpointData& checkpoint, const std::string& file,
              MPI_Comm comm);
+  /// The same with the pair histories handed over in bounded chunks (sim/history_chunks.h; the
+  /// pair and sub-contact tables of `checkpoint` are not read): each chunk is routed to the owners
+  /// and merged in place, so that the restart holds little more than the run's own history.
+  Simulation(const setup::Setup& scene, const CheckpointData& checkpoint, HistoryChunks& histories,
+             const std::string& file, MPI_Comm comm);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -184,6 +191,11 @@ class Simulation {
   /// over all ranks. Call between steps. `scene_toml` and `scene_file` are stored as given.
   CheckpointData checkpoint(const std::string& scene_toml, const std::string& scene_file,
                             const std::string& run_state) const;
+  /// The same with the pair histories left in this simulation's table (CheckpointData::
+  /// history_view) instead of copied, so that writing the checkpoint holds no second copy of the
+  /// history: for writing at once, before the next step.
+  CheckpointData checkpointForWriting(const std::string& scene_toml, const std::string& scene_file,
+                                      const std::string& run_state) const;
 
   /// Weighs a new decomposition against the current one by the work of the last contact phase
   /// (sim/load_balance.h) and, if it is better by the margin, installs it and moves the particles
@@ -222,6 +234,9 @@ class Simulation {
   /// scene copy, broad phase, pair list, contact history (pairs, sub-contacts), per-particle
   /// kernel caches, contact records, forces, exchange buffers. Not collective.
   MemoryUse memoryUse() const;
+  /// How the restart that built this routed the pair histories (chunks, the most bytes one chunk
+  /// held in transit on this rank); all zero for a simulation built from a scene.
+  const comm::HistoryRoutingStats& restoreRouting() const { return restore_routing_; }
 
  private:
   /// Members that depend only on the scene and the communicator; both public constructors
@@ -240,10 +255,15 @@ class Simulation {
   domain::Aabb computeExtents();
   void checkFreeBodies() const;
   void suggestTimeStep();
-  void restoreParticles(const CheckpointData& checkpoint, const std::string& file);
+  CheckpointData capture(const std::string& scene_toml, const std::string& scene_file,
+                         const std::string& run_state) const;
+  HistoryView historyView() const;  // the pairs this rank writes, each pair on one rank
+  void restoreParticles(const CheckpointData& checkpoint, HistoryChunks& histories,
+                        const std::string& file);
   void startLeapfrogWith(const std::string& name, const ForceOperator& op);
 
   StepState state_;  // what the step's operators act on (sim/step/step_state.h)
+  comm::HistoryRoutingStats restore_routing_;  // of the restart that built this, if one did
   std::int64_t equilibrium_steps_ = 0;
   bool equilibrium_reached_ = false;
   bool equilibrium_done_ = false;  // the stage has ended (or never was), never to run again

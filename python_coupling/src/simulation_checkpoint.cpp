@@ -44,8 +44,8 @@ void writeCheckpoint(const Simulation& sim, const py::object& path_object) {
   // contact model, which may have been set over the scene text's.
   const run::Tracker tracker;
   const std::vector<std::unique_ptr<run::Check>> checks;
-  sim::CheckpointData data = sim.checkpoint(sim.scene().text, sim.scene().file,
-                                            run::runStateJson(sim.scene(), tracker, checks));
+  sim::CheckpointData data = sim.checkpointForWriting(
+      sim.scene().text, sim.scene().file, run::runStateJson(sim.scene(), tracker, checks));
   data.code_version = POLYDEM_VERSION;
   checkpoint::writeCheckpoint(path, data, sim.comm());
 }
@@ -53,10 +53,11 @@ void writeCheckpoint(const Simulation& sim, const py::object& path_object) {
 std::unique_ptr<Simulation> restart(const py::object& path_object, const py::object& comm_object) {
   const std::string path = fspath(path_object, "path");
   const MPI_Comm comm = toComm(comm_object);
-  const sim::CheckpointData data = checkpoint::readCheckpoint(path, comm);
+  checkpoint::CheckpointReader reader(path, comm);  // the pair histories in chunks
+  const sim::CheckpointData& data = reader.data();
   setup::Setup scene = scene::parseScene(data.scene_toml, data.scene_file);
   run::prepareContinuation(data, path, scene);
-  return std::make_unique<Simulation>(scene, data, path, comm);
+  return std::make_unique<Simulation>(scene, data, reader, path, comm);
 }
 
 // A finite 3-vector or nothing (None).

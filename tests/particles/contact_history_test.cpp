@@ -154,6 +154,50 @@ TEST(ContactHistory, MergedBlocksAreFoundByPair) {
   }
 }
 
+// Merged chunk by chunk, as a restart merges a checkpoint's histories: chunks of any size, the
+// pairs before the sub-contacts or each pair with its own, some records twice (a pair whose two
+// particles a rank owns arrives from both directories), give the table of one merge of all.
+TEST(ContactHistory, MergedInChunksIsMergedAtOnce) {
+  std::mt19937_64 rng(18);
+  for (int trial = 0; trial < 30; ++trial) {
+    const HistoryRecords all = randomRecords(rng, 1 + trial * 8);
+    // The records in a shuffled order, the pairs first (as a checkpoint's tables are read).
+    std::vector<std::size_t> pairs(all.keys.size()), subs(all.sub_keys.size());
+    for (std::size_t i = 0; i < pairs.size(); ++i) pairs[i] = i;
+    for (std::size_t i = 0; i < subs.size(); ++i) subs[i] = i;
+    std::shuffle(pairs.begin(), pairs.end(), rng);
+    std::shuffle(subs.begin(), subs.end(), rng);
+    std::vector<std::pair<bool, std::size_t>> order;  // (sub-contact?, index)
+    for (std::size_t i : pairs) order.push_back({false, i});
+    for (std::size_t i : subs) order.push_back({true, i});
+    ContactHistory h;
+    std::uniform_int_distribution<std::size_t> size(1, 1 + trial);
+    for (std::size_t at = 0; at < order.size();) {
+      HistoryRecords chunk;
+      const std::size_t end = std::min(order.size(), at + size(rng));
+      for (; at < end; ++at) {
+        const auto [sub, i] = order[at];
+        for (int copy = 0; copy < (i % 3 == 0 ? 2 : 1); ++copy) {
+          if (sub) {
+            chunk.sub_keys.push_back(all.sub_keys[i]);
+            chunk.sub_entries.push_back(all.sub_entries[i]);
+          } else {
+            chunk.keys.push_back(all.keys[i]);
+            chunk.entries.push_back(all.entries[i]);
+          }
+        }
+      }
+      h.merge(chunk);
+    }
+    expectBlocks(h, all);
+    // Again: everything present already, nothing added.
+    const std::size_t subs_before = h.subCount();
+    h.merge(all);
+    EXPECT_EQ(h.subCount(), subs_before);
+    expectBlocks(h, all);
+  }
+}
+
 // The sub-contacts of `key` in `r`, as a pair's block: its entries, and their count.
 void expectOld(const ContactHistory::Found& found, const HistoryRecords& r, const PairKey& key) {
   const auto k = std::lower_bound(r.keys.begin(), r.keys.end(), key) - r.keys.begin();
@@ -240,6 +284,15 @@ TEST(ContactHistory, RefusesInputThatBreaksTheIndex) {
   orphan.sub_keys.push_back({{2, 3}, 1});
   orphan.sub_entries.push_back({});
   EXPECT_THROW(h.merge(orphan), Error);
+  // ... and leaves the table as it was, also beside records it would have added.
+  orphan.keys.push_back({1, 4});
+  orphan.entries.push_back({});
+  orphan.sub_keys.push_back({{1, 2}, 9});
+  orphan.sub_entries.push_back({});
+  EXPECT_THROW(h.merge(orphan), Error);
+  EXPECT_EQ(h.size(), 2u);
+  EXPECT_EQ(h.subCount(), 4u);
+  EXPECT_EQ(h.subRange({1, 3}), (std::pair<std::size_t, std::size_t>{2, 4}));
 }
 
 }  // namespace

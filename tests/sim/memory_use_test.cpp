@@ -16,6 +16,7 @@
 #include "polydem/core/logging.h"
 #include "polydem/core/memory.h"
 #include "polydem/core/mpi_env.h"
+#include "polydem/sim/history_chunks.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::sim {
@@ -122,6 +123,70 @@ TEST(MemoryUse, DensePackWithinBoundsFromCounts) {
   EXPECT_LE(peak["forces"], np * sizeof(dynamics::ForceAccumulator));
   // One cube shape and the box's floor and walls, whatever the particle count.
   EXPECT_LE(peak["shapes"], 4096u * sim.shapes().size());
+}
+
+// A restart routes the pair histories to their owners chunk by chunk and merges each chunk into
+// the table in place: what one chunk holds in transit is bounded by the chunk size, not by the
+// history's, and the restored table is one table (no copy left over from the merges). The run
+// continued from it gives the same bits as the run that never stopped.
+TEST(MemoryUse, RestartRoutesHistoriesInBoundedChunks) {
+  log::setLevel(log::Level::kWarning);
+  PileOptions o;
+  o.particles = 512;
+  o.shapes = "cubes";
+  o.gap = -0.001;
+  o.layers = 8;
+  setup::Setup scene = makePileScene(o);
+  scene.contact_model = "sub-contacts";
+  Simulation sim(scene, MPI_COMM_WORLD);
+  for (int step = 0; step < 10; ++step) sim.step();
+  CheckpointData data = sim.checkpoint("", scene.file, "{}");
+  // As a checkpoint is read: every rank holds the replicated particles (written from rank 0).
+  if (mpi::rank() != 0) {
+    std::vector<particles::Particle> replicated;
+    for (std::size_t i = 0; i < sim.particles().localCount(); ++i) {
+      if (sim.particles()[i].isGlobal()) replicated.push_back(sim.particles()[i]);
+    }
+    data.particles.insert(data.particles.begin(), replicated.begin(), replicated.end());
+  }
+  constexpr std::size_t kRecords = 128;  // per chunk and rank
+  SavedHistoryChunks chunks(data, MPI_COMM_WORLD, kRecords);
+  Simulation restored(scene, data, chunks, "the captured state", MPI_COMM_WORLD);
+
+  const auto& routing = restored.restoreRouting();
+  const std::size_t written = data.pair_keys.size() + data.sub_keys.size();
+  EXPECT_GE(static_cast<std::size_t>(routing.chunks), written / kRecords);
+  // Per chunk, a rank receives as a directory at most two copies of each of the P chunks'
+  // records, and keeps at most as many; each is held at most in four forms at once (sent,
+  // received, waiting at the directory, kept), each at most twice its size (buffers and vectors
+  // double). A record in transit is a type byte, a member uid, a payload byte and a key and
+  // history.
+  const std::uint64_t record = 2 + sizeof(Uid) +
+                               std::max(sizeof(particles::PairKey) + sizeof(particles::PairHistory),
+                                        sizeof(particles::SubKey) + sizeof(particles::SubHistory));
+  const std::uint64_t bound = 2 * mpi::size() * kRecords * 4 * 2 * record;
+  EXPECT_LE(routing.peak_transit_bytes, bound);
+  EXPECT_GT(routing.peak_transit_bytes, 0u);
+  // The whole history in transit form, all ranks' (what one chunk of everything would hold).
+  const std::uint64_t whole = mpi::allreduceSum(static_cast<std::int64_t>(
+      data.pair_keys.size() * (sizeof(particles::PairKey) + sizeof(particles::PairHistory)) +
+      data.sub_keys.size() * (sizeof(particles::SubKey) + sizeof(particles::SubHistory))));
+  EXPECT_LT(bound, whole) << "the pack's history should be larger than the chunks' bound";
+
+  // One table: at most a quarter (or 64) past its counts.
+  const auto& h = restored.history();
+  const auto use = byName(restored.memoryUse());
+  EXPECT_LE(use.at("history_pairs"),
+            growthFor(h.size()) * (sizeof(particles::PairKey) + sizeof(particles::PairHistory) +
+                                   sizeof(std::size_t)));
+  EXPECT_LE(use.at("history_subs"), growthFor(h.subCount()) * (sizeof(particles::SubFeature) +
+                                                               sizeof(particles::SubHistory)));
+
+  for (int step = 0; step < 5; ++step) {
+    sim.step();
+    restored.step();
+  }
+  EXPECT_EQ(restored.stateHash().combined, sim.stateHash().combined);
 }
 
 }  // namespace

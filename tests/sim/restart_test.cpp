@@ -97,12 +97,26 @@ void writeAfterFirst(const setup::Setup& scene, const fs::path& path, MPI_Comm c
   for (const auto& h : data.sub_histories) sliding += h.shear_force.norm() > 0;
   EXPECT_GT(mpi::allreduceSum(sliding, comm), 10) << "the checkpoint should hold shear histories";
   checkpoint::writeCheckpoint(path, data, comm);
+  // Written from the table in place (no copy of the history), in rounds of a few rows: the same
+  // datasets, bit for bit.
+  const fs::path streamed = path.string() + ".streamed";
+  hdf5::CheckpointIoOptions small;
+  small.round_bytes = 4096;
+  checkpoint::writeCheckpoint(streamed, sim.checkpointForWriting("", scene.file, "{}"), comm,
+                              small);
+  const auto copied = checkpoint::verifyCheckpoint(path, comm).datasets;
+  const auto in_place = checkpoint::verifyCheckpoint(streamed, comm).datasets;
+  ASSERT_EQ(copied.size(), in_place.size());
+  for (std::size_t i = 0; i < copied.size(); ++i) {
+    EXPECT_EQ(copied[i].name, in_place[i].name);
+    EXPECT_EQ(copied[i].checksum, in_place[i].checksum) << copied[i].name;
+  }
+  MPI_Barrier(comm);
+  if (mpi::rank(comm) == 0) fs::remove(streamed);
 }
 
-/// Reads `path` on `comm` and runs both stages to the end.
-std::uint64_t restartFrom(const setup::Setup& scene, const fs::path& path, MPI_Comm comm) {
-  const sim::CheckpointData data = checkpoint::readCheckpoint(path, comm);
-  Simulation sim(scene, data, path.string(), comm);
+/// Runs a restarted simulation's both stages to the end.
+std::uint64_t finish(const setup::Setup& scene, Simulation& sim) {
   EXPECT_EQ(sim.stepCount(), kFirst);
   EXPECT_EQ(sim.stage(), scene.equilibrium.enabled ? Stage::kEquilibrium : Stage::kMain);
   sim.runEquilibrium();
@@ -110,6 +124,25 @@ std::uint64_t restartFrom(const setup::Setup& scene, const fs::path& path, MPI_C
   const auto h = sim.stateHash();
   EXPECT_EQ(h.history_conflicts, 0);
   return h.combined;
+}
+
+/// Reads `path` on `comm` and runs both stages to the end.
+std::uint64_t restartFrom(const setup::Setup& scene, const fs::path& path, MPI_Comm comm) {
+  const sim::CheckpointData data = checkpoint::readCheckpoint(path, comm);
+  Simulation sim(scene, data, path.string(), comm);
+  return finish(scene, sim);
+}
+
+/// The same with the pair histories read from the file in rounds of a few rows, each routed and
+/// merged as it comes.
+std::uint64_t restartInChunks(const setup::Setup& scene, const fs::path& path, MPI_Comm comm) {
+  hdf5::CheckpointIoOptions small;
+  small.round_bytes = 4096;
+  checkpoint::CheckpointReader reader(path, comm, small);
+  EXPECT_TRUE(reader.data().pair_keys.empty() && reader.data().sub_keys.empty());
+  Simulation sim(scene, reader.data(), reader, path.string(), comm);
+  EXPECT_GT(sim.restoreRouting().chunks, 2) << "the histories should come in several chunks";
+  return finish(scene, sim);
 }
 
 void expectRestartSameBits(const setup::Setup& scene, const std::string& name) {
@@ -120,6 +153,8 @@ void expectRestartSameBits(const setup::Setup& scene, const std::string& name) {
   // Written and read on all ranks.
   writeAfterFirst(scene, path, MPI_COMM_WORLD);
   EXPECT_EQ(restartFrom(scene, path, MPI_COMM_WORLD), reference) << "restart on " << p << " ranks";
+  EXPECT_EQ(restartInChunks(scene, path, MPI_COMM_WORLD), reference)
+      << "restart on " << p << " ranks, the histories in chunks";
   // Written on all ranks, read on one and on P - 1.
   EXPECT_EQ(onFirst(1, [&](MPI_Comm c) { return restartFrom(scene, path, c); }), reference)
       << "written on " << p << " ranks, read on 1";
@@ -135,6 +170,8 @@ void expectRestartSameBits(const setup::Setup& scene, const std::string& name) {
     });
     EXPECT_EQ(onFirst(3, [&](MPI_Comm c) { return restartFrom(scene, path, c); }), reference)
         << "written on 2 ranks, read on 3";
+    EXPECT_EQ(onFirst(3, [&](MPI_Comm c) { return restartInChunks(scene, path, c); }), reference)
+        << "written on 2 ranks, read on 3, the histories in chunks";
   }
   if (mpi::rank() == 0) fs::remove(path);
 }
