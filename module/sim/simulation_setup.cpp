@@ -20,8 +20,10 @@
 
 namespace polydem::sim {
 
-Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm, Unbuilt)
-    : state_(scene, comm), parked_loop_(comm) {}
+Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm, const HostOperators& host, Unbuilt)
+    : state_(scene, comm), stages_(state_) {
+  state_.force_operators = sceneOperators(state_.scene, host);
+}
 
 StepState::StepState(const setup::Setup& scene_in, MPI_Comm comm_in)
     : scene(scene_in),
@@ -33,19 +35,35 @@ StepState::StepState(const setup::Setup& scene_in, MPI_Comm comm_in)
   ground = groundMotion(scene);
 }
 
-Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm)
-    : Simulation(scene, comm, Unbuilt{}) {
+Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm, const HostOperators& host)
+    : Simulation(scene, comm, host, Unbuilt{}) {
   buildTables();
   buildBolts();
   buildLaws();
   buildDomain();
   placeParticles();
   suggestTimeStep();
-  registerSteps();
+  stages_.registerSteps();
   refreshGhosts(state_);
-  state_.sample_load = true;
-  startLeapfrog();
+  state_.balancer.sampleNext();
+  stages_.startLeapfrog();
   rebalance();  // by the work of the contact phase at t = 0, which startLeapfrog computed
+}
+
+Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoint,
+                       const std::string& file, MPI_Comm comm, const HostOperators& host)
+    : Simulation(scene, comm, host, Unbuilt{}) {
+  const Restart restart(state_, checkpoint, file);
+  buildTables();
+  restart.checkTables();
+  buildBolts();
+  restart.restoreBolts();
+  buildLaws();
+  computeExtents();
+  restart.restoreParticles();
+  suggestTimeStep();
+  stages_.registerSteps();
+  restart.restoreStage(stages_);
 }
 
 Simulation::~Simulation() = default;
@@ -79,7 +97,7 @@ void Simulation::buildTables() {
   state_.materials.finalize();
   state_.densities = state_.materials.densities();
   state_.kernel = contact::makeKernel(state_.scene.kernel, state_.scene.kernel_params);
-  state_.load_model = loadModelFor(state_.scene.kernel);
+  state_.balancer.setModel(loadModelFor(state_.scene.kernel));
   state_.broadphase = broadphase::makeBroadPhase(state_.scene.broadphase);
 }
 
