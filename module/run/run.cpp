@@ -1,7 +1,9 @@
 #include "polydem/run/run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -115,6 +117,21 @@ void applyOverrides(setup::Setup& scene, const RunOptions& options) {
 
 namespace {
 
+// Communication volume of the whole run, all ranks (collective).
+nlohmann::json communicationJson(const sim::Simulation& sim, MPI_Comm comm) {
+  const auto& totals = sim.exchangeTotals();
+  std::int64_t sent[3] = {totals.bytes_sent, totals.particles_sent, totals.histories_sent};
+  MPI_Allreduce(MPI_IN_PLACE, sent, 3, MPI_INT64_T, MPI_SUM, comm);
+  return {{"bytes_sent", sent[0]}, {"particles_sent", sent[1]}, {"histories_sent", sent[2]}};
+}
+
+nlohmann::json rebalancingJson(const sim::BalanceLog& log) {
+  return {{"balance_checks", log.checks},
+          {"new_decompositions_computed", log.proposals},
+          {"new_decompositions_adopted", log.adopted},
+          {"work_imbalance_at_last_check", log.last_imbalance}};
+}
+
 setup::CheckpointSpec checkpointSpec(const setup::Setup& scene, const RunOptions& options) {
   setup::CheckpointSpec spec = scene.checkpoint;
   if (options.checkpoint_every) spec.every_steps = *options.checkpoint_every;
@@ -123,156 +140,229 @@ setup::CheckpointSpec checkpointSpec(const setup::Setup& scene, const RunOptions
   return spec;
 }
 
+// One run of a scene, new or the continuation of a checkpoint's: run() reads as the algorithm
+// (set-up, stages, output, checks, summary); each piece is a method below.
+class SceneRun {
+ public:
+  SceneRun(setup::Setup scene, const RunOptions& options, MPI_Comm comm,
+           const sim::CheckpointData* restart, sim::HistoryChunks* histories,
+           const std::string& restart_file)
+      : scene_(std::move(scene)),
+        options_(options),
+        comm_(comm),
+        restart_(restart),
+        histories_(histories),
+        restart_file_(restart_file) {}
+
+  RunResult run() {
+    buildSimulation();
+    setUpObservers();
+    const auto reason = runStages();
+    closeOutput();
+    checkpointOnSignal();
+    measure();
+    const auto timing = sim_->loop().timing().reduce(comm_);
+    printResults(reason, timing);
+    writeSummary(reason, timing);
+    printEnd();
+    return result_;
+  }
+
+ private:
+  bool writes() const { return !options_.out_dir.empty(); }
+  bool rankZero() const { return mpi::rank(comm_) == 0; }
+
+  // The simulation, from the scene or the checkpoint, with its progress line.
+  void buildSimulation() {
+    // One run per output folder: held until this run's last file is written (output_lock.h).
+    if (writes()) lock_.emplace(options_.out_dir, comm_);
+    wall0_ = std::chrono::steady_clock::now();
+    log::info(cat("scene ", scene_.id, " (", scene_.file, "): ", scene_.particles.size(),
+                  " particles, kernel ", scene_.kernel, ", ", mpi::size(comm_), " rank(s)"));
+    sim_ = restart_ ? std::make_unique<sim::Simulation>(scene_, *restart_, *histories_,
+                                                        restart_file_, comm_)
+                    : std::make_unique<sim::Simulation>(scene_, comm_);
+    const std::int64_t every =
+        options_.progress_every > 0 ? options_.progress_every : scene_.output.progress_every;
+    sim_->loop().setProgressInterval(every, every > 0 ? 0.0 : 5.0);
+  }
+
+  // The checks, the monitored particles, the checkpoint schedule as the step hook.
+  void setUpObservers() {
+    checks_ = makeChecks(scene_, tracker_);
+    for (const auto& label : scene_.output.monitor) {
+      const Uid uid = uidOfLabel(scene_, label);
+      tracker_.track(uid);
+      monitored_.emplace_back(uid, label);
+    }
+    if (restart_) restoreRunState(restart_->run_state, restart_file_, tracker_, checks_);
+    const std::string scene_text =
+        options_.scene_text.empty() && restart_ ? restart_->scene_toml : options_.scene_text;
+    schedule_ = std::make_unique<CheckpointSchedule>(
+        checkpointSpec(scene_, options_), options_.out_dir, scene_text, scene_.file,
+        options_.code_version, tracker_, checks_, comm_);
+    if (options_.stop_on_signals) installStopSignals();
+    sim_->setStepHook([this] { return schedule_->afterStep(*sim_); });
+  }
+
+  // The equilibrium stage, then the output's first rows and the main stage with its observers.
+  timeloop::StopReason runStages() {
+    sim::Simulation& sim = *sim_;
+    result_.equilibrium_steps = sim.runEquilibrium();
+    const bool stopped_early = schedule_->stopSignal() != 0;
+    if (!tracker_.empty() && sim.stage() == sim::Stage::kMain) tracker_.gather(sim);
+    openOutput();
+    sim.addObserver([this] { observeStep(); });
+    if (stopped_early) return timeloop::StopReason::kUserCondition;
+    return sim.run();
+  }
+
+  void openOutput() {
+    if (!writes()) return;
+    output_ = std::make_unique<RunOutput>(options_.out_dir, *sim_, tracker_, monitored_, checks_,
+                                          options_.snapshots);
+    output_->writeSeries(*sim_, tracker_, checks_);
+    output_->writeSnapshot(*sim_);
+  }
+
+  // After every step of the main stage: the checks, a series row and a snapshot when due.
+  void observeStep() {
+    sim::Simulation& sim = *sim_;
+    if (!tracker_.empty()) tracker_.gather(sim);
+    for (auto& c : checks_) c->observe(sim, tracker_);
+    if (!output_) return;
+    const std::int64_t step = sim.stepCount();  // the step just completed (observers run after it)
+    const std::int64_t series_every = std::max<std::int64_t>(1, scene_.output.series_every);
+    const std::int64_t snapshot_every = scene_.output.snapshot_every;
+    if (step % series_every == 0) output_->writeSeries(sim, tracker_, checks_);
+    if (snapshot_every > 0 && step % snapshot_every == 0) output_->writeSnapshot(sim);
+  }
+
+  void closeOutput() {
+    testPause("after-run");  // test hook (core/test_pause.h)
+    if (!output_) return;
+    // The final state, unless the observer has just written it (or nothing has happened since
+    // the rows written at the start).
+    output_->writeSeriesOnce(*sim_, tracker_, checks_);
+    output_->writeSnapshotOnce(*sim_);
+    output_->close();
+  }
+
+  // A signal that came after the last step's check (during the final outputs) still ends in a
+  // checkpoint, of the final state: whenever a run is signalled, it leaves one.
+  void checkpointOnSignal() {
+    result_.signal_after_end = schedule_->signalAfterRun();
+    if (schedule_->stopSignal() == 0) return;
+    result_.stop_signal = signalName(schedule_->stopSignal());
+    if (writes()) result_.checkpoint = schedule_->write(*sim_).string();
+  }
+
+  void measure() {
+    result_.checks = evaluateChecks(checks_, *sim_);
+    result_.hash = sim_->stateHash();
+    result_.steps = sim_->stepCount();
+    result_.time = sim_->time();
+    result_.wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0_).count();
+  }
+
+  void printResults(timeloop::StopReason reason, const std::vector<TimingPool::Reduced>& timing) {
+    log::info(cat("finished: ", timeloop::toString(reason), " after ", result_.steps,
+                  " steps, t = ", num(result_.time), " s, ", num(result_.wall_seconds), " s wall"));
+    log::info(TimingPool::table(timing, result_.steps));
+    printChecks(result_.checks);
+    log::info("state hash " + result_.hash.hex());
+    if (result_.hash.history_conflicts != 0) {
+      log::warning(cat(result_.hash.history_conflicts,
+                       " pair histories differ between ranks: please report this as a bug"));
+    }
+  }
+
+  // summary.json (rank 0 writes it; every rank ends if it cannot). The communication and balance
+  // figures are collective, so every rank computes them.
+  void writeSummary(timeloop::StopReason reason, const std::vector<TimingPool::Reduced>& timing) {
+    const nlohmann::json communication = communicationJson(*sim_, comm_);
+    const nlohmann::json balance = sim::toJson(sim::balanceFigures(*sim_));
+    if (!writes()) return;
+    std::string summary_error;
+    if (rankZero()) {
+      auto summary = summaryJson(scene_, *sim_, result_, reason, timing);
+      addRunFacts(summary);
+      summary["communication"] = communication;
+      summary["balance"] = balance["balance"];
+      summary["balance"]["rebalancing"] = rebalancingJson(sim_->balanceLog());
+      summary["communication_seconds_per_step"] = balance["communication_seconds_per_step"];
+      try {
+        output::writeJsonAtomic(options_.out_dir + "/summary.json", summary);
+      } catch (const Error& e) {
+        summary_error = e.what();
+      }
+    }
+    output::throwIfAnyRankFailed(summary_error, comm_);
+  }
+
+  // How the run ended and where it continues: signals, checkpoint, restart.
+  void addRunFacts(nlohmann::json& summary) const {
+    summary["stopped_by_signal"] =
+        result_.stopped_early() ? nlohmann::json(result_.stop_signal) : nlohmann::json();
+    if (result_.signal_after_end) summary["signal_after_end"] = result_.stop_signal;
+    if (!result_.checkpoint.empty()) summary["checkpoint"] = result_.checkpoint;
+    if (restart_) summary["restarted_from"] = restart_file_;
+    summary["checkpoint_run_id"] = schedule_->runId();  // in the names of this run's checkpoints
+  }
+
+  // The files written, and for a signalled run where its checkpoint is and how to continue.
+  void printEnd() const {
+    if (!rankZero()) return;
+    if (writes()) {
+      log::info("wrote " + options_.out_dir + "/summary.json, series.csv" +
+                (!options_.snapshots                      ? ""
+                 : scene_.output.snapshot_format == "vtk" ? ", snapshots.pvd, contacts.pvd"
+                                                          : ", snapshots.xmf, contacts.xmf"));
+    }
+    if (result_.stop_signal.empty()) return;
+    const std::string where =
+        result_.checkpoint.empty() ? std::string("no checkpoint (no --out)") : result_.checkpoint;
+    if (result_.signal_after_end) {
+      log::info(cat(result_.stop_signal, " received after the last step (the run is complete); ",
+                    "checkpoint of the final state: ", where));
+    } else {
+      log::info(cat("stopped by ", result_.stop_signal, " at the end of ",
+                    sim_->stage() == sim::Stage::kEquilibrium ? "equilibrium" : "main", " step ",
+                    result_.steps, "; checkpoint: ", where));
+    }
+    if (result_.checkpoint.empty()) return;
+    log::info(cat("to continue: mpirun -n ", mpi::size(comm_), " ", options_.program,
+                  " run --restart ", result_.checkpoint, " --out ", options_.out_dir,
+                  result_.signal_after_end ? " --end-time T (or --steps N) beyond the end" : "",
+                  "  (any rank count; use another --out to keep this part's files)"));
+  }
+
+  setup::Setup scene_;
+  const RunOptions& options_;
+  MPI_Comm comm_;
+  const sim::CheckpointData* restart_;  // null: a new run
+  sim::HistoryChunks* histories_;       // the restart's pair histories, handed over in chunks
+  const std::string& restart_file_;
+  std::optional<output::OutputLock> lock_;
+  std::chrono::steady_clock::time_point wall0_;
+  std::unique_ptr<sim::Simulation> sim_;
+  Tracker tracker_;
+  std::vector<std::unique_ptr<Check>> checks_;
+  std::vector<std::pair<Uid, std::string>> monitored_;
+  std::unique_ptr<CheckpointSchedule> schedule_;
+  std::unique_ptr<RunOutput> output_;
+  RunResult result_;
+};
+
 // A new run (`restart` null) or the continuation of a checkpoint's.
 RunResult runWith(setup::Setup scene, const RunOptions& options, MPI_Comm comm,
                   const sim::CheckpointData* restart, sim::HistoryChunks* histories,
                   const std::string& restart_file) {
   applyOverrides(scene, options);
   sim::requireStopCondition(scene);  // before anything is built or written
-  // One run per output folder: held until this run's last file is written (output_lock.h).
-  std::optional<output::OutputLock> lock;
-  if (!options.out_dir.empty()) lock.emplace(options.out_dir, comm);
-  const auto wall0 = std::chrono::steady_clock::now();
-  log::info(cat("scene ", scene.id, " (", scene.file, "): ", scene.particles.size(),
-                " particles, kernel ", scene.kernel, ", ", mpi::size(comm), " rank(s)"));
-  const auto sim_ptr =
-      restart ? std::make_unique<sim::Simulation>(scene, *restart, *histories, restart_file, comm)
-              : std::make_unique<sim::Simulation>(scene, comm);
-  sim::Simulation& sim = *sim_ptr;
-  const std::int64_t every =
-      options.progress_every > 0 ? options.progress_every : scene.output.progress_every;
-  sim.loop().setProgressInterval(every, every > 0 ? 0.0 : 5.0);
-
-  Tracker tracker;
-  auto checks = makeChecks(scene, tracker);
-  std::vector<std::pair<Uid, std::string>> monitored;
-  for (const auto& label : scene.output.monitor) {
-    const Uid uid = uidOfLabel(scene, label);
-    tracker.track(uid);
-    monitored.emplace_back(uid, label);
-  }
-  if (restart) restoreRunState(restart->run_state, restart_file, tracker, checks);
-  const std::string scene_text =
-      options.scene_text.empty() && restart ? restart->scene_toml : options.scene_text;
-  CheckpointSchedule schedule(checkpointSpec(scene, options), options.out_dir, scene_text,
-                              scene.file, options.code_version, tracker, checks, comm);
-  if (options.stop_on_signals) installStopSignals();
-  sim.setStepHook([&] { return schedule.afterStep(sim); });
-
-  RunResult result;
-  result.equilibrium_steps = sim.runEquilibrium();
-  auto reason = timeloop::StopReason::kUserCondition;
-  const bool stopped_early = schedule.stopSignal() != 0;
-  if (!tracker.empty() && sim.stage() == sim::Stage::kMain)
-    tracker.gather(sim);  // main stage start
-
-  std::unique_ptr<RunOutput> output;
-  if (!options.out_dir.empty()) {
-    output = std::make_unique<RunOutput>(options.out_dir, sim, tracker, monitored, checks,
-                                         options.snapshots);
-    output->writeSeries(sim, tracker, checks);
-    output->writeSnapshot(sim);
-  }
-  const std::int64_t series_every = std::max<std::int64_t>(1, scene.output.series_every);
-  const std::int64_t snapshot_every = scene.output.snapshot_every;
-  sim.addObserver([&] {
-    if (!tracker.empty()) tracker.gather(sim);
-    for (auto& c : checks) c->observe(sim, tracker);
-    if (!output) return;
-    const std::int64_t step = sim.stepCount();  // the step just completed (observers run after it)
-    if (step % series_every == 0) output->writeSeries(sim, tracker, checks);
-    if (snapshot_every > 0 && step % snapshot_every == 0) output->writeSnapshot(sim);
-  });
-  if (!stopped_early) reason = sim.run();
-  testPause("after-run");  // test hook (core/test_pause.h)
-  if (output) {
-    // The final state, unless the observer has just written it (or nothing has happened since
-    // the rows written at the start).
-    output->writeSeriesOnce(sim, tracker, checks);
-    output->writeSnapshotOnce(sim);
-    output->close();
-  }
-  // A signal that came after the last step's check (during the final outputs) still ends in a
-  // checkpoint, of the final state: whenever a run is signalled, it leaves one.
-  result.signal_after_end = schedule.signalAfterRun();
-  if (schedule.stopSignal() != 0) {
-    result.stop_signal = signalName(schedule.stopSignal());
-    if (!options.out_dir.empty()) result.checkpoint = schedule.write(sim).string();
-  }
-
-  result.checks = evaluateChecks(checks, sim);
-  result.hash = sim.stateHash();
-  result.steps = sim.stepCount();
-  result.time = sim.time();
-  result.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  const auto timing = sim.loop().timing().reduce(comm);
-  log::info(cat("finished: ", timeloop::toString(reason), " after ", result.steps,
-                " steps, t = ", num(result.time), " s, ", num(result.wall_seconds), " s wall"));
-  log::info(TimingPool::table(timing, result.steps));
-  printChecks(result.checks);
-  log::info("state hash " + result.hash.hex());
-  if (result.hash.history_conflicts != 0) {
-    log::warning(cat(result.hash.history_conflicts,
-                     " pair histories differ between ranks: please report this as a bug"));
-  }
-  // Communication volume of the whole run, all ranks (collective, so outside the rank-0 branch).
-  const auto& totals = sim.exchangeTotals();
-  std::int64_t sent[3] = {totals.bytes_sent, totals.particles_sent, totals.histories_sent};
-  MPI_Allreduce(MPI_IN_PLACE, sent, 3, MPI_INT64_T, MPI_SUM, comm);
-  const nlohmann::json communication = {
-      {"bytes_sent", sent[0]}, {"particles_sent", sent[1]}, {"histories_sent", sent[2]}};
-  const nlohmann::json balance = sim::toJson(sim::balanceFigures(sim));
-  const auto& log = sim.balanceLog();
-  const nlohmann::json decomposition = {{"balance_checks", log.checks},
-                                        {"new_decompositions_computed", log.proposals},
-                                        {"new_decompositions_adopted", log.adopted},
-                                        {"work_imbalance_at_last_check", log.last_imbalance}};
-  std::string summary_error;  // rank 0 writes summary.json; every rank ends if it cannot
-  if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
-    auto summary = summaryJson(scene, sim, result, reason, timing);
-    summary["stopped_by_signal"] =
-        result.stopped_early() ? nlohmann::json(result.stop_signal) : nlohmann::json();
-    if (result.signal_after_end) summary["signal_after_end"] = result.stop_signal;
-    if (!result.checkpoint.empty()) summary["checkpoint"] = result.checkpoint;
-    if (restart) summary["restarted_from"] = restart_file;
-    summary["checkpoint_run_id"] = schedule.runId();  // in the names of this run's checkpoints
-    summary["communication"] = communication;
-    summary["balance"] = balance["balance"];
-    summary["balance"]["rebalancing"] = decomposition;
-    summary["communication_seconds_per_step"] = balance["communication_seconds_per_step"];
-    try {
-      output::writeJsonAtomic(options.out_dir + "/summary.json", summary);
-    } catch (const Error& e) {
-      summary_error = e.what();
-    }
-  }
-  if (!options.out_dir.empty()) output::throwIfAnyRankFailed(summary_error, comm);
-  if (!options.out_dir.empty() && mpi::rank(comm) == 0) {
-    log::info("wrote " + options.out_dir + "/summary.json, series.csv" +
-              (!options.snapshots                      ? ""
-               : scene.output.snapshot_format == "vtk" ? ", snapshots.pvd, contacts.pvd"
-                                                       : ", snapshots.xmf, contacts.xmf"));
-  }
-  if (!result.stop_signal.empty() && mpi::rank(comm) == 0) {
-    const std::string where =
-        result.checkpoint.empty() ? std::string("no checkpoint (no --out)") : result.checkpoint;
-    if (result.signal_after_end) {
-      log::info(cat(result.stop_signal, " received after the last step (the run is complete); ",
-                    "checkpoint of the final state: ", where));
-    } else {
-      log::info(cat("stopped by ", result.stop_signal, " at the end of ",
-                    sim.stage() == sim::Stage::kEquilibrium ? "equilibrium" : "main", " step ",
-                    result.steps, "; checkpoint: ", where));
-    }
-    if (!result.checkpoint.empty()) {
-      log::info(cat("to continue: mpirun -n ", mpi::size(comm), " ", options.program,
-                    " run --restart ", result.checkpoint, " --out ", options.out_dir,
-                    result.signal_after_end ? " --end-time T (or --steps N) beyond the end" : "",
-                    "  (any rank count; use another --out to keep this part's files)"));
-    }
-  }
-  return result;
+  SceneRun run(std::move(scene), options, comm, restart, histories, restart_file);
+  return run.run();
 }
 
 }  // namespace

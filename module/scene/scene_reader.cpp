@@ -342,10 +342,10 @@ setup::Setup parseScene(std::string_view text, const std::string& name_for_messa
   root.erase("random");
   root.erase("realizations");
   static const std::vector<std::string_view> kSections = {
-      "scene",     "simulation", "kernel_params", "material", "interaction",
-      "joint",     "shape",      "driver",        "particle", "particle_grid",
-      "rock_mass", "domain",     "equilibrium",   "output",   "checkpoint",
-      "check",     "fos",        "water",         "seismic",  "bolt"};
+      "scene",       "simulation", "kernel_params", "material",      "interaction", "joint",
+      "shape",       "driver",     "particle",      "particle_grid", "rock_mass",   "domain",
+      "equilibrium", "output",     "checkpoint",    "check",         "fos",         "water",
+      "seismic",     "bolt",       "operator"};
   Section(ctx, root, "top level").allowOnly(kSections);
   setup::Setup scene;
   scene.file = name_for_messages;
@@ -369,6 +369,7 @@ setup::Setup parseScene(std::string_view text, const std::string& name_for_messa
   detail::readWater(ctx, root, scene);
   detail::readSeismic(ctx, root, scene);
   detail::readBolts(ctx, root, scene);
+  detail::readOperators(ctx, root, scene);
   return scene;
 }
 

@@ -58,6 +58,9 @@ bool readGroundRecord(const Section& s, const setup::Setup& scene, setup::Seismi
 /// [[bolt]] (scene_bolts.cpp); the blocks they cross are found by the simulation.
 void readBolts(const Context& ctx, const toml::table& root, setup::Setup& scene);
 
+/// [[operator]] (scene_operators.cpp): names only; the simulation loads them.
+void readOperators(const Context& ctx, const toml::table& root, setup::Setup& scene);
+
 /// Index of the entry called `name` in `items` (by their .name), or -1.
 template <typename T>
 int indexByName(const std::vector<T>& items, const std::string& name) {

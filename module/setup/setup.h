@@ -280,6 +280,15 @@ struct BoltSpec {
   int line = 0;
 };
 
+/// An [[operator]] (docs/scene-format.md "Operators"): a user force operator put into the step by
+/// name, at the step's "force operators" place, in file order (sim/scene_operators.h).
+struct OperatorSpec {
+  std::string name;     // a C identifier: also the operator's timer name
+  std::string library;  // shared library that defines it, relative paths resolved against the
+                        // scene's folder; empty: the program running the scene supplies it
+  int line = 0;
+};
+
 struct Setup {
   std::string file;  // path of the scene file, for messages (diagnostics only)
   // The TOML text the scene was parsed from, verbatim: what a checkpoint of its run stores (and a
@@ -328,7 +337,8 @@ struct Setup {
   SeismicSpec seismic;  // [seismic]; off when the scene has no such table
   // [[bolt]], in file order
   std::vector<BoltSpec> bolts;
+  // [[operator]], in file order
+  std::vector<OperatorSpec> operators;
 };
 
 }  // namespace polydem::setup
-

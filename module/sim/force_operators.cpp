@@ -37,7 +37,7 @@ void Simulation::addForceOperator(std::string name, ForceOperator op) {
   // the main stage's parked loop.
   const std::size_t k = state_.force_operators.size() - 1;
   addUserOperator(state_.loop, state_, k);
-  if (state_.stage == Stage::kEquilibrium) addUserOperator(parked_loop_, state_, k);
+  if (auto* parked = stages_.parkedLoop()) addUserOperator(*parked, state_, k);
 }
 
 // The constructor started the leapfrog (velocities to t = -dt/2) with the forces it knew; an
@@ -48,6 +48,7 @@ void Simulation::startLeapfrogWith(const std::string& name, const ForceOperator&
   ForceStep step;
   step.time = 0.0;
   step.dt = dt();
+  step.reach = stepReach();
   step.particles = &state_.storage;
   step.forces = extra;
   callForceOperator(state_, name, op, step);

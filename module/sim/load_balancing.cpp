@@ -1,4 +1,4 @@
-// Load balancing (sim/load_balancing.h) and Simulation::rebalance between steps.
+// Load balancing (sim/load_balancing.h): the work recorded, a better decomposition adopted.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -10,7 +10,6 @@
 #include "polydem/domain/block_fit.h"
 #include "polydem/domain/rebalance.h"
 #include "polydem/sim/load_balancing.h"
-#include "polydem/sim/simulation.h"
 #include "polydem/sim/step/operators.h"
 
 namespace polydem::sim {
@@ -94,17 +93,28 @@ domain::Index3 fittedBlockCounts(const StepState& s, const domain::Aabb& box,
   });
 }
 
-bool balanceDecomposition(StepState& s) {
+void LoadBalancer::record(const particles::ParticleStorage& storage,
+                          const std::vector<ContactRecord>& records, bool sample) {
+  if (sample) {
+    sample_ = sampleLoad(storage, records, model_);
+    last_work_ = sample_.work;
+    sample_next_ = false;
+  } else {
+    last_work_ = stepWork(storage, records, model_);
+  }
+}
+
+bool LoadBalancer::adopt(StepState& s) {
   if (s.scene.domain.balancer == "cyclic") return false;  // a stress test of the borders
-  const LoadSample sample = std::move(s.load_sample);     // of the last contact phase
-  s.load_sample = LoadSample();
+  const LoadSample sample = std::move(sample_);           // of the last contact phase
+  sample_ = LoadSample();
   // The imbalance of the work just done: one small reduction, every time.
   double total = sample.work.done, most = sample.work.done;
   MPI_Allreduce(MPI_IN_PLACE, &most, 1, MPI_DOUBLE, MPI_MAX, s.comm);
   MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_DOUBLE, MPI_SUM, s.comm);
-  ++s.balance_log.checks;
-  s.balance_log.last_imbalance = total > 0 ? most / (total / s.ranks) : 1.0;
-  if (s.balance_log.last_imbalance <= 1.0 + kAdoptMargin) return false;  // nothing to gain
+  ++log_.checks;
+  log_.last_imbalance = total > 0 ? most / (total / s.ranks) : 1.0;
+  if (log_.last_imbalance <= 1.0 + kAdoptMargin) return false;  // nothing to gain
 
   // A new forest if the free particles now call for other block counts.
   std::unique_ptr<domain::BlockForest> candidate;
@@ -122,7 +132,7 @@ bool balanceDecomposition(StepState& s) {
   }
   const domain::BlockLoads now = binLoad(*s.forest, sample);
   const domain::BlockLoads next = candidate ? binLoad(*candidate, sample) : domain::BlockLoads();
-  ++s.balance_log.proposals;
+  ++log_.proposals;
   auto proposal =
       domain::proposeBalance(*s.forest, now, candidate.get(), candidate ? &next : nullptr, s.comm,
                              partitionMethod(s), kAdoptMargin);
@@ -130,7 +140,7 @@ bool balanceDecomposition(StepState& s) {
   // A changed map is news; a kept one is detail (--verbose), so that it does not bury the
   // progress line every balance interval.
   const std::string line =
-      cat("balance at step ", s.loop.step(), ": work imbalance ", num(s.balance_log.last_imbalance),
+      cat("balance at step ", s.loop.step(), ": work imbalance ", num(log_.last_imbalance),
           ", modelled ", num(proposal.imbalance_before), " -> ", num(proposal.imbalance_after),
           " on ", n[0], " x ", n[1], " x ", n[2],
           " blocks: ", proposal.adopted ? "adopted" : "kept the current map");
@@ -142,19 +152,17 @@ bool balanceDecomposition(StepState& s) {
   if (!proposal.adopted) return false;
   if (candidate) s.forest = std::move(candidate);
   s.forest->setRankMap(std::move(proposal.map), s.ranks);
-  ++s.balance_log.adopted;
+  ++log_.adopted;
   return true;
 }
 
-bool Simulation::rebalance() {
-  requireBetweenSteps("rebalance");
-  if (!balanceDecomposition(state_)) return false;
-  const auto moved =
-      state_.exchange.migrate(*state_.forest, state_.storage, state_.history, state_.loop.step());
-  state_.migrated_histories += moved.histories_received;
-  refreshGhosts(state_);
-  state_.exchange_totals += moved;
-  state_.exchange_totals += state_.exchange_stats;
+bool LoadBalancer::rebalance(StepState& s) {
+  if (!adopt(s)) return false;
+  const auto moved = s.exchange.migrate(*s.forest, s.storage, s.history, s.loop.step());
+  s.migrated_histories += moved.histories_received;
+  refreshGhosts(s);
+  s.exchange_totals += moved;
+  s.exchange_totals += s.exchange_stats;
   return true;
 }
 

@@ -1,40 +1,38 @@
-// Simulation: the mass properties, global monitors and state hash of its current state.
+// Simulation: stepping and running its stages (stages.h), the state hash of its current state.
 #include "polydem/sim/simulation.h"
 
 #include <algorithm>
 
-#include "polydem/core/exact_sum.h"
+#include "polydem/core/error.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/state_hash.h"
+#include "polydem/core/strings.h"
 
 namespace polydem::sim {
 
-GlobalMonitors Simulation::monitors() {
-  ExactSum kinetic, speed;
-  dynamics::ForceRatio ratio = state_.ratio_local;
-  std::int64_t contacts = 0, free_particles = 0;
-  double max_speed = 0.0;
-  for (std::size_t i = 0; i < state_.storage.localCount(); ++i) {
-    const auto& p = state_.storage[i];
-    if (!p.isFree()) continue;
-    ++free_particles;
-    kinetic += dynamics::kineticEnergy(p, massProperties(i));
-    const double v = p.velocity.norm();
-    speed += v;
-    max_speed = std::max(max_speed, v);
+void requireStopCondition(const setup::Setup& scene) {
+  // The scene reader requires one; a scene changed from Python may have neither, and the loop's
+  // own stop condition (the step hook) would then never hold.
+  if (!scene.end_time && !scene.steps) {
+    throw Error(cat("scene ", scene.file, ": neither end_time nor steps is set: nothing would ",
+                    "stop the run"));
   }
-  for (const auto& r : state_.contact_phase.records()) contacts += r.touching && r.a_is_local;
-  kinetic.allreduce(state_.comm);
-  speed.allreduce(state_.comm);
-  ratio.allreduce(state_.comm);
-  GlobalMonitors m;
-  m.kinetic_energy = kinetic.value();
-  m.force_ratio = ratio.value();
-  m.contacts = mpi::allreduceSum(contacts, state_.comm);
-  m.particles = mpi::allreduceSum(free_particles, state_.comm);
-  m.max_speed = mpi::allreduceMax(max_speed, state_.comm);
-  m.mean_speed = m.particles > 0 ? speed.value() / static_cast<double>(m.particles) : 0.0;
-  return m;
+}
+
+void Simulation::step() {
+  requireBetweenSteps("step");
+  state_.loop.singleStep();
+}
+
+std::int64_t Simulation::runEquilibrium() {
+  requireBetweenSteps("runEquilibrium");
+  return stages_.runEquilibrium();
+}
+
+timeloop::StopReason Simulation::run() {
+  requireBetweenSteps("run");
+  requireStopCondition(state_.scene);
+  return stages_.run();
 }
 
 comm::StateHash Simulation::stateHash() const {

@@ -5,8 +5,9 @@
 // sim/step/step_list.cpp over the state of sim/step/step_state.h, which this class owns.
 //
 // Simulation is the facade over that state: building it from a setup (simulation_setup.cpp),
-// the stages (stages.cpp), load balancing (load_balancing.cpp), restart and checkpoint data
-// (restart.cpp), changes between steps (simulation_edit.cpp, force_operators.cpp). See
+// the stages (class Stages, stages.h), load balancing (class LoadBalancer, load_balancing.h),
+// restart and checkpoint data (class Restart, restart.h), changes between steps
+// (simulation_edit.cpp, force_operators.cpp). See
 // contact_phase.h for why the result is the same bits on any number of ranks, and
 // force_operator.h for the forces a user adds.
 #pragma once
@@ -37,11 +38,15 @@
 #include "polydem/sim/bolts.h"
 #include "polydem/sim/contact_phase.h"
 #include "polydem/sim/force_operator.h"
+#include "polydem/sim/global_monitors.h"
 #include "polydem/sim/ground_motion.h"
 #include "polydem/sim/history_chunks.h"
-#include "polydem/sim/load_balance.h"
+#include "polydem/sim/load_balancing.h"
 #include "polydem/sim/memory_use.h"
+#include "polydem/sim/restart.h"
 #include "polydem/sim/saved_state.h"
+#include "polydem/sim/scene_operators.h"
+#include "polydem/sim/stages.h"
 #include "polydem/sim/step/step_state.h"
 #include "polydem/timeloop/time_loop.h"
 
@@ -51,19 +56,11 @@ namespace polydem::sim {
 /// may have neither): Simulation::run() and runScene() would never stop.
 void requireStopCondition(const setup::Setup& scene);
 
-/// Global values of the current state, the same on every rank.
-struct GlobalMonitors {
-  double kinetic_energy = 0.0;
-  double force_ratio = 0.0;
-  std::int64_t contacts = 0;   // touching pairs, each counted once
-  std::int64_t particles = 0;  // free particles
-  double max_speed = 0.0;
-  double mean_speed = 0.0;
-};
-
 class Simulation {
  public:
-  Simulation(const setup::Setup& scene, MPI_Comm comm);
+  /// `host`: the operators this program supplies for the scene's [[operator]]s that name no
+  /// library (sim/scene_operators.h); the scene's operators are bound before anything is built.
+  Simulation(const setup::Setup& scene, MPI_Comm comm, const HostOperators& host = {});
   /// Continues the run a checkpoint holds (collective, on any number of ranks): `checkpoint` is
   /// what checkpoint::readCheckpoint returned on this rank, `scene` the scene it was written from
   /// (its stop settings may differ). The particles move to their owners by position, the pair
@@ -72,12 +69,12 @@ class Simulation {
   /// stopped (sim/restart.cpp). Throws CheckpointError naming `file` if the shapes
   /// built from `scene` differ from the stored ones, or the time step does.
   Simulation(const setup::Setup& scene, const CheckpointData& checkpoint, const std::string& file,
-             MPI_Comm comm);
+             MPI_Comm comm, const HostOperators& host = {});
   /// The same with the pair histories handed over in bounded chunks (sim/history_chunks.h; the
   /// pair and sub-contact tables of `checkpoint` are not read): each chunk is routed to the owners
   /// and merged in place, so that the restart holds little more than the run's own history.
   Simulation(const setup::Setup& scene, const CheckpointData& checkpoint, HistoryChunks& histories,
-             const std::string& file, MPI_Comm comm);
+             const std::string& file, MPI_Comm comm, const HostOperators& host = {});
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -98,10 +95,10 @@ class Simulation {
   std::int64_t stepCount() const { return state_.loop.step(); }
   double time() const { return state_.loop.time(); }
   double dt() const { return state_.scene.dt; }
-  std::int64_t equilibriumSteps() const { return equilibrium_steps_; }
-  bool equilibriumReached() const { return equilibrium_reached_; }
+  std::int64_t equilibriumSteps() const { return stages_.equilibriumSteps(); }
+  bool equilibriumReached() const { return stages_.equilibriumReached(); }
   /// Timing of the equilibrium stage (the main stage's is loop().timing()).
-  const TimingPool& equilibriumTiming() const { return equilibrium_timing_; }
+  const TimingPool& equilibriumTiming() const { return stages_.equilibriumTiming(); }
   const particles::ShapeTable& shapes() const { return state_.shapes; }
   const particles::MaterialTable& materials() const { return state_.materials; }
   const particles::ParticleStorage& particles() const { return state_.storage; }
@@ -139,7 +136,7 @@ class Simulation {
   /// Mass and principal inertia of local or ghost entry i.
   dynamics::MassProperties massProperties(std::size_t i) const { return state_.massProperties(i); }
   /// Global monitors (collective).
-  GlobalMonitors monitors();
+  GlobalMonitors monitors() const { return globalMonitors(state_); }
   /// Hash of the whole state, the same on any rank count (collective).
   comm::StateHash stateHash() const;
 
@@ -153,7 +150,7 @@ class Simulation {
   /// count and time advanced, particles migrated, ghosts fresh): the place to write a
   /// checkpoint. Returning true (the same on every rank) stops the current stage's loop with
   /// StopReason::kUserCondition; the stage can be continued or checkpointed.
-  void setStepHook(std::function<bool()> hook) { step_hook_ = std::move(hook); }
+  void setStepHook(std::function<bool()> hook) { stages_.setStepHook(std::move(hook)); }
   /// Adds a force to every step from now on (force_operator.h): `op` runs on every rank after
   /// the contact forces and gravity, before integration, after the operators added before it,
   /// as an operator of the step timed under `name` (which may not be a step operator's name).
@@ -190,23 +187,36 @@ class Simulation {
   /// this rank's free particles (and the fixed/driven ones on rank 0), each pair history once
   /// over all ranks. Call between steps. `scene_toml` and `scene_file` are stored as given.
   CheckpointData checkpoint(const std::string& scene_toml, const std::string& scene_file,
-                            const std::string& run_state) const;
+                            const std::string& run_state) const {
+    requireBetweenSteps("checkpoint");
+    CheckpointData d = Restart::capture(state_, stages_, scene_toml, scene_file, run_state);
+    Restart::copyHistories(state_, d);
+    return d;
+  }
   /// The same with the pair histories left in this simulation's table (CheckpointData::
   /// history_view) instead of copied, so that writing the checkpoint holds no second copy of the
   /// history: for writing at once, before the next step.
   CheckpointData checkpointForWriting(const std::string& scene_toml, const std::string& scene_file,
-                                      const std::string& run_state) const;
+                                      const std::string& run_state) const {
+    requireBetweenSteps("checkpoint");
+    CheckpointData d = Restart::capture(state_, stages_, scene_toml, scene_file, run_state);
+    d.history_view = Restart::historyView(state_);
+    return d;
+  }
 
   /// Weighs a new decomposition against the current one by the work of the last contact phase
   /// (sim/load_balance.h) and, if it is better by the margin, installs it and moves the particles
   /// (collective; see docs/domain.md). Returns whether it was adopted.
-  bool rebalance();
+  bool rebalance() {
+    requireBetweenSteps("rebalance");
+    return state_.balancer.rebalance(state_);
+  }
   /// What the rebalancing did so far (the initial one at step 0 included).
   using BalanceLog = sim::BalanceLog;
-  const BalanceLog& balanceLog() const { return state_.balance_log; }
-  const LoadModel& loadModel() const { return state_.load_model; }
+  const BalanceLog& balanceLog() const { return state_.balancer.log(); }
+  const LoadModel& loadModel() const { return state_.balancer.model(); }
   /// The load model's cost of this rank's last contact phase and particles.
-  const StepWork& lastWork() const { return state_.last_work; }
+  const StepWork& lastWork() const { return state_.balancer.lastWork(); }
   /// The exchanges of the steps alone (not those of the start or of a rebalancing between
   /// steps), and how many steps they were.
   const comm::ExchangeStats& stepExchangeTotals() const { return state_.step_exchange_totals; }
@@ -239,37 +249,25 @@ class Simulation {
   const comm::HistoryRoutingStats& restoreRouting() const { return restore_routing_; }
 
  private:
-  /// Members that depend only on the scene and the communicator; both public constructors
-  /// delegate here, then build the rest (from the scene, or from a checkpoint).
+  /// Members that depend only on the scene, the communicator and the scene's operators; both
+  /// public constructors delegate here, then build the rest (from the scene, or from a
+  /// checkpoint).
   struct Unbuilt {};
-  Simulation(const setup::Setup& scene, MPI_Comm comm, Unbuilt);
+  Simulation(const setup::Setup& scene, MPI_Comm comm, const HostOperators& host, Unbuilt);
   void buildTables();
   void buildDomain();
   void placeParticles();
   void buildLaws();
   void buildJointLaws();  // the joints' coefficients, from buildLaws()
   void buildBolts();      // the bolts' crossings, from the scene's initial poses
-  void registerSteps();
-  void startLeapfrog();
-  void enterEquilibrium();
   domain::Aabb computeExtents();
   void checkFreeBodies() const;
   void suggestTimeStep();
-  CheckpointData capture(const std::string& scene_toml, const std::string& scene_file,
-                         const std::string& run_state) const;
-  HistoryView historyView() const;  // the pairs this rank writes, each pair on one rank
-  void restoreParticles(const CheckpointData& checkpoint, HistoryChunks& histories,
-                        const std::string& file);
   void startLeapfrogWith(const std::string& name, const ForceOperator& op);
 
   StepState state_;  // what the step's operators act on (sim/step/step_state.h)
+  Stages stages_;    // the stages over state_ (sim/stages.h)
   comm::HistoryRoutingStats restore_routing_;  // of the restart that built this, if one did
-  std::int64_t equilibrium_steps_ = 0;
-  bool equilibrium_reached_ = false;
-  bool equilibrium_done_ = false;  // the stage has ended (or never was), never to run again
-  TimingPool equilibrium_timing_;
-  timeloop::TimeLoop parked_loop_;  // the main stage's loop while the equilibrium stage runs
-  std::function<bool()> step_hook_;
   double suggested_dt_ = 0.0;
 };
 

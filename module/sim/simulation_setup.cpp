@@ -1,8 +1,10 @@
 // Building a Simulation from a Scene: tables, domain, particles, contact laws.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <set>
 
+#include <memory>
 #include "polydem/core/error.h"
 #include "polydem/core/interrupt.h"
 #include "polydem/core/logging.h"
@@ -16,13 +18,16 @@
 #include "polydem/geometry/shape_sharing.h"
 #include "polydem/sim/face_planes.h"
 #include "polydem/sim/load_balancing.h"
+
 #include "polydem/sim/simulation.h"
 #include "polydem/sim/step/operators.h"
 
 namespace polydem::sim {
 
-Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm, Unbuilt)
-    : state_(scene, comm), parked_loop_(comm) {}
+Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm, const HostOperators& host, Unbuilt)
+    : state_(scene, comm), stages_(state_) {
+  state_.force_operators = sceneOperators(state_.scene, host);
+}
 
 StepState::StepState(const setup::Setup& scene_in, MPI_Comm comm_in)
     : scene(scene_in),
@@ -34,19 +39,41 @@ StepState::StepState(const setup::Setup& scene_in, MPI_Comm comm_in)
   ground = groundMotion(scene);
 }
 
-Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm)
-    : Simulation(scene, comm, Unbuilt{}) {
+Simulation::Simulation(const setup::Setup& scene, MPI_Comm comm, const HostOperators& host)
+    : Simulation(scene, comm, host, Unbuilt{}) {
   buildTables();
   buildBolts();
   buildLaws();
   buildDomain();
   placeParticles();
   suggestTimeStep();
-  registerSteps();
+  stages_.registerSteps();
   refreshGhosts(state_);
-  state_.sample_load = true;
-  startLeapfrog();
+  state_.balancer.sampleNext();
+  stages_.startLeapfrog();
   rebalance();  // by the work of the contact phase at t = 0, which startLeapfrog computed
+}
+
+Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoint,
+                       const std::string& file, MPI_Comm comm, const HostOperators& host)
+    : Simulation(scene, checkpoint, *std::make_unique<SavedHistoryChunks>(checkpoint, comm), file,
+                 comm, host) {}
+
+Simulation::Simulation(const setup::Setup& scene, const CheckpointData& checkpoint,
+                       HistoryChunks& histories, const std::string& file, MPI_Comm comm,
+                       const HostOperators& host)
+    : Simulation(scene, comm, host, Unbuilt{}) {
+  const Restart restart(state_, checkpoint, file);
+  buildTables();
+  restart.checkTables();
+  buildBolts();
+  restart.restoreBolts();
+  buildLaws();
+  computeExtents();
+  restore_routing_ = restart.restoreParticles(histories);
+  suggestTimeStep();
+  stages_.registerSteps();
+  restart.restoreStage(stages_);
 }
 
 Simulation::~Simulation() = default;
@@ -82,7 +109,7 @@ void Simulation::buildTables() {
   state_.materials.finalize();
   state_.densities = state_.materials.densities();
   state_.kernel = contact::makeKernel(state_.scene.kernel, state_.scene.kernel_params);
-  state_.load_model = loadModelFor(state_.scene.kernel);
+  state_.balancer.setModel(loadModelFor(state_.scene.kernel));
   state_.broadphase = broadphase::makeBroadPhase(state_.scene.broadphase);
 }
 

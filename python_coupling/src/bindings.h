@@ -62,8 +62,15 @@ void checkSignals();
 /// (through its py2f()). TypeError for anything else, ValueError for COMM_NULL.
 MPI_Comm toComm(const py::object& comm);
 /// The simulation of a SceneData, a polydem.Scene (through its build()) or a scene file's path,
-/// on `comm` (sim/restart.cpp).
-std::unique_ptr<sim::Simulation> makeSimulation(const py::object& scene, const py::object& comm);
+/// on `comm`, with `operators` (None or a dict {name: fn}) for the scene's [[operator]]s that
+/// name no library (sim/scene_operators.h).
+std::unique_ptr<sim::Simulation> makeSimulation(const py::object& scene, const py::object& comm,
+                                                const py::object& operators);
+/// A Python function fn(time, dt, particles) -> forces as a force operator named `name`
+/// (TypeError if it is not callable).
+sim::ForceOperator pythonForceOperator(const std::string& name, py::object fn);
+/// A dict {name: fn} (or None) as the operators a program supplies to a scene.
+sim::HostOperators pythonOperators(const py::object& operators);
 /// write_checkpoint and restart (sim/restart.cpp).
 void bindSimulationCheckpoint(py::class_<sim::Simulation>& c);
 

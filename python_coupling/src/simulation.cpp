@@ -206,16 +206,21 @@ void checkForce(const Vec3& f, Uid uid, double mass, double dt, double reach,
                         : std::string("is not finite")));
 }
 
+void addPythonForceOperator(Simulation& sim, const std::string& name, py::object fn) {
+  sim.requireBetweenSteps("Simulation.add_force_operator");
+  sim.addForceOperator(name, pythonForceOperator(name, std::move(fn)));
+}
+
+}  // namespace
+
 // A Python force operator: fn(time, dt, particles) -> forces, with `particles` a dict of numpy
 // arrays of this rank's own particles (uid, position, velocity, mass, free) and `forces` an
 // (n, 3) array-like (or None: no force). The forces are added at the centroids of the free ones.
-void addPythonForceOperator(Simulation& sim, const std::string& name, py::object fn) {
-  sim.requireBetweenSteps("Simulation.add_force_operator");
+sim::ForceOperator pythonForceOperator(const std::string& name, py::object fn) {
   if (!PyCallable_Check(fn.ptr())) {
-    throw py::type_error(cat("add_force_operator: '", name, "' is not given a callable"));
+    throw py::type_error(cat("force operator '", name, "' is not given a callable"));
   }
-  const double reach = sim.stepReach();
-  sim.addForceOperator(name, [fn = std::move(fn), name, reach](const sim::ForceStep& step) {
+  return [fn = std::move(fn), name](const sim::ForceStep& step) {
     const auto& storage = *step.particles;
     const auto n = static_cast<py::ssize_t>(step.forces.size());
     auto uid = emptyArray<std::uint64_t>({n});
@@ -249,13 +254,24 @@ void addPythonForceOperator(Simulation& sim, const std::string& name, py::object
     }
     for (std::size_t i = 0; i < forces.size(); ++i) {
       if (!storage[i].isFree()) continue;
-      checkForce(forces[i], storage[i].uid, storage.mass(i), step.dt, reach, name);
+      checkForce(forces[i], storage[i].uid, storage.mass(i), step.dt, step.reach, name);
       step.forces[i].addBodyForce(forces[i]);
     }
-  });
+  };
 }
 
-}  // namespace
+sim::HostOperators pythonOperators(const py::object& operators) {
+  sim::HostOperators host;
+  if (operators.is_none()) return host;
+  if (!py::isinstance<py::dict>(operators)) {
+    throw py::type_error("operators must be a dict {name: fn} or None");
+  }
+  for (const auto& [key, fn] : operators.cast<py::dict>()) {
+    const std::string name = py::str(key);
+    host[name] = pythonForceOperator(name, py::reinterpret_borrow<py::object>(fn));
+  }
+  return host;
+}
 
 void bindSimulation(py::module_& m) {
   m.attr("FLAG_GHOST") = static_cast<std::uint32_t>(particles::kGhost);
@@ -275,12 +291,15 @@ The state follows polydem's leapfrog: positions and orientations at `time`, velo
 time - dt/2. `position` is the centroid and `orientation` turns the shape's body frame (its
 principal axes, see `shapes`) into the world.
 
-Simulation(scene, comm=None): `scene` is a polydem.Scene built in Python, a SceneData read with
-read_scene, or the path of a scene file; `comm` None (MPI_COMM_WORLD) or an mpi4py
-communicator (its ranks run the simulation; every rank of it must build it).)");
+Simulation(scene, comm=None, operators=None): `scene` is a polydem.Scene built in Python, a
+SceneData read with read_scene, or the path of a scene file; `comm` None (MPI_COMM_WORLD) or an
+mpi4py communicator (its ranks run the simulation; every rank of it must build it); `operators` a
+dict {name: fn} of force operators (fn as for add_force_operator) for the scene's [[operator]]s
+that name no library: each runs at the scene's place for it, timed under its name.)");
   simulation
       .def(py::init(&makeSimulation), py::arg("scene"), py::arg("comm") = py::none(),
-           py::keep_alive<1, 3>(), "Builds the simulation of `scene` on `comm` (collective).")
+           py::arg("operators") = py::none(), py::keep_alive<1, 3>(),
+           "Builds the simulation of `scene` on `comm` (collective).")
       .def("step", &step, py::arg("n") = 1,
            "Advances `n` steps of the current stage (collective). Ctrl-C stops between steps.")
       .def("run", &run,

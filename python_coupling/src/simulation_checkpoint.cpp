@@ -50,14 +50,15 @@ void writeCheckpoint(const Simulation& sim, const py::object& path_object) {
   checkpoint::writeCheckpoint(path, data, sim.comm());
 }
 
-std::unique_ptr<Simulation> restart(const py::object& path_object, const py::object& comm_object) {
+std::unique_ptr<Simulation> restart(const py::object& path_object, const py::object& comm_object,
+                                    const py::object& operators) {
   const std::string path = fspath(path_object, "path");
   const MPI_Comm comm = toComm(comm_object);
   checkpoint::CheckpointReader reader(path, comm);  // the pair histories in chunks
   const sim::CheckpointData& data = reader.data();
   setup::Setup scene = scene::parseScene(data.scene_toml, data.scene_file);
   run::prepareContinuation(data, path, scene);
-  return std::make_unique<Simulation>(scene, data, reader, path, comm);
+  return std::make_unique<Simulation>(scene, data, reader, path, comm, pythonOperators(operators));
 }
 
 // A finite 3-vector or nothing (None).
@@ -90,18 +91,20 @@ void setVelocity(Simulation& sim, std::int64_t uid, const py::object& velocity,
 
 }  // namespace
 
-std::unique_ptr<Simulation> makeSimulation(const py::object& scene, const py::object& comm_object) {
+std::unique_ptr<Simulation> makeSimulation(const py::object& scene, const py::object& comm_object,
+                                           const py::object& operators) {
   const MPI_Comm comm = toComm(comm_object);
+  const sim::HostOperators host = pythonOperators(operators);
   if (py::isinstance<setup::Setup>(scene)) {
-    return std::make_unique<Simulation>(scene.cast<const setup::Setup&>(), comm);
+    return std::make_unique<Simulation>(scene.cast<const setup::Setup&>(), comm, host);
   }
   if (py::hasattr(scene, "build") && py::hasattr(scene, "to_toml")) {  // polydem.Scene
     const py::object built = scene.attr("build")();
     if (!py::isinstance<setup::Setup>(built))
       throw py::type_error("Scene.build() returned no scene");
-    return std::make_unique<Simulation>(built.cast<const setup::Setup&>(), comm);
+    return std::make_unique<Simulation>(built.cast<const setup::Setup&>(), comm, host);
   }
-  return std::make_unique<Simulation>(scene::readScene(fspath(scene, "scene")), comm);
+  return std::make_unique<Simulation>(scene::readScene(fspath(scene, "scene")), comm, host);
 }
 
 void bindSimulationCheckpoint(py::class_<Simulation>& c) {
@@ -123,10 +126,12 @@ values at time - dt/2, as particles() reports them; checkpoints keep the change.
 free particle has that uid, or for a value that is not finite or would move a point of the
 particle more than `step_reach` in one step (|v| dt, or |w| r dt with r its circumradius).)")
       .def_static("restart", &restart, py::arg("path"), py::arg("comm") = py::none(),
-                  py::keep_alive<0, 2>(),
+                  py::arg("operators") = py::none(), py::keep_alive<0, 2>(),
                   R"(Continues the run stored in the checkpoint `path` (collective) on `comm`
 (None: MPI_COMM_WORLD; or an mpi4py communicator), on any number of ranks. Stepping it on gives
-the same bits as the run that wrote it would have. Raises polydem.CheckpointError for a missing,
+the same bits as the run that wrote it would have. `operators`: as for Simulation(), the
+functions of the scene's [[operator]]s that name no library (operators added in code with
+add_force_operator are not stored: add them again). Raises polydem.CheckpointError for a missing,
 corrupted or mismatching file.)");
 }
 

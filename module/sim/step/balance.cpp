@@ -9,7 +9,7 @@ namespace polydem::sim {
 void balanceWhenDue(StepState& s) {
   const std::int64_t next_step = s.loop.step() + 1;
   if (s.scene.domain.rebalance_every > 0 && next_step % s.scene.domain.rebalance_every == 0) {
-    balanceDecomposition(s);
+    s.balancer.adopt(s);
   }
 }
 

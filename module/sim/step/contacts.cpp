@@ -28,14 +28,8 @@ void computeContacts(StepState& s) {
       s.contact_phase.run(contactSetup(s), s.storage, s.candidates, s.history, s.forces);
   // The work of this phase, and where it was if the decomposition is weighed after this step
   // (the records hold storage indices, valid only until the particles move).
-  const auto every = s.scene.domain.rebalance_every;
-  if (s.sample_load || (every > 0 && (s.loop.step() + 1) % every == 0)) {
-    s.load_sample = sampleLoad(s.storage, s.contact_phase.records(), s.load_model);
-    s.last_work = s.load_sample.work;
-    s.sample_load = false;
-  } else {
-    s.last_work = stepWork(s.storage, s.contact_phase.records(), s.load_model);
-  }
+  const bool sample = s.balancer.samples(s.loop.step() + 1, s.scene.domain.rebalance_every);
+  s.balancer.record(s.storage, s.contact_phase.records(), sample);
 }
 
 }  // namespace polydem::sim

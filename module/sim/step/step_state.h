@@ -34,7 +34,7 @@
 #include "polydem/sim/contact_phase.h"
 #include "polydem/sim/force_operator.h"
 #include "polydem/sim/ground_motion.h"
-#include "polydem/sim/load_balance.h"
+#include "polydem/sim/load_balancing.h"
 #include "polydem/timeloop/time_loop.h"
 
 namespace polydem::sim {
@@ -42,14 +42,6 @@ namespace polydem::sim {
 /// The two stages of a run (Keissar section 3.3, after 3DEC): an optional initial-equilibrium
 /// stage with heavy damping and high friction, then the scene's own values.
 enum class Stage { kEquilibrium, kMain };
-
-/// What the rebalancing did so far (the initial one at step 0 included).
-struct BalanceLog {
-  std::int64_t checks = 0;      // times the imbalance was looked at
-  std::int64_t proposals = 0;   // times a new decomposition was computed
-  std::int64_t adopted = 0;     // times it was installed
-  double last_imbalance = 1.0;  // the work's imbalance at the last check (max / mean)
-};
 
 /// Where a scene's shape sits in its body frame.
 struct ShapeFrame {
@@ -115,12 +107,8 @@ struct StepState {
   std::unique_ptr<domain::BlockForest> forest;
   comm::ParticleExchange exchange;
 
-  // --- load balancing (sim/load_balancing.h) --------------------------------------------------
-  LoadModel load_model;
-  BalanceLog balance_log;
-  bool sample_load = false;  // sample the next contact phase's work for a balance check
-  LoadSample load_sample;
-  StepWork last_work;
+  // --- load balancing: the work of the contact phases, the decisions (sim/load_balancing.h) ---
+  LoadBalancer balancer;
 
   // --- the step's work and statistics ---------------------------------------------------------
   ContactPhase contact_phase;

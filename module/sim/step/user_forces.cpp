@@ -12,6 +12,7 @@ void applyForceOperator(StepState& s, const NamedForceOperator& op) {
   step.time = s.stage == Stage::kEquilibrium ? 0.0 : s.time();
   step.dt = s.dt();
   step.equilibrium = s.stage == Stage::kEquilibrium;
+  step.reach = s.ghost_range;
   step.particles = &s.storage;
   step.forces = std::span<dynamics::ForceAccumulator>(s.forces.data(), s.storage.localCount());
   callForceOperator(s, op.name, op.apply, step);
