@@ -18,7 +18,7 @@ struct BlockMove {
 };
 
 /// The fraction of the check's reach a block must have moved to count in the slope's turn.
-inline constexpr double kMovedFraction = 0.1;
+inline constexpr double kTurnMovedFraction = 0.1;
 
 /// The mass-weighted median turn (deg) of the blocks that have moved at least `moved` (m): the
 /// smallest turn at which the blocks turned no more than it hold half the moved mass. The same

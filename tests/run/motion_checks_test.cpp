@@ -237,12 +237,12 @@ TEST(SlopeTurn, AToppingColumnWhoseTopCubeSlidesOffFirst) {
   for (int i = 0; i < 5; ++i) blocks.push_back({0.007 * (i + 1), 4.5, cube});       // the next one
   for (int i = 0; i < 10; ++i) blocks.push_back({0.001 * i * 0.3, 0.1 * i, cube});  // at rest
   const double reach = 0.05;
-  const double turn = run::slopeTurn(blocks, run::kMovedFraction * reach);
+  const double turn = run::slopeTurn(blocks, run::kTurnMovedFraction * reach);
   EXPECT_GT(turn, 2.0) << "the slope topples; its first block alone turned 0 deg";
   EXPECT_EQ(turn, 4.5);  // 11 blocks moved 5 mm: 1 at 0 deg, 5 at 4.5, 5 at 6
   // The same median whatever order the ranks gathered the blocks in.
   std::reverse(blocks.begin(), blocks.end());
-  EXPECT_EQ(run::slopeTurn(blocks, run::kMovedFraction * reach), turn);
+  EXPECT_EQ(run::slopeTurn(blocks, run::kTurnMovedFraction * reach), turn);
 }
 
 TEST(SlopeTurn, WeightedByMassAndNaNWhenNothingMoved) {

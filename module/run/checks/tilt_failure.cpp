@@ -66,7 +66,7 @@ class TiltFailureCheck : public Check {
       return;
     }
     // The mode is the slope's: the median turn of every block that has moved (slope_turn.h).
-    const double moved = kMovedFraction * reach_;
+    const double moved = kTurnMovedFraction * reach_;
     std::vector<BlockMove> counted;
     for (const BlockMove& m : moves) {
       if (m.displacement >= moved) counted.push_back(m);
