@@ -15,10 +15,9 @@ area, length, width and largest thickness, wall time) are rewritten, so that a s
 part way leaves the cases it finished. A case whose OUT/phi-X/runout.json exists is read, not
 run again, unless a signal stopped it (SIGTERM to its polydem): then it is continued from its
 OUT/phi-X/runout.h5, as is a case killed without one, so that a sweep to rest can be spread over
-several sessions. Each case runs until every block is at rest or the time cap (the scene's
-end_time, 60 s of run-on, by default): a mass that stands may keep vibrating in its contacts'
-springs above the rest speed (the table gives the mean speed at the end against Keissar's 1e-4
-m/s). The thesis's finding, checked and
+several sessions. Each case runs until every block is at rest or the time cap (A-RUNOUT's
+end_time, 60 s of run-on, by default); the table gives the mean speed at the end beside Keissar's
+rest criterion (1e-4 m/s). The thesis's finding, checked and
 reported: the lower the friction, the farther the mass runs out. Exit status 1 if the runout does not fall as the angle rises.
 """
 import argparse

@@ -133,5 +133,56 @@ class ForceOperator(unittest.TestCase):
                     sim.step()
 
 
+class SceneOperator(unittest.TestCase):
+    """An [[operator]] without a library, named in the scene and supplied from Python."""
+
+    def scene_file(self, name, operators):
+        with open(SCENE) as f:
+            text = f.read()
+        work = os.environ["POLYDEM_TEST_WORK"]
+        os.makedirs(work, exist_ok=True)
+        path = os.path.join(work, name)
+        with open(path, "w") as f:
+            f.write(text + "\n" + operators)
+        return path, text.count("\n") + 2  # the line of the [[operator]] header
+
+    @staticmethod
+    def uplift(time, dt, particles):
+        forces = np.zeros((len(particles["uid"]), 3))
+        forces[:, 2] = 0.5 * G * particles["mass"]
+        return forces
+
+    def test_named_operator_runs_at_its_place(self):
+        path, _ = self.scene_file("scene_operator.toml", '[[operator]]\nname = "uplift"\n')
+        sim = polydem.Simulation(path, operators={"uplift": self.uplift})
+        self.assertEqual(sim.force_operators, ["uplift"])
+        sim.run()
+        t = sim.time
+        z = sim.particles()["position"][0, 2]
+        expected = 0.5 * (0.5 * G) * t * t
+        self.assertAlmostEqual(5.0 - z, expected, delta=1e-9 * expected)
+        # The same bits as the operator added in code before the first step.
+        added = polydem.Simulation(SCENE)
+        added.add_force_operator("uplift", self.uplift)
+        added.run()
+        self.assertEqual(sim.state_hash(), added.state_hash())
+
+    def test_misnamed_operators_are_reported(self):
+        path, line = self.scene_file("scene_operator_missing.toml",
+                                     '[[operator]]\nname = "uplift"\n')
+        with self.assertRaisesRegex(polydem.InputError,
+                                    f"{path}:{line}.*'uplift' names no library"):
+            polydem.Simulation(path)
+        with self.assertRaisesRegex(polydem.Error, "names no \\[\\[operator\\]\\] 'drag'"):
+            polydem.Simulation(path, operators={"uplift": self.uplift, "drag": self.uplift})
+        with self.assertRaises(TypeError):
+            polydem.Simulation(path, operators={"uplift": 3})
+        taken, line = self.scene_file("scene_operator_taken.toml",
+                                      '[[operator]]\nname = "contacts"\n')
+        with self.assertRaisesRegex(polydem.InputError,
+                                    f"{taken}:{line}.*name of an operator of the step"):
+            polydem.Simulation(taken, operators={"contacts": self.uplift})
+
+
 if __name__ == "__main__":
     unittest.main()
