@@ -157,9 +157,9 @@ class Cutter {
       if (p.cut < cuts_.size()) continue;
       work_.push_back(std::move(p.w));
       // The estimate (checkRockMassLimits) came first; this guards against its being far off.
-      if (static_cast<double>(work_.size() + stack.size()) > kMaxRockBlocks) {
-        throw GeometryError(
-            cat("more than ", num(kMaxRockBlocks), " blocks: increase the joint sets' spacings"));
+      if (static_cast<double>(work_.size() + stack.size()) > spec_.max_blocks) {
+        throw GeometryError(cat("more than ", num(spec_.max_blocks),
+                                " blocks (max_blocks): increase the joint sets' spacings"));
       }
     }
   }

@@ -66,6 +66,12 @@ struct CutProgress {
   double seconds = 0.0;                     // since the cut began
 };
 
+/// Most blocks a rock mass may be cut into unless its description raises the limit
+/// (RockMassSpec::max_blocks; most planes: kMaxRockPlanes, joint_planes.h): beyond it a
+/// description is likely a mistake (a spacing in mm for m) that would take hours and exhaust the
+/// memory before saying so.
+constexpr double kMaxRockBlocks = 1e6;
+
 struct RockMassSpec {
   RockRegion region;
   std::vector<SinglePlane> planes;   // applied first, in order
@@ -75,6 +81,9 @@ struct RockMassSpec {
                                      // flake's small rotational inertia sets the time step)
   Slivers slivers = Slivers::kMerge;
   bool joints_cut_fixed = false;  // joint sets cut fixed blocks too (default: free only)
+  /// Most blocks the cut may give (estimated before cutting, counted while cutting): a large
+  /// mass is asked for explicitly (each block costs about 0.6 ms of cutting and some KB).
+  double max_blocks = kMaxRockBlocks;
   /// Called every `progress_seconds` of a long cut (not at all if unset or the cut is quicker).
   std::function<void(const CutProgress&)> progress;
   double progress_seconds = 5.0;
@@ -131,11 +140,6 @@ struct RockMass {
   RockMassReport report;
 };
 
-/// Most blocks a rock mass may be cut into (and most planes: kMaxRockPlanes, joint_planes.h):
-/// beyond it a description is a mistake (a spacing in mm for m) that would take hours and
-/// exhaust the memory before saying so.
-constexpr double kMaxRockBlocks = 1e6;
-
 /// What a description would give, estimated from the region and the spacings before any cutting
 /// (rock_mass_limits.cpp).
 struct RockMassEstimate {
@@ -151,7 +155,7 @@ struct RockMassEstimate {
 RockMassEstimate estimateRockMass(const RockMassSpec& spec);
 
 /// Throws GeometryError, with the numbers and what to change, if the estimate exceeds
-/// kMaxRockPlanes or kMaxRockBlocks. Allocates nothing in proportion to the planes or blocks.
+/// kMaxRockPlanes or spec.max_blocks. Allocates nothing in proportion to the planes or blocks.
 void checkRockMassLimits(const RockMassSpec& spec);
 
 /// Cuts the region. Throws GeometryError for an invalid description (a joint set's spacing, a

@@ -95,12 +95,12 @@ void checkRockMassLimits(const RockMassSpec& spec) {
                             "), more than the limit of ", num(kMaxRockPlanes),
                             ": increase the joint sets' spacings"));
   }
-  if (!(e.blocks <= kMaxRockBlocks)) {
-    throw GeometryError(cat("the planes would cut the region (", num(spec.region.volume),
-                            " m^3) into about ", num(e.blocks), " blocks (", sets,
-                            "), more than the limit of ", num(kMaxRockBlocks),
-                            ": increase the joint sets' spacings (the blocks grow as one over ",
-                            "their product) or cut a smaller region"));
+  if (!(e.blocks <= spec.max_blocks)) {
+    throw GeometryError(cat(
+        "the planes would cut the region (", num(spec.region.volume), " m^3) into about ",
+        num(e.blocks), " blocks (", sets, "), more than the limit of ", num(spec.max_blocks),
+        ": increase the joint sets' spacings (the blocks grow as one over ",
+        "their product) or cut a smaller region, or raise max_blocks if so ", "many are meant"));
   }
 }
 

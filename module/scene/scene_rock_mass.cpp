@@ -264,7 +264,7 @@ std::vector<setup::FacePlane> blockFacePlanes(const geometry::RockMass& mass,
 
 RockMassCut readRockMass(const Section& s, const setup::Setup& scene) {
   s.allowOnly({"name", "material", "fixed_material", "label_prefix", "min_volume", "min_thickness",
-               "slivers", "joints_cut_fixed", "region", "joint_set", "plane"});
+               "slivers", "joints_cut_fixed", "max_blocks", "region", "joint_set", "plane"});
   RockMassCut out;
   out.info.name = s.requiredString("name");
   out.info.line = s.line();
@@ -287,6 +287,8 @@ RockMassCut readRockMass(const Section& s, const setup::Setup& scene) {
                      ? geometry::Slivers::kMerge
                      : geometry::Slivers::kDrop;
   spec.joints_cut_fixed = s.boolean("joints_cut_fixed").value_or(false);
+  spec.max_blocks =
+      s.number("max_blocks", Quantity::kDimensionless, geometry::kMaxRockBlocks, Range::kPositive);
   const std::vector<Section> sets = nestedEntries(s, "joint_set", "[[joint_set]]");
   for (const Section& j : sets) spec.joint_sets.push_back(readJointSet(j));
   requireUniqueNames(sets, spec.joint_sets);

@@ -164,6 +164,21 @@ TEST(SceneRockMassErrors, LimitsAreRefusedWithTheirLine) {
                      "more than the limit of 1e+06", "increase the joint sets' spacings"});
 }
 
+// max_blocks sets the limit the estimate is held to: lowered below the mass's blocks it refuses
+// the cut at the [[rock_mass]] line, raised it lets the same mass through unchanged.
+TEST(SceneRockMassErrors, MaxBlocksSetsTheLimit) {
+  const std::string marked =
+      replaced(sceneWithRockMass(), "[[rock_mass]]\n", "[[rock_mass]]  # <-\nmax_blocks = 5\n");
+  expectError(marked, {"cannot cut the rock mass", "more than the limit of 5", "raise max_blocks"});
+  const std::string raised =
+      replaced(sceneWithRockMass(), "[[rock_mass]]\n", "[[rock_mass]]\nmax_blocks = 2e6\n");
+  EXPECT_EQ(parseScene(raised, "test.toml").rock_masses.at(0).blocks,
+            parseScene(sceneWithRockMass(), "test.toml").rock_masses.at(0).blocks);
+  expectError(
+      replaced(sceneWithRockMass(), "[[rock_mass]]\n", "[[rock_mass]]\nmax_blocks = 0  # <-\n"),
+      {"max_blocks"});
+}
+
 TEST(SceneRockMassErrors, RemovingEverythingIsAnError) {
   const std::string text =
       replaced(sceneWithRockMass(), "[[rock_mass]]\n", "[[rock_mass]]  # <-\n");
