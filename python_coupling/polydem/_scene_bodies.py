@@ -123,7 +123,7 @@ class Bodies:
 
     def add_rock_mass(self, name, material, region, joint_sets=(), planes=(), fixed_material=None,
                       label_prefix=None, min_volume=None, min_thickness=None, slivers=None,
-                      joints_cut_fixed=None):
+                      joints_cut_fixed=None, max_blocks=None):
         """Adds a [[rock_mass]]: `region` ({"type": "box", "min": .., "max": ..}, {"type":
         "polyhedron", "vertices": ..} or {"type": "profile", "profile": [(x, z), ..], "y": (y0,
         y1)}) cut by `planes` (dicts: name, dip, dip_direction, point, fixed, remove, joint) and
@@ -146,6 +146,8 @@ class Bodies:
                 r[key] = v.scalar(value, "%s: %s" % (where, key), 0.0)
         if joints_cut_fixed is not None:
             r["joints_cut_fixed"] = v.boolean(joints_cut_fixed, where + ": joints_cut_fixed")
+        if max_blocks is not None:
+            r["max_blocks"] = v.scalar(max_blocks, where + ": max_blocks", 0.0, exclusive=True)
         for key, items in (("joint_set", joint_sets), ("plane", planes)):
             if not isinstance(items, (list, tuple)):
                 raise TypeError("%s: %ss must be a list of dicts" % (where, key))

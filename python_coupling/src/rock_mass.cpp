@@ -94,7 +94,7 @@ py::dict report(const RockMassReport& r) {
 
 py::dict cut(const py::dict& region_dict, const py::list& joint_sets, const py::list& planes,
              double min_volume, double min_thickness, const std::string& slivers,
-             bool joints_cut_fixed) {
+             bool joints_cut_fixed, double max_blocks) {
   RockMassSpec spec;
   spec.region = region(region_dict);
   for (const auto& item : joint_sets) {
@@ -132,6 +132,8 @@ py::dict cut(const py::dict& region_dict, const py::list& joint_sets, const py::
   }
   spec.slivers = slivers == "merge" ? Slivers::kMerge : Slivers::kDrop;
   spec.joints_cut_fixed = joints_cut_fixed;
+  if (!(max_blocks > 0.0)) throw py::value_error("max_blocks must be positive");
+  spec.max_blocks = max_blocks;
   const RockMass mass = cutRockMass(spec);
 
   py::list vertices;
@@ -173,6 +175,7 @@ void bindRockMass(py::module_& m) {
   m.def("cut_rock_mass", &cut, py::arg("region"), py::arg("joint_sets") = py::list(),
         py::arg("planes") = py::list(), py::arg("min_volume") = 0.0, py::arg("min_thickness") = 0.0,
         py::arg("slivers") = "merge", py::arg("joints_cut_fixed") = false,
+        py::arg("max_blocks") = kMaxRockBlocks,
         R"(Cuts a rock mass into convex blocks, as a scene's [[rock_mass]] does.
 
 `region`: {'type': 'box', 'min': [..], 'max': [..]}, {'type': 'polyhedron', 'vertices': (n, 3)}

@@ -89,6 +89,11 @@ class CutRockMass(unittest.TestCase):
                                             "spacing": -1}])
         with self.assertRaises(ValueError):
             polydem.cut_rock_mass({"type": "sphere"})
+        # max_blocks is the limit the estimate is held to (default a million).
+        with self.assertRaisesRegex(polydem.GeometryError, "more than the limit of 5"):
+            polydem.cut_rock_mass(REGION, SETS, max_blocks=5)
+        with self.assertRaises(ValueError):
+            polydem.cut_rock_mass(REGION, SETS, max_blocks=0)
 
 
 class SceneWithRockMass(unittest.TestCase):
