@@ -63,7 +63,8 @@ def measure(a, out):
             out / f"dense_memory_{model}.log", a.nice)
         mem = json.load(open(mj))
         dense.append({"model": model, "particles": rate["particles"], "contacts": rate["contacts"],
-                      "rate": rate["particle_steps_per_second_per_core"], "peak_kb": peak,
+                      "rate": rate["particles"] * rate["steps"] / rate["cpu_seconds"],
+                      "peak_kb": peak,
                       "counted_bytes": mem["peak_bytes"]})
     peers = []
     pile_cases = [("settled", a.pile, a.settle, []),
@@ -163,6 +164,25 @@ def table(dense, peers, command, load_before):
     return "\n".join(lines) + "\n"
 
 
+def breakdown(peers):
+    """polydem's counted heap by structure on each pile (its first case), B per block: the why of
+    its memory beside the peers' (stdout only; bench memory's structures)."""
+    lines = []
+    for name, data in peers:
+        rows = [r for r in data["rows"] if r["code"] == "polydem" and r.get("structures")]
+        if not rows:
+            continue
+        r = rows[0]
+        n = r["particles"]
+        lines.append(f"polydem's counted heap on the {name} pile ({r['kernel']}, "
+                     f"{r['contact_model']}, {num(n)} blocks, {num(r['contacts'])} contacts), "
+                     "B per block:")
+        for key, b in sorted(r["structures"].items(), key=lambda kv: -kv[1]):
+            lines.append(f"  {key:<16} {b / n:>10,.0f}")
+        lines.append(f"  {'total':<16} {r['counted_bytes'] / n:>10,.0f}")
+    return "\n".join(lines) + "\n" if lines else ""
+
+
 def write_doc(path, text):
     doc = pathlib.Path(path)
     old = doc.read_text()
@@ -206,7 +226,7 @@ def main():
     dense, peers = measure(a, out)
     text = table(dense, peers, command.strip(), load_before)
     (out / "table.md").write_text(text)
-    sys.stdout.write(text)
+    sys.stdout.write(text + "\n" + breakdown(peers))
     if a.doc:
         write_doc(a.doc, text)
         print(f"(table written into {a.doc})")

@@ -108,6 +108,10 @@ nlohmann::json toJson(const std::vector<PeerRow>& rows, const PileBenchOptions& 
                 {"contacts", r.contacts},
                 {"peak_kb", r.peak_kb},
                 {"counted_bytes", r.counted_bytes}});
+      if (!r.structures.empty()) {
+        j["structures"] = nlohmann::json::object();
+        for (const auto& [name, bytes] : r.structures) j["structures"][name] = bytes;
+      }
     }
     out["rows"].push_back(j);
   }

@@ -150,7 +150,10 @@ PileResult runPolydemPile(setup::Setup scene, const std::string& kernel, const s
   r.seconds = seconds;
   r.particle_steps_per_second = static_cast<double>(mon.particles * o.steps) / seconds;
   r.peak_kb = selfPeakKb();
-  r.counted_bytes = static_cast<double>(sim::totalBytes(sim.memoryUse()));
+  const sim::MemoryUse use = sim.memoryUse();
+  r.counted_bytes = static_cast<double>(sim::totalBytes(use));
+  for (const auto& item : use)
+    r.structures.emplace_back(item.name, static_cast<double>(item.bytes));
   return r;
 }
 

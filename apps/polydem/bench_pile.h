@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands.h"
@@ -60,6 +61,7 @@ struct PileResult {
   // steps (capacities times element sizes), LAMMPS's "Per MPI rank memory allocation" (max);
   // 0 where the code gives none.
   double counted_bytes = 0.0;
+  std::vector<std::pair<std::string, double>> structures;  // polydem's count by structure, bytes
 };
 
 /// polydem's run of the settled pile with `kernel` and `model`: o.steps steps timed (CPU time of

@@ -85,7 +85,8 @@ for model in ("sub-contacts", "point"):
     rate = json.load(open(out / f"dense_{model}.json"))[0]
     mem = json.load(open(out / f"dense_memory_{model}.json"))
     row = [r for r in dense if r[2] == f"gjk-epa-ipm, {model}"]
-    if len(row) != 1 or row[0][3] != f"{rate['particle_steps_per_second_per_core']:,.0f}" \
+    cpu_rate = rate["particles"] * rate["steps"] / rate["cpu_seconds"]
+    if len(row) != 1 or row[0][3] != f"{cpu_rate:,.0f}" \
             or row[0][8] != f"{mem['peak_bytes'] / mem['particles']:,.0f}" or float(row[0][7]) <= 0:
         fail(f"dense pack, {model}: row {row} against {rate} and {mem['peak_bytes']}")
 for pile in ("settled", "loose"):
