@@ -16,11 +16,13 @@
 //   damping 0.1 of polydem's runs, c_t = c_n / 2); polydem's is local (non-viscous) damping.
 // - The box's floor and walls are LAMMPS wall fixes (fix wall/body/polyhedron) at the faces of
 //   polydem's fixed floor and wall blocks.
-// - Time: polydem's is this thread's CPU time; LAMMPS's its "Loop time" of the timed run.
+// - Time: polydem's is this thread's CPU time; LAMMPS's the CPU time of its timed run, from its
+//   "Loop time" (wall) and the "% CPU use" it prints after it (its loop time where it prints none).
 // - Memory: LAMMPS's is the peak resident memory of its process (wait4 of that process);
 //   polydem's that of this process, which settled the pile first and ran every case in turn.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -157,6 +159,19 @@ std::optional<PileResult> runLammps(const setup::Setup& scene, const PileBenchOp
     r.contacts = -1;  // not counted
     r.counted_bytes = counted_mb * 1024.0 * 1024.0;
     result = r;
+    // "P% CPU use with 1 MPI tasks x ...", after the loop time: the loop's CPU time is P % of
+    // its wall time, the figure to compare with polydem's CPU time on a loaded machine.
+    while (std::getline(in, line)) {
+      const auto at = line.find("% CPU use");
+      if (at == std::string::npos) continue;
+      const double percent = std::atof(line.substr(0, at).c_str());
+      if (percent > 0.0) {
+        result->seconds *= percent / 100.0;
+        result->particle_steps_per_second =
+            static_cast<double>(r.particles * r.steps) / result->seconds;
+      }
+      break;
+    }
   }
   if (result) {
     result->peak_kb = run.peak_kb;
