@@ -218,7 +218,7 @@ def main():
     p.add_argument("--dense-warmup", type=int, default=3)
     p.add_argument("--pile", type=int, default=1000, help="settled-pile cubes")
     p.add_argument("--layers", type=int, default=10, help="lattice layers of the piles")
-    p.add_argument("--settle", type=int, default=150000, help="most settling steps")
+    p.add_argument("--settle", type=int, default=50000, help="most settling steps")
     p.add_argument("--memory-pile", type=int, default=8000, help="loose-pile cubes (0: none)")
     p.add_argument("--memory-settle", type=int, default=10000, help="its settling steps")
     p.add_argument("--steps", type=int, default=100, help="timed steps of the piles")
