@@ -58,8 +58,8 @@ struct PileResult {
   double seconds = 0.0;
   long long peak_kb = 0;  // peak resident memory of the process that ran it (0: not measured)
   // The code's own count of what it holds, bytes: polydem's Simulation::memoryUse after the timed
-  // steps (capacities times element sizes), LAMMPS's "Per MPI rank memory allocation" (max);
-  // 0 where the code gives none.
+  // steps (capacities times element sizes); LAMMPS's "Per MPI rank memory allocation" (max), an
+  // estimate that can overflow (negative or terabytes on large piles); 0 where a code gives none.
   double counted_bytes = 0.0;
   std::vector<std::pair<std::string, double>> structures;  // polydem's count by structure, bytes
 };
