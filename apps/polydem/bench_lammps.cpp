@@ -16,13 +16,13 @@
 //   damping 0.1 of polydem's runs, c_t = c_n / 2); polydem's is local (non-viscous) damping.
 // - The box's floor and walls are LAMMPS wall fixes (fix wall/body/polyhedron) at the faces of
 //   polydem's fixed floor and wall blocks.
-// - Time: polydem's is this thread's CPU time; LAMMPS's its "Loop time" of the timed run.
-// - Memory: LAMMPS's is the peak resident memory of its process (getrusage of the child);
+// - Time: polydem's is this thread's CPU time; LAMMPS's the CPU time of its timed run, from its
+//   "Loop time" (wall) and the "% CPU use" it prints after it (its loop time where it prints none).
+// - Memory: LAMMPS's is the peak resident memory of its process (wait4 of that process);
 //   polydem's that of this process, which settled the pile first and ran every case in turn.
-#include <sys/resource.h>
-
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -121,12 +121,7 @@ std::string lammpsInput(const PileBenchOptions& o) {
   return in.str();
 }
 
-// The largest peak resident memory of the children waited for so far, kB.
-long long childrenPeakKb() {
-  rusage usage{};
-  getrusage(RUSAGE_CHILDREN, &usage);
-  return usage.ru_maxrss;
-}
+}  // namespace
 
 std::optional<PileResult> runLammps(const setup::Setup& scene, const PileBenchOptions& o,
                                     const std::string& exe, const std::filesystem::path& dir) {
@@ -135,14 +130,22 @@ std::optional<PileResult> runLammps(const setup::Setup& scene, const PileBenchOp
   std::ofstream(dir / "in.pile") << lammpsInput(o);
   const auto log = dir / "lammps_output.txt";
   // One process (no mpirun), in its directory (read_data data.pile); no log.lammps.
-  const std::string command =
-      cat("cd '", dir.string(), "' && '", exe, "' -in in.pile -log none -screen '", log.string(),
-          "' > /dev/null 2>&1");
-  const int rc = std::system(command.c_str());
+  const ChildRun run =
+      runChild(cat("cd '", dir.string(), "' && '", exe, "' -in in.pile -log none -screen '",
+                   log.string(), "' > /dev/null 2>&1"));
   std::ifstream in(log);
   std::string line;
   std::optional<PileResult> result;
+  double counted_mb = 0.0;
   while (std::getline(in, line)) {
+    // "Per MPI rank memory allocation (min/avg/max) = A | B | C Mbytes", before each run.
+    if (line.rfind("Per MPI rank memory allocation", 0) == 0) {
+      std::istringstream fields(line.substr(line.find('=') + 1));
+      double low = 0.0, mean = 0.0, high = 0.0;
+      char bar = 0;
+      if (fields >> low >> bar >> mean >> bar >> high) counted_mb = high;
+      continue;
+    }
     // "Loop time of T on 1 procs for N steps with M atoms": the last is the timed run.
     if (line.rfind("Loop time of ", 0) != 0) continue;
     std::istringstream fields(line.substr(13));
@@ -154,23 +157,32 @@ std::optional<PileResult> runLammps(const setup::Setup& scene, const PileBenchOp
     if (!fields || r.steps != o.steps || r.seconds <= 0.0) continue;
     r.particle_steps_per_second = static_cast<double>(r.particles * r.steps) / r.seconds;
     r.contacts = -1;  // not counted
+    r.counted_bytes = counted_mb * 1024.0 * 1024.0;
     result = r;
+    // "P% CPU use with 1 MPI tasks x ...", after the loop time: the loop's CPU time is P % of
+    // its wall time, the figure to compare with polydem's CPU time on a loaded machine.
+    while (std::getline(in, line)) {
+      const auto at = line.find("% CPU use");
+      if (at == std::string::npos) continue;
+      const double percent = std::atof(line.substr(0, at).c_str());
+      if (percent > 0.0) {
+        result->seconds *= percent / 100.0;
+        result->particle_steps_per_second =
+            static_cast<double>(r.particles * r.steps) / result->seconds;
+      }
+      break;
+    }
   }
   if (result) {
-    result->peak_kb = childrenPeakKb();
+    result->peak_kb = run.peak_kb;
     return result;
   }
-  std::ifstream again(log);
-  std::vector<std::string> lines;
-  while (std::getline(again, line)) lines.push_back(line);
-  std::string tail;
-  for (std::size_t i = lines.size() > 20 ? lines.size() - 20 : 0; i < lines.size(); ++i) {
-    tail += "\n  " + lines[i];
-  }
-  log::warning(cat("bench lammps: no result from LAMMPS (", exe, ", exit status ", rc,
-                   "); the end of its output:", tail));
+  log::warning(cat("bench lammps: no result from LAMMPS (", exe, ", exit status ", run.status,
+                   "); the end of its output:", fileTail(log, 20)));
   return std::nullopt;
 }
+
+namespace {
 
 void printTable(const std::vector<PileResult>& results) {
   const PileResult* lammps = nullptr;

@@ -2,8 +2,12 @@
 #include "bench_pile.h"
 
 #include <stdlib.h>  // mkdtemp
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +18,7 @@
 #include "polydem/core/error.h"
 #include "polydem/core/strings.h"
 #include "polydem/geometry/shapes.h"
+#include "polydem/sim/memory_use.h"
 #include "polydem/sim/simulation.h"
 
 namespace polydem::app {
@@ -145,6 +150,10 @@ PileResult runPolydemPile(setup::Setup scene, const std::string& kernel, const s
   r.seconds = seconds;
   r.particle_steps_per_second = static_cast<double>(mon.particles * o.steps) / seconds;
   r.peak_kb = selfPeakKb();
+  const sim::MemoryUse use = sim.memoryUse();
+  r.counted_bytes = static_cast<double>(sim::totalBytes(use));
+  for (const auto& item : use)
+    r.structures.emplace_back(item.name, static_cast<double>(item.bytes));
   return r;
 }
 
@@ -179,6 +188,35 @@ long long selfPeakKb() {
     if (line.rfind("VmHWM:", 0) == 0) return std::stoll(line.substr(6));
   }
   return 0;
+}
+
+ChildRun runChild(const std::string& command) {
+  ChildRun run;
+  std::fflush(nullptr);  // nothing buffered is written twice
+  const pid_t pid = fork();
+  if (pid < 0) throw Error("cannot start a process for: " + command);
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  rusage usage{};
+  if (wait4(pid, &status, 0, &usage) != pid) return run;
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  run.peak_kb = usage.ru_maxrss;  // the child's, or the largest of those it waited for
+  return run;
+}
+
+std::string fileTail(const std::filesystem::path& path, std::size_t count) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  std::string line;
+  while (std::getline(in, line)) lines.push_back(line);
+  std::string tail;
+  for (std::size_t i = lines.size() > count ? lines.size() - count : 0; i < lines.size(); ++i) {
+    tail += "\n  " + lines[i];
+  }
+  return tail;
 }
 
 }  // namespace polydem::app

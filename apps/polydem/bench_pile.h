@@ -6,7 +6,10 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands.h"
@@ -54,6 +57,11 @@ struct PileResult {
   std::int64_t contacts = 0, particles = 0, steps = 0;
   double seconds = 0.0;
   long long peak_kb = 0;  // peak resident memory of the process that ran it (0: not measured)
+  // The code's own count of what it holds, bytes: polydem's Simulation::memoryUse after the timed
+  // steps (capacities times element sizes); LAMMPS's "Per MPI rank memory allocation" (max), an
+  // estimate that can overflow (negative or terabytes on large piles); 0 where a code gives none.
+  double counted_bytes = 0.0;
+  std::vector<std::pair<std::string, double>> structures;  // polydem's count by structure, bytes
 };
 
 /// polydem's run of the settled pile with `kernel` and `model`: o.steps steps timed (CPU time of
@@ -69,5 +77,24 @@ std::string benchDirectory(const std::string& keep, const std::string& prefix);
 
 /// Peak resident memory of this process (VmHWM, kB); 0 where /proc is not there.
 long long selfPeakKb();
+
+/// A peer's run: `command` under /bin/sh; its exit status and the peak resident memory of that
+/// process and the processes it waited for (wait4), so that each peer's peak is its own.
+struct ChildRun {
+  int status = -1;
+  long long peak_kb = 0;
+};
+ChildRun runChild(const std::string& command);
+
+/// The last `count` lines of the text file at `path`, each on a new line and indented.
+std::string fileTail(const std::filesystem::path& path, std::size_t count);
+
+/// The peers' runs of the settled pile (bench_yade.cpp, bench_lammps.cpp): their input written
+/// into `dir`, the peer at `exe` run there; no value (and a warning with the end of its output)
+/// when it gives no timed run.
+std::optional<PileResult> runYade(const setup::Setup& scene, const PileBenchOptions& o,
+                                  const std::string& exe, const std::filesystem::path& dir);
+std::optional<PileResult> runLammps(const setup::Setup& scene, const PileBenchOptions& o,
+                                    const std::string& exe, const std::filesystem::path& dir);
 
 }  // namespace polydem::app

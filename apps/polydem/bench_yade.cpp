@@ -77,15 +77,16 @@ std::string yadeScript(const setup::Setup& scene, const PileBenchOptions& o) {
   return py.str();
 }
 
+}  // namespace
+
 std::optional<PileResult> runYade(const setup::Setup& scene, const PileBenchOptions& o,
                                   const std::string& exe, const std::filesystem::path& dir) {
   const auto script = dir / "yade_comparison.py";
   const auto log = dir / "yade_output.txt";
   std::ofstream(script) << yadeScript(scene, o);
   // One thread (-j1), no GUI (-n), exit when the script ends (-x).
-  const std::string command =
-      cat("'", exe, "' -n -j1 -x '", script.string(), "' > '", log.string(), "' 2>&1");
-  const int rc = std::system(command.c_str());
+  const ChildRun run =
+      runChild(cat("'", exe, "' -n -j1 -x '", script.string(), "' > '", log.string(), "' 2>&1"));
   std::ifstream in(log);
   std::string line;
   while (std::getline(in, line)) {
@@ -95,22 +96,14 @@ std::optional<PileResult> runYade(const setup::Setup& scene, const PileBenchOpti
     fields >> r.particles >> r.contacts >> r.steps >> r.seconds;
     if (!fields || r.seconds <= 0.0) break;
     r.particle_steps_per_second = static_cast<double>(r.particles * r.steps) / r.seconds;
+    r.peak_kb = run.peak_kb;
     return r;
   }
   // No result: show the end of Yade's output, which goes with a temporary directory.
-  std::ifstream again(log);
-  std::vector<std::string> lines;
-  while (std::getline(again, line)) lines.push_back(line);
-  std::string tail;
-  for (std::size_t i = lines.size() > 20 ? lines.size() - 20 : 0; i < lines.size(); ++i) {
-    tail += "\n  " + lines[i];
-  }
-  log::warning(cat("bench yade: no result from Yade (", exe, ", exit status ", rc,
-                   "); the end of its output:", tail));
+  log::warning(cat("bench yade: no result from Yade (", exe, ", exit status ", run.status,
+                   "); the end of its output:", fileTail(log, 20)));
   return std::nullopt;
 }
-
-}  // namespace
 
 int benchYade(int argc, char** argv) {
   Args args(argc, argv, {"help"});

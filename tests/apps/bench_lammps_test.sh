@@ -1,5 +1,5 @@
 #!/bin/bash
-# `polydem bench lammps` (docs/performance.md "polydem beside LAMMPS") runs without LAMMPS,
+# `polydem bench lammps` (docs/performance.md "polydem beside its peers, one table") runs without LAMMPS,
 # printing polydem's figures only, and with an `lmp` it runs the generated input and puts LAMMPS's
 # figures beside polydem's. No test needs LAMMPS: a stand-in executable checks the input and data
 # it is given (the settled cubes as rounded bodies inside the box, the body pair style, the three

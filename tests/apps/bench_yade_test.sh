@@ -1,5 +1,5 @@
 #!/bin/bash
-# `polydem bench yade` (docs/performance.md "polydem beside Yade") runs without Yade, printing polydem's figures
+# `polydem bench yade` (docs/performance.md "polydem beside its peers, one table") runs without Yade, printing polydem's figures
 # only, and with a Yade it runs the generated script and puts Yade's figures beside polydem's. No
 # test needs Yade: a stand-in executable checks the script it is given (the settled particles as
 # free bodies, the walls fixed, the Polyhedra engines, the timed run) and answers in Yade's place.
