@@ -140,8 +140,8 @@ class ContactPhase {
   void recordWork(const OrderedPair& c, std::int32_t local_a, std::int32_t local_b,
                   const Evaluated& e, bool a_is_local);
   /// Appends its full record.
-  void record(const particles::ParticleStorage& storage, const OrderedPair& c,
-              std::int32_t local_a, std::int32_t local_b, const Evaluated& e, bool a_is_local);
+  void record(const particles::ParticleStorage& storage, const OrderedPair& c, std::int32_t local_a,
+              std::int32_t local_b, const Evaluated& e, bool a_is_local);
   /// Appends the early pair's history (pair and sub-contacts) from early_history_ to `history`,
   /// which is being rebuilt.
   void takeEarlyHistory(const particles::PairKey& key, particles::ContactHistory::Cursor& early,

@@ -59,8 +59,8 @@ void visitWork(const particles::ParticleStorage& storage, const std::vector<Pair
 
 }  // namespace
 
-LoadSample sampleLoad(const particles::ParticleStorage& storage,
-                      const std::vector<PairWork>& work, const LoadModel& model) {
+LoadSample sampleLoad(const particles::ParticleStorage& storage, const std::vector<PairWork>& work,
+                      const LoadModel& model) {
   LoadSample s;
   visitWork(storage, work, model,
             [&](double cost, std::size_t a, std::size_t b, bool pair, bool sampled) {
@@ -73,14 +73,13 @@ LoadSample sampleLoad(const particles::ParticleStorage& storage,
   return s;
 }
 
-StepWork stepWork(const particles::ParticleStorage& storage,
-                  const std::vector<PairWork>& work, const LoadModel& model) {
+StepWork stepWork(const particles::ParticleStorage& storage, const std::vector<PairWork>& work,
+                  const LoadModel& model) {
   StepWork w;
-  visitWork(storage, work, model,
-            [&](double cost, std::size_t, std::size_t, bool, bool sampled) {
-              w.done += cost;
-              if (sampled) w.unique += cost;
-            });
+  visitWork(storage, work, model, [&](double cost, std::size_t, std::size_t, bool, bool sampled) {
+    w.done += cost;
+    if (sampled) w.unique += cost;
+  });
   return w;
 }
 

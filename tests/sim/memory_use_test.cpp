@@ -100,7 +100,7 @@ TEST(MemoryUse, DensePackWithinBoundsFromCounts) {
   // Per-particle arrays grow as the library grows them: at most twice the largest count.
   const std::uint64_t np = 2 * static_cast<std::uint64_t>(n.particles + 1);
   const std::uint64_t pair_bytes =
-      sizeof(particles::PairKey) + sizeof(particles::PairHistory) + sizeof(std::size_t);
+      sizeof(particles::PairKey) + sizeof(particles::PairHistory) + sizeof(std::uint32_t);
   const std::uint64_t sub_bytes = sizeof(particles::SubFeature) + sizeof(particles::SubHistory);
   // One table, rebuilt in place, holding at once last step's entries and the new ones written in
   // front of them, plus one pair's open slots beyond its sub-contacts (at most the corners of two
