@@ -81,16 +81,18 @@ long long peakResidentKb() {
 }  // namespace
 
 int benchMemory(int argc, char** argv) {
-  Args args(argc, argv, {"help"});
+  Args args(argc, argv, {"help", "records"});
   if (args.flag("help")) {
     std::printf(
         "usage: mpirun -n P polydem bench memory [--particles N] [--shapes cubes|mixed]\n"
         "         [--gap G] [--layers L] [--steps S] [--contact-model sub-contacts|point]\n"
-        "         [--scene FILE] [--json FILE]\n"
+        "         [--records] [--scene FILE] [--json FILE]\n"
         "  builds the P-PILE scene of bench scaling (--gap -0.001 with cubes: a dense pack, every\n"
         "  face in contact), runs S steps (default 20) and prints the heap it holds by structure,\n"
         "  per particle and per touching pair, summed over the ranks: counted from capacities\n"
         "  (the same on any machine), at the end of the set-up and the largest over the steps.\n"
+        "  --records: keep the full contact records, as a run that writes snapshots, tracks\n"
+        "  particles or checks contact forces does (without it, as a run without those).\n"
         "  --scene FILE: the scene file's run instead of the pile (its own contact model; the\n"
         "  pile's options do not apply), with its shape table by part.\n");
     return 0;
@@ -107,6 +109,7 @@ int benchMemory(int argc, char** argv) {
   const std::int64_t steps = args.integer("steps", 20, 0, Args::kInt64Max);
   const auto json_path = args.value("json");
   const auto scene_path = args.value("scene");
+  const bool records = args.flag("records");
   args.rejectUnknown();
   log::setLevel(log::Level::kWarning);
 
@@ -117,6 +120,7 @@ int benchMemory(int argc, char** argv) {
   MPI_Allreduce(&caller, &caller_sum, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
 
   sim::Simulation sim(scene, MPI_COMM_WORLD);
+  sim.keepContactRecords(records);
   const sim::MemoryUse names = sim.memoryUse();
   const auto setup_bytes = sumOverRanks(names, MPI_COMM_WORLD);
   std::vector<std::uint64_t> peak = setup_bytes;
@@ -150,12 +154,13 @@ int benchMemory(int argc, char** argv) {
   for (const auto b : setup_bytes) setup_total += b;
   std::printf(
       "%s memory: %lld %s, gap %g, contact model %s, %d rank(s), %lld steps: %lld touching "
-      "pairs (%.2f per particle); the history holds %lld pairs and %lld sub-contacts\n",
+      "pairs (%.2f per particle); the history holds %lld pairs and %lld sub-contacts; full "
+      "contact records %s\n",
       scene_path ? scene_path->c_str() : "P-PILE", static_cast<long long>(mon.particles),
       scene_path ? "particles" : pile.shapes.c_str(), scene_path ? 0.0 : pile.gap,
       sim.scene().contact_model.c_str(), mpi::size(), static_cast<long long>(steps),
       static_cast<long long>(mon.contacts), mon.contacts / n, static_cast<long long>(sums[0]),
-      static_cast<long long>(sums[1]));
+      static_cast<long long>(sums[1]), records ? "kept (--records)" : "not kept");
   std::printf("%-14s %12s %12s %10s %10s  %s\n", "structure", "set-up [B]", "steps [B]",
               "B/particle", "B/contact", "what");
   nlohmann::json structures = nlohmann::json::object();
@@ -186,6 +191,7 @@ int benchMemory(int argc, char** argv) {
                           {"subcontacts", sums[1]},
                           {"ranks", mpi::size()},
                           {"steps", steps},
+                          {"records_kept", records},
                           {"structures", structures},
                           {"caller_setup_bytes", caller_sum},
                           {"setup_bytes", setup_total},

@@ -120,6 +120,7 @@ void ContactHistory::makeSubRoom(std::size_t count) {
   // old_sub_end_), which old_sub_ and the block ends of the unread pairs point into.
   const std::size_t unread = old_sub_end_ - read_floor_;
   const std::size_t room = roomFor(sub_keys_.size(), subs_ + count + unread);
+  if (room > kMaxSubs) refuse("makeSubRoom: more sub-contacts than 4-byte block ends can index");
   const std::size_t shift = room - unread - read_floor_;
   moveToEnd(sub_keys_, subs_, read_floor_, old_sub_end_, room);
   moveToEnd(sub_entries_, subs_, read_floor_, old_sub_end_, room);

@@ -245,7 +245,10 @@ class ContactHistory {
   // construct nor check per slot. The table is [0, pairs_) and [0, subs_).
   std::vector<PairKey> keys_;
   std::vector<PairHistory> entries_;
-  std::vector<std::size_t> sub_end_;  // per pair: one past its last sub-contact in sub_keys_
+  // Per pair: one past its last sub-contact in sub_keys_. Four bytes: a rank's table indexes at
+  // most kMaxSubs sub-contacts (300 GB of them).
+  std::vector<std::uint32_t> sub_end_;
+  static constexpr std::size_t kMaxSubs = 0xffffffffu;
   std::vector<SubFeature> sub_keys_;
   std::vector<SubHistory> sub_entries_;
   std::size_t pairs_ = 0, subs_ = 0;

@@ -37,6 +37,9 @@ class Check {
   /// a restarted run ends with the values of a run that never stopped.
   virtual std::vector<double> state() const { return {}; }
   virtual void restore(const std::vector<double>& /*state*/) {}
+  /// Whether it reads the contact phase's full records (sim::ContactPhase::records), which a run
+  /// keeps only while something reads them.
+  virtual bool readsContacts() const { return false; }
   const setup::CheckSpec& spec() const { return spec_; }
   std::string note;  // anything a reader needs to judge the value
 

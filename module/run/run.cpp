@@ -203,6 +203,18 @@ class SceneRun {
         options_.code_version, tracker_, checks_, comm_);
     if (options_.stop_on_signals) installStopSignals();
     sim_->setStepHook([this] { return schedule_->afterStep(*sim_); });
+    sim_->keepContactRecords(readsContactRecords());
+  }
+
+  // Whether anything of this run reads the contact phase's full records: the snapshots' contacts
+  // and contact sums (the first and last snapshots at least, whatever step the run stops at), the
+  // tracked particles' contact counts, checks on contact forces. Without a reader the records are
+  // not kept (sim::ContactPhase::keepRecords).
+  bool readsContactRecords() const {
+    if (writes() && options_.snapshots) return true;
+    if (!tracker_.empty()) return true;
+    return std::any_of(checks_.begin(), checks_.end(),
+                       [](const auto& c) { return c->readsContacts(); });
   }
 
   // The equilibrium stage, then the output's first rows and the main stage with its observers.

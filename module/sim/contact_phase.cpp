@@ -1,5 +1,7 @@
 #include "polydem/sim/contact_phase.h"
 
+#include <algorithm>
+
 #include "polydem/core/memory.h"
 #include "polydem/dynamics/driver.h"
 #include "polydem/sim/force_sum.h"
@@ -143,6 +145,7 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
   same_time.time = setup.time;
   if (!(same_time == setup)) discardEarly();
   const auto pairs = order_.sort(storage, candidates);
+  work_.clear();
   records_.clear();
   forces.assign(storage.size(), dynamics::ForceAccumulator{});
   history.beginRebuild();
@@ -180,31 +183,13 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
     const PairLawResult& r = e.r;
     sumPairForce(forces, local_a, local_b, r, e.xa, e.xb);
 
-    // Written in place: a record built on the stack and pushed cost one more copy of it per pair.
-    // Grown by a quarter, not doubled (core/memory.h reserveFor): kept for the whole run.
-    reserveFor(records_, records_.size() + 1);
-    ContactRecord& rec = records_.emplace_back();
-    rec.key = c.key;
-    rec.a = local_a;
-    rec.b = local_b;
-    rec.stored_a = c.a;
-    rec.stored_b = c.b;
-    rec.touching = e.touching;
-    rec.status = e.status;
-    rec.a_is_local = static_cast<std::size_t>(c.a) < storage.localCount();
-    rec.both_free = storage[c.a].isFree() && storage[c.b].isFree();
+    const bool a_is_local = static_cast<std::size_t>(c.a) < storage.localCount();
     if (r.touching) {
       ++stats.touching;
       stats.subcontacts += r.subcontacts;
-      rec.point = r.point;
-      rec.normal = r.normal;
-      rec.force = r.force;
-      rec.normal_force = r.normal_force;
-      rec.shear_force = r.shear_force;
-      rec.energy = r.energy;
-      rec.subcontacts = r.subcontacts;
-      rec.joint = r.joint;
     }
+    recordWork(c, local_a, local_b, e, a_is_local);
+    if (keep_records_) record(storage, c, local_a, local_b, e, a_is_local);
     countStatus(stats, e.status);
   }
   discardEarly();
@@ -212,10 +197,57 @@ ContactPhaseStats ContactPhase::run(const ContactSetup& setup,
   return stats;
 }
 
+void ContactPhase::recordWork(const OrderedPair& c, std::int32_t local_a, std::int32_t local_b,
+                              const Evaluated& e, bool a_is_local) {
+  // Grown by a quarter, not doubled (core/memory.h reserveFor): kept for the whole run.
+  reserveFor(work_, work_.size() + 1);
+  PairWork& w = work_.emplace_back();
+  w.stored_a = c.a;
+  w.stored_b = c.b;
+  if (e.r.touching)
+    w.subcontacts = static_cast<std::uint16_t>(std::clamp(e.r.subcontacts, 0, 65535));
+  w.flags = static_cast<std::uint8_t>(
+      (e.touching ? PairWork::kTouching : 0) | (local_a >= 0 ? PairWork::kAFree : 0) |
+      (local_b >= 0 ? PairWork::kBFree : 0) | (a_is_local ? PairWork::kALocal : 0));
+}
+
+void ContactPhase::record(const particles::ParticleStorage& storage, const OrderedPair& c,
+                          std::int32_t local_a, std::int32_t local_b, const Evaluated& e,
+                          bool a_is_local) {
+  // Written in place: a record built on the stack and pushed cost one more copy of it per pair.
+  reserveFor(records_, records_.size() + 1);
+  ContactRecord& rec = records_.emplace_back();
+  rec.key = c.key;
+  rec.a = local_a;
+  rec.b = local_b;
+  rec.stored_a = c.a;
+  rec.stored_b = c.b;
+  rec.touching = e.touching;
+  rec.status = e.status;
+  rec.a_is_local = a_is_local;
+  rec.both_free = storage[c.a].isFree() && storage[c.b].isFree();
+  const PairLawResult& r = e.r;
+  if (!r.touching) return;
+  rec.point = r.point;
+  rec.normal = r.normal;
+  rec.force = r.force;
+  rec.normal_force = r.normal_force;
+  rec.shear_force = r.shear_force;
+  rec.energy = r.energy;
+  rec.subcontacts = r.subcontacts;
+  rec.joint = r.joint;
+}
+
+void ContactPhase::keepRecords(bool keep) {
+  keep_records_ = keep;
+  if (!keep) records_ = std::vector<ContactRecord>();  // the room too
+}
+
 ContactPhase::Memory ContactPhase::memory() const {
   Memory m;
   m.pair_list = order_.heapBytes();
   m.filter = filter_.heapBytes();
+  m.work = capacityBytes(work_);
   m.records = capacityBytes(records_);
   m.history_pairs = early_history_.pairBytes();
   m.history_subs = early_history_.subBytes();

@@ -93,13 +93,22 @@ class ContactPhase {
     early_history_.clear();
   }
 
+  /// Every evaluated pair of the last run(), in key order (load model, contact count).
+  const std::vector<PairWork>& work() const { return work_; }
+  /// The full record of every evaluated pair of the last run(), in key order, while records are
+  /// kept (the default); empty otherwise.
   const std::vector<ContactRecord>& records() const { return records_; }
+  /// Whether run() keeps full records: a run whose output, tracked particles and checks read none
+  /// turns them off, which gives their room back (about a tenth of a dense pack's memory).
+  void keepRecords(bool keep);
+  bool keepsRecords() const { return keep_records_; }
 
   /// Heap bytes it holds between steps (capacities, core/memory.h), by structure.
   struct Memory {
     std::uint64_t pair_list = 0;      // the ordered pairs and their sort
     std::uint64_t filter = 0;         // per-particle boxes and Bodies
-    std::uint64_t records = 0;        // one ContactRecord per evaluated pair
+    std::uint64_t work = 0;           // one PairWork per evaluated pair
+    std::uint64_t records = 0;        // one ContactRecord per evaluated pair, when kept
     std::uint64_t history_pairs = 0;  // the early pairs' table: pairs
     std::uint64_t history_subs = 0;   // ... and sub-contacts
     std::uint64_t early = 0;          // results of pairs evaluated early
@@ -127,6 +136,12 @@ class ContactPhase {
   template <typename OldHistory>
   Evaluated evaluate(const ContactSetup& setup, const particles::ParticleStorage& storage,
                      const OrderedPair& c, OldHistory& old, particles::ContactHistory& next);
+  /// Appends the work entry of the evaluated pair `c` (local_a, local_b: its local free copies).
+  void recordWork(const OrderedPair& c, std::int32_t local_a, std::int32_t local_b,
+                  const Evaluated& e, bool a_is_local);
+  /// Appends its full record.
+  void record(const particles::ParticleStorage& storage, const OrderedPair& c, std::int32_t local_a,
+              std::int32_t local_b, const Evaluated& e, bool a_is_local);
   /// Appends the early pair's history (pair and sub-contacts) from early_history_ to `history`,
   /// which is being rebuilt.
   void takeEarlyHistory(const particles::PairKey& key, particles::ContactHistory::Cursor& early,
@@ -136,7 +151,9 @@ class ContactPhase {
   PairFilter filter_;
   ContactModelStep model_;
   PairLaw law_;
+  std::vector<PairWork> work_;
   std::vector<ContactRecord> records_;
+  bool keep_records_ = true;
   std::vector<EarlyPair> early_;  // in key order
   particles::ContactHistory early_history_;
   ContactSetup early_setup_;

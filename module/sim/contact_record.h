@@ -1,5 +1,7 @@
-// Operator 6 of the contact phase (contact_phase.h): recording. One record per evaluated pair, in
-// key order, for output, monitors and the load model, and the phase's counts.
+// Operator 6 of the contact phase (contact_phase.h): recording. Per evaluated pair, in key order:
+// a small work entry, every step, for the load model and the contact count of the monitors; and,
+// when a reader asks for them (ContactPhase::keepRecords), a full record for output, tracked
+// particles and checks. Also the phase's counts.
 #pragma once
 
 #include <cstdint>
@@ -10,7 +12,22 @@
 
 namespace polydem::sim {
 
-/// One evaluated pair, kept for output and monitors.
+/// One evaluated pair as the load model (load_balance.h) and the contact count (global_monitors.h)
+/// read it on every step: its storage indices, its sub-contacts in compression and four flags.
+struct PairWork {
+  enum Flag : std::uint8_t {
+    kTouching = 1,  // the kernel found the pair touching
+    kAFree = 2,     // A is local and free (ContactRecord::a >= 0)
+    kBFree = 4,     // B is local and free (ContactRecord::b >= 0)
+    kALocal = 8,    // A is stored on this rank as a local particle
+  };
+  std::int32_t stored_a = -1, stored_b = -1;  // storage indices of A and B (ghosts included)
+  std::uint16_t subcontacts = 0;  // in compression, saturated at 65535 (a face pair has far fewer)
+  std::uint8_t flags = 0;
+  bool has(Flag f) const { return (flags & f) != 0; }
+};
+
+/// One evaluated pair, kept for output, tracked particles and checks.
 struct ContactRecord {
   particles::PairKey key;
   std::int32_t a = -1, b = -1;  // local indices of A and B when local and free, else -1

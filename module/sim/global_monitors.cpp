@@ -22,7 +22,8 @@ GlobalMonitors globalMonitors(const StepState& s) {
     speed += v;
     max_speed = std::max(max_speed, v);
   }
-  for (const auto& r : s.contact_phase.records()) contacts += r.touching && r.a_is_local;
+  for (const auto& w : s.contact_phase.work())
+    contacts += w.has(PairWork::kTouching) && w.has(PairWork::kALocal);
   kinetic.allreduce(s.comm);
   speed.allreduce(s.comm);
   ratio.allreduce(s.comm);

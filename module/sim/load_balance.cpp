@@ -38,31 +38,31 @@ namespace {
 /// lower-uid particle, or of its free particle when the other is a replicated body) and `pair`
 /// whether both positions count (false for a particle or a pair with a replicated body).
 template <typename Visit>
-void visitWork(const particles::ParticleStorage& storage, const std::vector<ContactRecord>& records,
+void visitWork(const particles::ParticleStorage& storage, const std::vector<PairWork>& work,
                const LoadModel& model, Visit&& visit) {
   for (std::size_t i = 0; i < storage.localCount(); ++i) {
     if (storage[i].isFree()) visit(model.particle, i, i, false, true);
   }
-  for (const ContactRecord& r : records) {
-    const double cost = model.pairCost(r.touching, r.subcontacts);
-    const bool a_global = storage[r.stored_a].isGlobal();
-    if (r.a >= 0) {  // A is ours and free
-      const bool b_global = storage[r.stored_b].isGlobal();
-      visit(cost, r.stored_a, r.stored_b, !b_global, true);
-    } else if (a_global && r.b >= 0) {  // a replicated body and our free B
-      visit(cost, r.stored_b, r.stored_b, false, true);
+  for (const PairWork& w : work) {
+    const double cost = model.pairCost(w.has(PairWork::kTouching), w.subcontacts);
+    const bool a_global = storage[w.stored_a].isGlobal();
+    if (w.has(PairWork::kAFree)) {  // A is ours and free
+      const bool b_global = storage[w.stored_b].isGlobal();
+      visit(cost, w.stored_a, w.stored_b, !b_global, true);
+    } else if (a_global && w.has(PairWork::kBFree)) {  // a replicated body and our free B
+      visit(cost, w.stored_b, w.stored_b, false, true);
     } else {  // A is a ghost: its owner evaluates the pair too and samples it
-      visit(cost, r.stored_a, r.stored_b, false, false);
+      visit(cost, w.stored_a, w.stored_b, false, false);
     }
   }
 }
 
 }  // namespace
 
-LoadSample sampleLoad(const particles::ParticleStorage& storage,
-                      const std::vector<ContactRecord>& records, const LoadModel& model) {
+LoadSample sampleLoad(const particles::ParticleStorage& storage, const std::vector<PairWork>& work,
+                      const LoadModel& model) {
   LoadSample s;
-  visitWork(storage, records, model,
+  visitWork(storage, work, model,
             [&](double cost, std::size_t a, std::size_t b, bool pair, bool sampled) {
               s.work.done += cost;
               if (!sampled) return;
@@ -73,14 +73,13 @@ LoadSample sampleLoad(const particles::ParticleStorage& storage,
   return s;
 }
 
-StepWork stepWork(const particles::ParticleStorage& storage,
-                  const std::vector<ContactRecord>& records, const LoadModel& model) {
+StepWork stepWork(const particles::ParticleStorage& storage, const std::vector<PairWork>& work,
+                  const LoadModel& model) {
   StepWork w;
-  visitWork(storage, records, model,
-            [&](double cost, std::size_t, std::size_t, bool, bool sampled) {
-              w.done += cost;
-              if (sampled) w.unique += cost;
-            });
+  visitWork(storage, work, model, [&](double cost, std::size_t, std::size_t, bool, bool sampled) {
+    w.done += cost;
+    if (sampled) w.unique += cost;
+  });
   return w;
 }
 

@@ -61,13 +61,13 @@ struct LoadSample {
   StepWork work;
 };
 
-/// The sample of the contact phase that produced `records`; call it before the storage changes
-/// (the records hold storage indices).
-LoadSample sampleLoad(const particles::ParticleStorage& storage,
-                      const std::vector<ContactRecord>& records, const LoadModel& model);
+/// The sample of the contact phase that produced `work`; call it before the storage changes
+/// (the work entries hold storage indices).
+LoadSample sampleLoad(const particles::ParticleStorage& storage, const std::vector<PairWork>& work,
+                      const LoadModel& model);
 /// LoadSample::work alone, without the sample.
-StepWork stepWork(const particles::ParticleStorage& storage,
-                  const std::vector<ContactRecord>& records, const LoadModel& model);
+StepWork stepWork(const particles::ParticleStorage& storage, const std::vector<PairWork>& work,
+                  const LoadModel& model);
 
 /// The sample binned into the blocks of `forest` (positions wrapped along periodic axes; items
 /// outside the domain are left out: migration reports them), links merged.

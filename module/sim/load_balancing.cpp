@@ -94,13 +94,13 @@ domain::Index3 fittedBlockCounts(const StepState& s, const domain::Aabb& box,
 }
 
 void LoadBalancer::record(const particles::ParticleStorage& storage,
-                          const std::vector<ContactRecord>& records, bool sample) {
+                          const std::vector<PairWork>& work, bool sample) {
   if (sample) {
-    sample_ = sampleLoad(storage, records, model_);
+    sample_ = sampleLoad(storage, work, model_);
     last_work_ = sample_.work;
     sample_next_ = false;
   } else {
-    last_work_ = stepWork(storage, records, model_);
+    last_work_ = stepWork(storage, work, model_);
   }
 }
 

@@ -48,7 +48,7 @@ class LoadBalancer {
   }
   /// Records the work of the contact phase that produced `records` (before the storage changes:
   /// the records hold storage indices); `sample`: per particle and pair too, for the next check.
-  void record(const particles::ParticleStorage& storage, const std::vector<ContactRecord>& records,
+  void record(const particles::ParticleStorage& storage, const std::vector<PairWork>& work,
               bool sample);
 
   /// Weighs a new decomposition of s.forest against the current one by the last sampled contact

@@ -8,18 +8,15 @@ namespace polydem::sim {
 
 namespace {
 
-// Counting sort of `in` into `out` by rank(pair) (stable): `start` holds one more entry than there
-// are ranks and is used up as the fill pointers.
-template <typename Rank>
-void scatter(std::span<const OrderedPair> in, std::vector<std::size_t>& start,
-             std::vector<OrderedPair>& out, Rank rank) {
+// Turns the counts in `start` (one more entry than there are ranks) into the first slot of each
+// rank: the fill pointers of a stable counting sort.
+void toStarts(std::vector<std::size_t>& start) {
   std::size_t sum = 0;
   for (std::size_t& s : start) {
     const std::size_t count = s;
     s = sum;
     sum += count;
   }
-  for (const OrderedPair& x : in) out[start[rank(x)]++] = x;
 }
 
 // The pairs of one key (periodic images of one pair) by storage indices (a, b): they arrive in
@@ -59,26 +56,35 @@ std::span<const OrderedPair> PairOrder::sort(
     if (k == 0 || by_uid_[k].first != by_uid_[k - 1].first) ++rank;  // images share a rank
     uid_rank_[by_uid_[k].second] = rank;
   }
-  // Each candidate in canonical form, counted by both ranks.
+  // Each candidate in canonical form (A the lower uid), counted by both ranks.
+  auto canonical = [&](const broadphase::CandidatePair& c) {
+    return storage[c.i].uid < storage[c.j].uid ? broadphase::CandidatePair{c.i, c.j}
+                                               : broadphase::CandidatePair{c.j, c.i};
+  };
   lo_start_.assign(static_cast<std::size_t>(rank) + 1, 0);
   hi_start_.assign(static_cast<std::size_t>(rank) + 1, 0);
-  // Grown by a quarter, not doubled (core/memory.h reserveFor): kept for the whole run.
-  reserveFor(canonical_, candidates.size());
-  reserveFor(by_hi_, candidates.size());
-  canonical_.resize(candidates.size());
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    const auto& c = candidates[k];
-    const Uid ui = storage[c.i].uid, uj = storage[c.j].uid;
-    const OrderedPair x =
-        ui < uj ? OrderedPair{{ui, uj}, c.i, c.j} : OrderedPair{{uj, ui}, c.j, c.i};
-    canonical_[k] = x;
-    ++lo_start_[uid_rank_[x.a]];
-    ++hi_start_[uid_rank_[x.b]];
+  for (const auto& c : candidates) {
+    const auto x = canonical(c);
+    ++lo_start_[uid_rank_[x.i]];
+    ++hi_start_[uid_rank_[x.j]];
   }
+  // Grown by a quarter, not doubled (core/memory.h reserveFor): kept for the whole run.
+  reserveFor(by_hi_, candidates.size());
+  reserveFor(canonical_, candidates.size());
   by_hi_.resize(candidates.size());
-  // The second sort writes back into canonical_, whose broad-phase order is no longer needed.
-  scatter(canonical_, hi_start_, by_hi_, [&](const OrderedPair& x) { return uid_rank_[x.b]; });
-  scatter(by_hi_, lo_start_, canonical_, [&](const OrderedPair& x) { return uid_rank_[x.a]; });
+  canonical_.resize(candidates.size());
+  // First by the rank of B, as storage indices alone; then, stably, by the rank of A into the
+  // ordered pairs, keys included.
+  toStarts(hi_start_);
+  for (const auto& c : candidates) {
+    const auto x = canonical(c);
+    by_hi_[hi_start_[uid_rank_[x.j]]++] = x;
+  }
+  toStarts(lo_start_);
+  for (const auto& x : by_hi_) {
+    canonical_[lo_start_[uid_rank_[x.i]]++] =
+        OrderedPair{{storage[x.i].uid, storage[x.j].uid}, x.i, x.j};
+  }
   sortImages(canonical_);
   return canonical_;
 }

@@ -31,8 +31,8 @@ class PairOrder {
   std::uint64_t heapBytes() const;
 
  private:
-  // In broad-phase order, then (the second counting sort's output) in key order; by higher uid.
-  std::vector<OrderedPair> canonical_, by_hi_;
+  std::vector<OrderedPair> canonical_;                // in key order
+  std::vector<broadphase::CandidatePair> by_hi_;      // (A, B) by the rank of B's uid
   std::vector<std::pair<Uid, std::int32_t>> by_uid_;  // (uid, storage index), sorted
   std::vector<std::int32_t> uid_rank_;                // per storage index: rank of its uid
   std::vector<std::size_t> lo_start_, hi_start_;      // pairs per lower-, higher-uid rank

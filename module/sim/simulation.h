@@ -105,6 +105,10 @@ class Simulation {
   const particles::ContactHistory& history() const { return state_.history; }
   const domain::BlockForest& forest() const { return *state_.forest; }
   const ContactPhase& contacts() const { return state_.contact_phase; }
+  /// Whether the contact phase keeps a full record of every evaluated pair (contacts().records():
+  /// snapshots' contacts, tracked particles, contact checks); on by default. A run that reads
+  /// none turns them off; the physics and the load model do not read them.
+  void keepContactRecords(bool keep) { state_.contact_phase.keepRecords(keep); }
   const ContactPhaseStats& contactStats() const { return state_.contact_stats; }
   const comm::ExchangeStats& exchangeStats() const { return state_.exchange_stats; }
   /// False: every exchange sends every ghost whole instead of updating the ones that stay (the

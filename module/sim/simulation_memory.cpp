@@ -45,8 +45,11 @@ MemoryUse Simulation::memoryUse() const {
        state_.history.subBytes() + phase.history_subs},
       {"kernel_caches", "per particle: rotations, world vertices and normals, boxes, Bodies",
        state_.storage.derivedBytes() + phase.filter},
-      {"records", "contact records (output, monitors, load model), early results",
-       phase.records + phase.early},
+      {"pair_work", "per evaluated pair: storage indices and flags (load model, contact count)",
+       phase.work},
+      {"records", "contact records (snapshots, tracked particles, checks), when kept",
+       phase.records},
+      {"early", "pairs evaluated while the exchange is in flight (several ranks)", phase.early},
       {"forces", "per-particle force accumulators", capacityBytes(state_.forces)},
       {"exchange", "ghost and migration buffers, channels", state_.exchange.heapBytes()},
   };

@@ -100,7 +100,7 @@ TEST(MemoryUse, DensePackWithinBoundsFromCounts) {
   // Per-particle arrays grow as the library grows them: at most twice the largest count.
   const std::uint64_t np = 2 * static_cast<std::uint64_t>(n.particles + 1);
   const std::uint64_t pair_bytes =
-      sizeof(particles::PairKey) + sizeof(particles::PairHistory) + sizeof(std::size_t);
+      sizeof(particles::PairKey) + sizeof(particles::PairHistory) + sizeof(std::uint32_t);
   const std::uint64_t sub_bytes = sizeof(particles::SubFeature) + sizeof(particles::SubHistory);
   // One table, rebuilt in place, holding at once last step's entries and the new ones written in
   // front of them, plus one pair's open slots beyond its sub-contacts (at most the corners of two
@@ -108,11 +108,16 @@ TEST(MemoryUse, DensePackWithinBoundsFromCounts) {
   EXPECT_LE(peak["history_pairs"], grown(need.pairs) * pair_bytes);
   EXPECT_LE(peak["history_subs"], grown(need.subs + 8) * sub_bytes + 8 * sub_bytes);
   EXPECT_LT(peak["history_subs"], 2 * n.subs * sub_bytes) << "less than two tables";
+  // Records are kept by default: one per evaluated pair, beside its work entry of 12 bytes.
   EXPECT_LE(peak["records"], grown(n.records) * sizeof(ContactRecord));
-  // The candidates in canonical form and sorted by the higher uid; the uid ranks and counts.
-  EXPECT_LE(peak["pair_list"], 2 * grown(n.candidates) * sizeof(OrderedPair) +
-                                   np * (sizeof(std::pair<Uid, std::int32_t>) +
-                                         sizeof(std::int32_t) + 2 * sizeof(std::size_t)));
+  EXPECT_LE(sizeof(PairWork), 12u);
+  EXPECT_LE(peak["pair_work"], grown(n.records) * sizeof(PairWork));
+  // The candidates sorted by the higher uid as storage indices, then in key order with their
+  // keys; the uid ranks and counts.
+  EXPECT_LE(peak["pair_list"],
+            grown(n.candidates) * (sizeof(broadphase::CandidatePair) + sizeof(OrderedPair)) +
+                np * (sizeof(std::pair<Uid, std::int32_t>) + sizeof(std::int32_t) +
+                      2 * sizeof(std::size_t)));
   EXPECT_LE(peak["kernel_caches"],
             np * (sizeof(Mat3) + sizeof(Vec3) + sizeof(double) + 2 * sizeof(std::size_t) +
                   2 * sizeof(Vec3) + 1 + sizeof(contact::Body)) +
@@ -123,6 +128,45 @@ TEST(MemoryUse, DensePackWithinBoundsFromCounts) {
   EXPECT_LE(peak["forces"], np * sizeof(dynamics::ForceAccumulator));
   // One cube shape and the box's floor and walls, whatever the particle count.
   EXPECT_LE(peak["shapes"], 4096u * sim.shapes().size());
+}
+
+// Without a reader of the full contact records (a run without snapshots, tracked particles or
+// contact checks), the contact phase keeps none and holds no room for them; the work entries
+// (load model, contact count) are the same, and so are the bits of the run.
+TEST(MemoryUse, ContactRecordsOnlyWhenKept) {
+  log::setLevel(log::Level::kWarning);
+  PileOptions o;
+  o.particles = 512;
+  o.shapes = "cubes";
+  o.gap = -0.001;
+  o.layers = 8;
+  setup::Setup scene = makePileScene(o);
+  scene.contact_model = "sub-contacts";
+  Simulation kept(scene, MPI_COMM_WORLD), dropped(scene, MPI_COMM_WORLD);
+  for (int step = 0; step < 3; ++step) kept.step();
+  dropped.step();
+  dropped.keepContactRecords(false);  // after a step with records: their room is given back
+  for (int step = 0; step < 2; ++step) dropped.step();
+  EXPECT_TRUE(dropped.contacts().records().empty());
+  EXPECT_EQ(dropped.contacts().records().capacity(), 0u);
+  EXPECT_FALSE(kept.contacts().records().empty());
+  const auto& work = dropped.contacts().work();
+  ASSERT_EQ(work.size(), kept.contacts().records().size());
+  for (std::size_t k = 0; k < work.size(); ++k) {
+    const ContactRecord& r = kept.contacts().records()[k];
+    EXPECT_EQ(work[k].stored_a, r.stored_a);
+    EXPECT_EQ(work[k].stored_b, r.stored_b);
+    EXPECT_EQ(work[k].subcontacts, r.subcontacts);
+    EXPECT_EQ(work[k].has(PairWork::kTouching), r.touching);
+    EXPECT_EQ(work[k].has(PairWork::kAFree), r.a >= 0);
+    EXPECT_EQ(work[k].has(PairWork::kBFree), r.b >= 0);
+    EXPECT_EQ(work[k].has(PairWork::kALocal), r.a_is_local);
+  }
+  EXPECT_EQ(dropped.monitors().contacts, kept.monitors().contacts);
+  EXPECT_GT(kept.monitors().contacts, 0);
+  EXPECT_EQ(dropped.stateHash().combined, kept.stateHash().combined);
+  EXPECT_EQ(byName(dropped.memoryUse()).at("records"), 0u);
+  EXPECT_GE(byName(kept.memoryUse()).at("records"), work.size() * sizeof(ContactRecord));
 }
 
 // A restart routes the pair histories to their owners chunk by chunk and merges each chunk into

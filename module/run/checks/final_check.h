@@ -14,12 +14,16 @@ class FinalCheck : public Check {
  public:
   /// `value(sim, note)` is the check's value; it may write a note for the reader.
   using Value = std::function<double(sim::Simulation& sim, std::string& note)>;
-  FinalCheck(const setup::CheckSpec& spec, Value value) : Check(spec), value_(std::move(value)) {}
+  /// `reads_contacts`: `value` reads the contact records (Check::readsContacts).
+  FinalCheck(const setup::CheckSpec& spec, Value value, bool reads_contacts = false)
+      : Check(spec), value_(std::move(value)), reads_contacts_(reads_contacts) {}
   void observe(const sim::Simulation&, const Tracker&) override {}
   double value(sim::Simulation& sim) override { return value_(sim, note); }
+  bool readsContacts() const override { return reads_contacts_; }
 
  private:
   Value value_;
+  bool reads_contacts_ = false;
 };
 
 }  // namespace polydem::run

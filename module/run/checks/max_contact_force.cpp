@@ -48,9 +48,10 @@ double largestForce(sim::Simulation& sim, const std::optional<Vec3>& axis, std::
 std::unique_ptr<Check> maxContactForce(const setup::Setup& scene, const setup::CheckSpec& spec,
                                        Tracker&) {
   const auto axis = Params(scene, spec).vector("axis");
-  return std::make_unique<FinalCheck>(spec, [axis](sim::Simulation& sim, std::string& note) {
-    return largestForce(sim, axis, note);
-  });
+  return std::make_unique<FinalCheck>(
+      spec,
+      [axis](sim::Simulation& sim, std::string& note) { return largestForce(sim, axis, note); },
+      /*reads_contacts=*/true);
 }
 
 }  // namespace polydem::run::kinds

@@ -55,6 +55,7 @@ class PairSeparationCheck : public Check {
     if (std::isnan(time_)) note = pressed_ ? "still pressing at the end" : "they never pressed";
     return time_;
   }
+  bool readsContacts() const override { return true; }
   std::vector<double> state() const override { return {pressed_ ? 1.0 : 0.0, time_}; }
   void restore(const std::vector<double>& v) override {
     pressed_ = v.at(0) != 0.0;

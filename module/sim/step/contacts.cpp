@@ -27,9 +27,9 @@ void computeContacts(StepState& s) {
   s.contact_stats =
       s.contact_phase.run(contactSetup(s), s.storage, s.candidates, s.history, s.forces);
   // The work of this phase, and where it was if the decomposition is weighed after this step
-  // (the records hold storage indices, valid only until the particles move).
+  // (the work entries hold storage indices, valid only until the particles move).
   const bool sample = s.balancer.samples(s.loop.step() + 1, s.scene.domain.rebalance_every);
-  s.balancer.record(s.storage, s.contact_phase.records(), sample);
+  s.balancer.record(s.storage, s.contact_phase.work(), sample);
 }
 
 }  // namespace polydem::sim
