@@ -137,6 +137,7 @@ class Simulation {
   dynamics::MassProperties massProperties(std::size_t i) const { return state_.massProperties(i); }
   /// Global monitors (collective).
   GlobalMonitors monitors() const { return globalMonitors(state_); }
+  double forceRatio() const { return globalForceRatio(state_); }  // collective
   /// Hash of the whole state, the same on any rank count (collective).
   comm::StateHash stateHash() const;
 
