@@ -89,6 +89,8 @@ class Simulation {
   void step();
 
   // --- state, for monitors, checks, output and tests --------------------------------------
+  /// The setup it was built from, without the shapes' vertex lists and face planes (empty: the
+  /// shape table, shapes(), holds the shapes; the caller's setup keeps them).
   const setup::Setup& scene() const { return state_.scene; }
   MPI_Comm comm() const { return state_.comm; }
   Stage stage() const { return state_.stage; }
@@ -256,6 +258,7 @@ class Simulation {
   struct Unbuilt {};
   Simulation(const setup::Setup& scene, MPI_Comm comm, const HostOperators& host, Unbuilt);
   void buildTables();
+  void releaseShapeSpecs();
   void buildDomain();
   void placeParticles();
   void buildLaws();
