@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <utility>
 
 #include "commands.h"
 #include "picture.h"
@@ -153,9 +154,11 @@ int runCommand(int argc, char** argv) {
   }
   const std::string path = args.positional()[0];
   options.scene_text = scene::readSceneText(path);
-  const setup::Setup scene = scene::parseScene(options.scene_text, path);
-  const auto result = run::runScene(scene, options, MPI_COMM_WORLD);
-  if (picture || scene.output.picture) pictureOf(options, picture_options);
+  setup::Setup scene = scene::parseScene(options.scene_text, path);
+  picture = picture || scene.output.picture;
+  // Handed over, not copied: the run's copy is the only one (a list as long as the particles).
+  const auto result = run::runScene(std::move(scene), options, MPI_COMM_WORLD);
+  if (picture) pictureOf(options, picture_options);
   return check && !result.stopped_early() && !result.all_checks_pass() ? 3 : 0;
 }
 

@@ -17,6 +17,7 @@ void TimingPool::add(const std::string& name, double seconds) {
   }
   it->seconds += seconds;
   it->count += 1;
+  total_seconds_ += seconds;
 }
 
 double TimingPool::seconds(const std::string& name) const {

@@ -46,7 +46,13 @@ class TimingPool {
 
   const std::vector<Entry>& entries() const { return entries_; }
   double seconds(const std::string& name) const;
-  void clear() { entries_.clear(); }
+  /// The seconds of all calls added so far: a timer around work that times parts of itself into
+  /// the pool takes their difference off its own row, so that no second is counted twice.
+  double totalSeconds() const { return total_seconds_; }
+  void clear() {
+    entries_.clear();
+    total_seconds_ = 0.0;
+  }
 
   /// Collective over `comm`: the union of all names (rank 0's order first), with min, mean and
   /// max over ranks. Every rank gets the same result.
@@ -57,6 +63,7 @@ class TimingPool {
 
  private:
   std::vector<Entry> entries_;
+  double total_seconds_ = 0.0;
 };
 
 }  // namespace polydem

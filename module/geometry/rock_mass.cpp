@@ -397,6 +397,7 @@ class Cutter {
 
   RockMass result() {
     RockMass mass;
+    mass.blocks.reserve(work_.size());
     for (const Cut& c : cuts_) {
       mass.planes.push_back(c.plane);
       mass.plane_names.push_back(c.name);
@@ -414,7 +415,9 @@ class Cutter {
       report_.smallest_thickness = std::min(report_.smallest_thickness, 2.0 * w.poly.inradius());
       (b.fixed ? report_.fixed_blocks : report_.free_blocks) += 1;
       mass.blocks.push_back(std::move(b));
+      w.poly = ConvexPolyhedron();  // its block holds what is kept: the two never both whole
     }
+    work_ = std::vector<Work>();
     mass.report = report_;
     return mass;
   }

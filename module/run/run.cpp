@@ -170,6 +170,8 @@ class SceneRun {
 
  private:
   bool writes() const { return !options_.out_dir.empty(); }
+  // The scene, from the simulation's copy once it is built.
+  const setup::Setup& scene() const { return sim_ ? sim_->scene() : scene_; }
   bool rankZero() const { return mpi::rank(comm_) == 0; }
 
   // The simulation, from the scene or the checkpoint, with its progress line.
@@ -182,16 +184,19 @@ class SceneRun {
     sim_ = restart_ ? std::make_unique<sim::Simulation>(scene_, *restart_, *histories_,
                                                         restart_file_, comm_)
                     : std::make_unique<sim::Simulation>(scene_, comm_);
+    // The simulation keeps a copy (scene()): this one would be a second, on every rank, of a
+    // list as long as the particles.
+    scene_ = setup::Setup();
     const std::int64_t every =
-        options_.progress_every > 0 ? options_.progress_every : scene_.output.progress_every;
+        options_.progress_every > 0 ? options_.progress_every : scene().output.progress_every;
     sim_->loop().setProgressInterval(every, every > 0 ? 0.0 : 5.0);
   }
 
   // The checks, the monitored particles, the checkpoint schedule as the step hook.
   void setUpObservers() {
-    checks_ = makeChecks(scene_, tracker_);
-    for (const auto& label : scene_.output.monitor) {
-      const Uid uid = uidOfLabel(scene_, label);
+    checks_ = makeChecks(scene(), tracker_);
+    for (const auto& label : scene().output.monitor) {
+      const Uid uid = uidOfLabel(scene(), label);
       tracker_.track(uid);
       monitored_.emplace_back(uid, label);
     }
@@ -199,7 +204,7 @@ class SceneRun {
     const std::string scene_text =
         options_.scene_text.empty() && restart_ ? restart_->scene_toml : options_.scene_text;
     schedule_ = std::make_unique<CheckpointSchedule>(
-        checkpointSpec(scene_, options_), options_.out_dir, scene_text, scene_.file,
+        checkpointSpec(scene(), options_), options_.out_dir, scene_text, scene().file,
         options_.code_version, tracker_, checks_, comm_);
     if (options_.stop_on_signals) installStopSignals();
     sim_->setStepHook([this] { return schedule_->afterStep(*sim_); });
@@ -244,8 +249,8 @@ class SceneRun {
     for (auto& c : checks_) c->observe(sim, tracker_);
     if (!output_) return;
     const std::int64_t step = sim.stepCount();  // the step just completed (observers run after it)
-    const std::int64_t series_every = std::max<std::int64_t>(1, scene_.output.series_every);
-    const std::int64_t snapshot_every = scene_.output.snapshot_every;
+    const std::int64_t series_every = std::max<std::int64_t>(1, scene().output.series_every);
+    const std::int64_t snapshot_every = scene().output.snapshot_every;
     if (step % series_every == 0) output_->writeSeries(sim, tracker_, checks_);
     if (snapshot_every > 0 && step % snapshot_every == 0) output_->writeSnapshot(sim);
   }
@@ -298,7 +303,7 @@ class SceneRun {
     if (!writes()) return;
     std::string summary_error;
     if (rankZero()) {
-      auto summary = summaryJson(scene_, *sim_, result_, reason, timing);
+      auto summary = summaryJson(scene(), *sim_, result_, reason, timing);
       addRunFacts(summary);
       summary["communication"] = communication;
       summary["balance"] = balance["balance"];
@@ -328,9 +333,9 @@ class SceneRun {
     if (!rankZero()) return;
     if (writes()) {
       log::info("wrote " + options_.out_dir + "/summary.json, series.csv" +
-                (!options_.snapshots                      ? ""
-                 : scene_.output.snapshot_format == "vtk" ? ", snapshots.pvd, contacts.pvd"
-                                                          : ", snapshots.xmf, contacts.xmf"));
+                (!options_.snapshots                       ? ""
+                 : scene().output.snapshot_format == "vtk" ? ", snapshots.pvd, contacts.pvd"
+                                                           : ", snapshots.xmf, contacts.xmf"));
     }
     if (result_.stop_signal.empty()) return;
     const std::string where =
@@ -350,7 +355,7 @@ class SceneRun {
                   "  (any rank count; use another --out to keep this part's files)"));
   }
 
-  setup::Setup scene_;
+  setup::Setup scene_;  // released once the simulation holds its copy
   const RunOptions& options_;
   MPI_Comm comm_;
   const sim::CheckpointData* restart_;  // null: a new run

@@ -11,6 +11,7 @@
 #include "polydem/core/logging.h"
 #include "polydem/core/mpi_env.h"
 #include "polydem/core/strings.h"
+#include "polydem/core/timing_pool.h"
 
 namespace polydem::run {
 
@@ -205,7 +206,7 @@ bool CheckpointSchedule::afterStep(sim::Simulation& sim) {
   // A checkpoint in the equilibrium stage at the step where the force ratio ends it would,
   // restarted, take one more equilibrium step: that step's checkpoint is left out.
   if (sim.stage() == sim::Stage::kEquilibrium &&
-      sim.monitors().force_ratio < sim.scene().equilibrium.force_ratio) {
+      sim.forceRatio() < sim.scene().equilibrium.force_ratio) {
     return false;
   }
   write(sim);
@@ -220,7 +221,10 @@ bool CheckpointSchedule::signalAfterRun() {
   return global != 0;
 }
 
+// Timed in the running loop's pool as a row of its own (a write inside the stop check is not
+// counted as checking).
 std::filesystem::path CheckpointSchedule::write(sim::Simulation& sim) {
+  const TimingPool::Scope timer(sim.loop().timing(), "(checkpoint)");
   const auto path = checkpoint::checkpointFileName(dir_ / "checkpoints", runSteps(sim), run_id_);
   if (mpi::rank(comm_) == 0) std::filesystem::create_directories(path.parent_path());
   MPI_Barrier(comm_);

@@ -314,6 +314,9 @@ class ParticleReader {
     // The shapes so far by name, looked up once per block (not a search of every shape).
     std::unordered_map<std::string, int> shape_line;
     for (const setup::ShapeSpec& other : scene_.shapes) shape_line.emplace(other.name, other.line);
+    // Room for every block at once, not doubled on the way (two lists as long as the blocks).
+    scene_.shapes.reserve(scene_.shapes.size() + cut.mass.blocks.size());
+    scene_.particles.reserve(scene_.particles.size() + cut.mass.blocks.size());
     for (std::size_t i = 0; i < cut.mass.blocks.size(); ++i) {
       geometry::RockBlock& block = cut.mass.blocks[i];
       setup::ShapeSpec shape;

@@ -37,4 +37,10 @@ GlobalMonitors globalMonitors(const StepState& s) {
   return m;
 }
 
+double globalForceRatio(const StepState& s) {
+  dynamics::ForceRatio ratio = s.ratio_local;
+  ratio.allreduce(s.comm);
+  return ratio.value();
+}
+
 }  // namespace polydem::sim

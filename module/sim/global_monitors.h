@@ -22,4 +22,9 @@ struct GlobalMonitors {
 /// touching pairs, the force ratio of the last contact phase (Keissar eq. 3.2).
 GlobalMonitors globalMonitors(const StepState& s);
 
+/// The force ratio of the last contact phase alone (collective, one allreduce of the sums the
+/// step's force-ratio pass made): the equilibrium stage's stop condition, checked every step,
+/// without a pass over the particles. The same value as globalMonitors(s).force_ratio.
+double globalForceRatio(const StepState& s);
+
 }  // namespace polydem::sim

@@ -89,6 +89,8 @@ class Simulation {
   void step();
 
   // --- state, for monitors, checks, output and tests --------------------------------------
+  /// The setup it was built from, without the shapes' vertex lists and face planes (empty: the
+  /// shape table, shapes(), holds the shapes; the caller's setup keeps them).
   const setup::Setup& scene() const { return state_.scene; }
   MPI_Comm comm() const { return state_.comm; }
   Stage stage() const { return state_.stage; }
@@ -141,6 +143,7 @@ class Simulation {
   dynamics::MassProperties massProperties(std::size_t i) const { return state_.massProperties(i); }
   /// Global monitors (collective).
   GlobalMonitors monitors() const { return globalMonitors(state_); }
+  double forceRatio() const { return globalForceRatio(state_); }  // collective
   /// Hash of the whole state, the same on any rank count (collective).
   comm::StateHash stateHash() const;
 
@@ -259,6 +262,7 @@ class Simulation {
   struct Unbuilt {};
   Simulation(const setup::Setup& scene, MPI_Comm comm, const HostOperators& host, Unbuilt);
   void buildTables();
+  void releaseShapeSpecs();
   void buildDomain();
   void placeParticles();
   void buildLaws();

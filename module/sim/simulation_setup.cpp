@@ -82,6 +82,8 @@ void Simulation::buildTables() {
   // A stop signal ends a long build (a rock mass of many blocks) every 256 shapes.
   constexpr std::size_t kPollEvery = 256;
   geometry::PolyhedronPool pool;  // congruent blocks of a rock mass keep one polyhedron
+  state_.shapes.reserve(state_.scene.shapes.size());  // exactly sized: one per block of a mass
+  state_.shape_frames.reserve(state_.scene.shapes.size());
   for (const auto& spec : state_.scene.shapes) {
     if ((state_.shapes.size() + 1) % kPollEvery == 0) {
       throwIfInterrupted([&] {
@@ -111,6 +113,18 @@ void Simulation::buildTables() {
   state_.kernel = contact::makeKernel(state_.scene.kernel, state_.scene.kernel_params);
   state_.balancer.setModel(loadModelFor(state_.scene.kernel));
   state_.broadphase = broadphase::makeBroadPhase(state_.scene.broadphase);
+  releaseShapeSpecs();
+}
+
+// The shape table holds every shape now: nothing reads the vertex lists and face planes of the
+// simulation's copy of the setup again (a restart builds its table from its own copy). Released,
+// they are most of that copy for a cut rock mass (a shape of its own per block, on every rank).
+// Names and lines stay for messages.
+void Simulation::releaseShapeSpecs() {
+  for (auto& spec : state_.scene.shapes) {
+    spec.vertices = std::vector<Vec3>();  // a new empty vector: clear() would keep the room
+    spec.face_planes = std::vector<setup::FacePlane>();
+  }
 }
 
 void Simulation::buildBolts() {

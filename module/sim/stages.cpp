@@ -50,7 +50,7 @@ void Stages::enterEquilibrium() {
   s_.loop = timeloop::TimeLoop(s_.comm);
   registerSteps();
   s_.loop.stopWhenForceRatioBelow(s_.scene.equilibrium.force_ratio,
-                                  [this] { return globalMonitors(s_).force_ratio; });
+                                  [this] { return globalForceRatio(s_); });
   s_.loop.stopAtStep(s_.scene.equilibrium.max_steps);
   s_.stage = Stage::kEquilibrium;
 }

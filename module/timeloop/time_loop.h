@@ -116,6 +116,7 @@ class TimeLoop {
   StopReason check(bool after_step);
   std::string describe(StopReason reason) const;
   bool agree(StopReason reason, bool progress_due);
+  bool stopCheck(StopReason& reason);  // sets `reason`; returns whether a progress line is due
   void printProgress();
   void emit(const std::string& line) const;
   double wallNow() const;

@@ -26,5 +26,18 @@ TEST(TimingPool, AccumulatesAndReducesOverRanks) {
   EXPECT_NE(TimingPool::table(rows, 10).find("only-on-rank-0"), std::string::npos);
 }
 
+// The running total is what a timer that times parts of itself into the pool deducts.
+TEST(TimingPool, TotalSecondsSumsEveryCallAndClears) {
+  TimingPool pool;
+  EXPECT_EQ(pool.totalSeconds(), 0.0);
+  pool.add("a", 1.5);
+  pool.add("b", 0.25);
+  pool.add("a", 2.0);
+  EXPECT_EQ(pool.totalSeconds(), 3.75);
+  EXPECT_EQ(pool.totalSeconds(), pool.seconds("a") + pool.seconds("b"));
+  pool.clear();
+  EXPECT_EQ(pool.totalSeconds(), 0.0);
+}
+
 }  // namespace
 }  // namespace polydem

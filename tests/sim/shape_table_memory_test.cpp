@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <string>
@@ -134,8 +135,8 @@ std::size_t distinctPolyhedra(const particles::ShapeTable& shapes) {
 
 // Each shape's polyhedron holds the bits the shape's own build gives; returns how many classes of
 // equal bits the own builds fall into (the most sharing can do).
-std::size_t expectSameAsOwnBuild(const Simulation& sim) {
-  const auto& specs = sim.scene().shapes;
+std::size_t expectSameAsOwnBuild(const setup::Setup& scene, const Simulation& sim) {
+  const auto& specs = scene.shapes;
   EXPECT_EQ(specs.size(), sim.shapes().size());
   std::vector<geometry::ConvexPolyhedron> classes;
   for (std::size_t i = 0; i < specs.size() && i < sim.shapes().size(); ++i) {
@@ -159,7 +160,7 @@ TEST(ShapeTableMemory, CongruentCutBlocksShareTheirPolyhedra) {
   ASSERT_EQ(shapes.size(), 4u * 4u * 3u + 1u) << "48 free cubes and the fixed base";
   // Shared as far as the bits allow: some of the 1-m cubes, cut on planes at whole metres, are
   // equal to the last bit (they differ in which faces lie on joint planes, face_plane).
-  const std::size_t classes = expectSameAsOwnBuild(sim);
+  const std::size_t classes = expectSameAsOwnBuild(scene, sim);
   EXPECT_EQ(distinctPolyhedra(shapes), classes);
   EXPECT_LT(classes, shapes.size());
   EXPECT_EQ(bytesByPart(shapes), bytesFromCounts(shapes));
@@ -168,13 +169,56 @@ TEST(ShapeTableMemory, CongruentCutBlocksShareTheirPolyhedra) {
   EXPECT_EQ(bytesFromCounts(shapes).at("face_planes"), shapes.size() * 6 * sizeof(std::int32_t));
 }
 
+// What a rank holds per block of a cut mass for its shapes and its copy of the setup, from the
+// counts: the shape table exactly sized (records, frames, the parts above), and the setup's
+// particle and shape records without the shapes' vertex lists and face planes, which the shape
+// table replaces (the caller's setup keeps them).
+TEST(ShapeTableMemory, RockMassBytesPerBlockFromCounts) {
+  log::setLevel(log::Level::kWarning);
+  const setup::Setup scene = scene::parseScene(sceneText(kOrthogonal), "orthogonal.toml");
+  Simulation sim(scene, MPI_COMM_WORLD);
+  const std::uint64_t n = scene.shapes.size();
+  ASSERT_EQ(n, scene.particles.size()) << "a shape of its own per block";
+  std::uint64_t caller_lists = 0;
+  for (const auto& spec : scene.shapes) {
+    caller_lists += spec.vertices.size() + spec.face_planes.size();
+  }
+  EXPECT_GT(caller_lists, 0u) << "the caller's setup keeps its vertex lists";
+  const auto& kept = sim.scene().shapes;
+  ASSERT_EQ(kept.size(), n);
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_EQ(kept[i].name, scene.shapes[i].name);
+    EXPECT_EQ(kept[i].vertices.capacity() + kept[i].face_planes.capacity(), 0u) << kept[i].name;
+  }
+  std::map<std::string, std::uint64_t> use;
+  for (const auto& item : sim.memoryUse()) use[item.name] = item.bytes;
+  std::uint64_t labels = 0;
+  for (const auto& p : sim.scene().particles) {
+    labels += p.label.capacity() > 15 ? p.label.capacity() + 1 : 0;
+  }
+  const std::uint64_t setup_bytes =
+      n * (sizeof(setup::ParticleSpec) + sizeof(setup::ShapeSpec)) + labels;
+  EXPECT_EQ(use.at("scene"), setup_bytes);
+  std::uint64_t parts = 0;
+  for (const auto& [name, bytes] : bytesFromCounts(sim.shapes())) parts += bytes;
+  // Beyond the parts and the frames: one density per material.
+  const std::uint64_t densities = scene.materials.size() * sizeof(double);
+  EXPECT_GE(use.at("shapes"), parts + n * sizeof(ShapeFrame));
+  EXPECT_LE(use.at("shapes"), parts + n * sizeof(ShapeFrame) + 2 * densities);
+  const double per_block = static_cast<double>(use.at("scene") + use.at("shapes")) / n;
+  const double from_counts = static_cast<double>(setup_bytes + parts + n * sizeof(ShapeFrame)) / n;
+  EXPECT_NEAR(per_block, from_counts, 2.0 * densities / n);
+  std::printf("per block on this rank: setup %.1f B, shapes %.1f B\n",
+              static_cast<double>(use.at("scene")) / n, static_cast<double>(use.at("shapes")) / n);
+}
+
 TEST(ShapeTableMemory, JitteredBlocksKeepTheirOwnPolyhedra) {
   log::setLevel(log::Level::kWarning);
   const setup::Setup scene = scene::parseScene(sceneText(kJittered), "jittered.toml");
   Simulation sim(scene, MPI_COMM_WORLD);
   const auto& shapes = sim.shapes();
   ASSERT_GT(shapes.size(), 10u);
-  EXPECT_EQ(expectSameAsOwnBuild(sim), shapes.size());
+  EXPECT_EQ(expectSameAsOwnBuild(scene, sim), shapes.size());
   EXPECT_EQ(distinctPolyhedra(shapes), shapes.size());
   EXPECT_EQ(bytesByPart(shapes), bytesFromCounts(shapes));
 }

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -296,6 +297,31 @@ TEST(TimeLoop, FinalLineAndSummary) {
     EXPECT_EQ(c.lines[1], "stopped: end time 2.5 reached at step 5 (t = 2.5)");
     EXPECT_EQ(c.lines[2] + "\n", summary);
   }
+}
+
+// Work a stop condition times into the pool under its own name (a checkpoint written when due) is
+// that row's, not the stop check's: a condition that reports 1e6 s of its own leaves nothing in
+// "(stop checks)" (without the deduction the row would hold the check's own, non-zero, time).
+TEST(TimeLoop, WorkTimedInsideTheStopCheckIsNotCountedTwice) {
+  CapturedLoop c;
+  c.loop.add("step", [] {});
+  c.loop.setTimeStep(0.5);
+  c.loop.stopAtStep(3);
+  int calls = 0;
+  c.loop.stopWhen("writer", [&] {
+    c.loop.timing().add("(checkpoint)", 1e6);
+    ++calls;
+    return false;
+  });
+  EXPECT_EQ(c.loop.run(), StopReason::kStepLimit);
+  EXPECT_EQ(calls, 3);
+  EXPECT_EQ(c.loop.timing().seconds("(checkpoint)"), 3e6);
+  EXPECT_EQ(c.loop.timing().seconds("(stop checks)"), 0.0);
+  const auto& rows = c.loop.timing().entries();
+  const auto row = std::find_if(rows.begin(), rows.end(),
+                                [](const auto& e) { return e.name == "(stop checks)"; });
+  ASSERT_NE(row, rows.end());
+  EXPECT_EQ(row->count, 3);
 }
 
 }  // namespace
