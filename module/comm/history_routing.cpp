@@ -261,12 +261,16 @@ void HistoryRouter::route(const HistoryRecords& chunk, particles::ContactHistory
     transit = std::max(transit, messageBytes(delivered) + recordBytes(kept));
   }
   agreeOnProblems(problems, comm_);
-  // Copies of one record (from its two directories) are the same: merge keeps one.
+  // Copies of one record (from its two directories) are the same: the assembly keeps one.
   const std::uint64_t kept_bytes = recordBytes(kept);
-  into.merge(std::move(kept));
-  stats_.kept = static_cast<std::int64_t>(into.size());
+  into.appendRecords(std::move(kept));
   stats_.peak_transit_bytes = std::max(stats_.peak_transit_bytes, transit + kept_bytes);
   ++stats_.chunks;
+}
+
+void HistoryRouter::finish(particles::ContactHistory& into) {
+  into.endAssembly();
+  stats_.kept = static_cast<std::int64_t>(into.size());
 }
 
 particles::ContactHistory routeHistories(const HistoryRecords& records, std::span<const Uid> owned,
@@ -274,7 +278,9 @@ particles::ContactHistory routeHistories(const HistoryRecords& records, std::spa
                                          HistoryRoutingStats* stats) {
   HistoryRouter router(owned, replicated, comm);
   particles::ContactHistory out;
+  out.beginAssembly();
   router.route(records, out);
+  router.finish(out);
   if (stats) *stats = router.stats();
   return out;
 }

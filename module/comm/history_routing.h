@@ -37,7 +37,9 @@ struct HistoryRoutingStats {
 
 /// Routing in chunks, so that the records in transit stay bounded: the owners register at their
 /// directories once, then each route() delivers one chunk of every rank's records to their
-/// owners and merges them into this rank's history in place (ContactHistory::merge).
+/// owners and appends them to this rank's history (ContactHistory::appendRecords), which finish()
+/// sorts once (ContactHistory::endAssembly). A round costs what its records cost, whatever the
+/// size of the history or the particle count.
 class HistoryRouter {
  public:
   /// Collective. `owned`: uids of the free particles this rank owns; `replicated`: uids of the
@@ -49,9 +51,13 @@ class HistoryRouter {
 
   /// Collective: every rank calls it equally often (with an empty chunk when it has no records
   /// left). Delivers the chunks' records to every rank owning the lo or the hi particle of their
-  /// pair and merges them into `into`. Throws polydem::Error on every rank if a pair names a free
+  /// pair and appends them to `into`, whose assembly the caller has begun
+  /// (ContactHistory::beginAssembly). Throws polydem::Error on every rank if a pair names a free
   /// particle that no rank owns.
   void route(const particles::HistoryRecords& chunk, particles::ContactHistory& into);
+  /// Ends the assembly of `into` (ContactHistory::endAssembly): the table sorted, one copy of
+  /// each key (a rank owning both particles of a pair receives it twice).
+  void finish(particles::ContactHistory& into);
 
   const HistoryRoutingStats& stats() const { return stats_; }
 

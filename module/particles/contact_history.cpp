@@ -34,7 +34,15 @@ void ContactHistory::clear() {
   open_ = 0;
   open_scratch_ = false;
   rebuilding_ = false;
+  assembling_ = false;
+  sorted_pairs_ = 0;
+  std::vector<std::uint32_t>().swap(sub_pair_);
   dropOld();
+}
+
+void ContactHistory::refuseOrphan(const PairKey& pair) {
+  throw Error(cat("ContactHistory: sub-contact history of pair (", pair.lo, ", ", pair.hi,
+                  ") without the pair's own history (inconsistent data)"));
 }
 
 void ContactHistory::dropOld() {
@@ -48,7 +56,7 @@ std::uint64_t ContactHistory::pairBytes() const {
 
 std::uint64_t ContactHistory::subBytes() const {
   return capacityBytes(sub_keys_) + capacityBytes(sub_entries_) + capacityBytes(scratch_keys_) +
-         capacityBytes(scratch_entries_);
+         capacityBytes(scratch_entries_) + capacityBytes(sub_pair_);
 }
 
 const PairHistory* ContactHistory::find(const PairKey& key) const {
@@ -67,7 +75,9 @@ std::pair<std::size_t, std::size_t> ContactHistory::subRange(const PairKey& key)
 }
 
 void ContactHistory::beginRebuild() {
-  if (rebuilding_ || open_ > 0) refuse("beginRebuild: a rebuild or slots still open");
+  if (rebuilding_ || open_ > 0 || assembling_) {
+    refuse("beginRebuild: a rebuild, an assembly or slots still open");
+  }
   // Last step's table stays where it is; the new one is written from the front, and the unread
   // old entries move to the end of the room only when the new ones reach them.
   old_pair_ = 0;

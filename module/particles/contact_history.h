@@ -180,6 +180,20 @@ class ContactHistory {
   void merge(HistoryRecords records);
   /// The same for pairs without sub-contacts.
   void merge(std::span<const PairKey> keys, std::span<const PairHistory> entries);
+
+  /// Builds the table from records that come in rounds (a restart's chunks), in O(n log n) for
+  /// n records in all, where merging round by round walks the whole table each time
+  /// (contact_history_assembly.cpp). beginAssembly empties the table; each appendRecords adds a
+  /// round's records (any order) unsorted to the table's own arrays; endAssembly sorts them in
+  /// place and sets the blocks. The table is then the one merging the rounds one by one gives:
+  /// the first copy of a key kept (the table's over a round's, the first of equal records within
+  /// a round). Between begin and end the table is not to be read (merge and beginRebuild refuse).
+  void beginAssembly();
+  /// Throws, leaving the table empty (nothing half-built), if a sub-contact's pair is neither in
+  /// this round nor in an earlier one, as merge does.
+  void appendRecords(HistoryRecords records);
+  void endAssembly();
+  bool assembling() const { return assembling_; }
   /// Adds this history's entries for the pair at `pair_index` (pair and sub-contacts) to
   /// `records`.
   void copyPair(std::size_t pair_index, HistoryRecords& records) const;
@@ -217,6 +231,8 @@ class ContactHistory {
  private:
   /// Throws Error("ContactHistory::" + what); out of line, away from the step's inline calls.
   [[noreturn]] static void refuse(const char* what);
+  /// Throws the error of a sub-contact history whose pair has none (an inconsistent checkpoint).
+  [[noreturn]] static void refuseOrphan(const PairKey& pair);
   /// Room for one more pair in front of the unread old ones: moves these to the end of the
   /// room, or grows it by a quarter (core/memory.h growthFor) when that is not enough.
   void makePairRoom();
@@ -234,6 +250,13 @@ class ContactHistory {
   /// the table lacks merged into their pairs' blocks, sub_end_ holding block ends again.
   void mergePairs(const HistoryRecords& sorted, std::size_t added);
   void mergeSubs(const HistoryRecords& sorted, std::size_t added);
+  /// The assembly's steps (contact_history_assembly.cpp): the index in keys_ of an earlier
+  /// round's pair (sorting the pairs appended since the last sort first), or refuseOrphan; the
+  /// pairs sorted in place with one copy of each key, the sub-contacts' pair indices following;
+  /// the sub-contacts sorted by (pair, feature) in place with one copy of each, block ends set.
+  std::uint32_t assembledPair(const PairKey& key);
+  void sortAssembledPairs();
+  void sortAssembledSubs();
   PairHistory& place(const PairKey& key, const PairHistory& h) {
     keys_[pairs_] = key;
     entries_[pairs_] = h;
@@ -260,6 +283,11 @@ class ContactHistory {
   std::size_t open_ = 0;       // slots handed out by openSubs, not yet closed
   bool open_scratch_ = false;  // ... in the scratch buffers below
   bool rebuilding_ = false;
+  // While assembling: per sub-contact, the index of its pair in keys_; the pairs [0,
+  // sorted_pairs_) are sorted, with one copy of each key.
+  bool assembling_ = false;
+  std::size_t sorted_pairs_ = 0;
+  std::vector<std::uint32_t> sub_pair_;
   std::vector<SubFeature> scratch_keys_;
   std::vector<SubHistory> scratch_entries_;
 };

@@ -1,54 +1,25 @@
 // ContactHistory::merge: records in any order merged into the sorted table in place.
 //
-// The records are sorted once (a copy of the records only, which a caller keeps bounded: a
-// restart merges a checkpoint's histories chunk by chunk), then merged into the table from its
-// end, the way two sorted runs merge into the room behind the longer one: an entry of the table
-// moves at most once per merge, only if a record sorts below it, and no second copy of the table
-// is held. The room grows to
-// the exact size it needs (a quarter more: core/memory.h growthFor), one array at a time.
+// The records are sorted once (a copy of the records only, which a caller keeps small: the
+// histories arriving with migrated particles), then merged into the table from its end, the way
+// two sorted runs merge into the room behind the longer one: an entry of the table moves at most
+// once per merge, only if a record sorts below it, and no second copy of the table is held. Each
+// merge walks the whole table, so a table built from many rounds of records is assembled in one
+// pass instead (contact_history_assembly.cpp). The room grows to the exact size it needs (a
+// quarter more: core/memory.h growthFor), one array at a time.
 #include <algorithm>
-#include <numeric>
 #include <utility>
 
 #include "polydem/core/error.h"
 #include "polydem/core/memory.h"
 #include "polydem/core/strings.h"
 #include "polydem/particles/contact_history.h"
+#include "polydem/particles/contact_history_records.h"
 
 namespace polydem::particles {
 
-namespace {
-
-// (keys, entries) sorted by key, stable, keeping the first of equal keys.
-template <typename Key, typename Entry>
-void sortUnique(std::vector<Key>& keys, std::vector<Entry>& entries) {
-  std::vector<std::size_t> order(keys.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
-  std::vector<Key> sorted_keys;
-  std::vector<Entry> sorted_entries;
-  sorted_keys.reserve(keys.size());
-  sorted_entries.reserve(keys.size());
-  for (std::size_t i : order) {
-    if (!sorted_keys.empty() && sorted_keys.back() == keys[i]) continue;
-    sorted_keys.push_back(keys[i]);
-    sorted_entries.push_back(entries[i]);
-  }
-  keys.swap(sorted_keys);
-  entries.swap(sorted_entries);
-}
-
-// Room for `needed` slots, [0, front) kept: a new array of a quarter more when it must grow.
-template <typename T>
-void growRoom(std::vector<T>& v, std::size_t front, std::size_t needed) {
-  if (needed <= v.size()) return;
-  std::vector<T> out(growthFor(needed));
-  std::copy_n(v.begin(), front, out.begin());
-  v.swap(out);
-}
-
-}  // namespace
+using detail::growRoom;
+using detail::sortUnique;
 
 void ContactHistory::merge(std::span<const PairKey> keys, std::span<const PairHistory> entries) {
   HistoryRecords records;
@@ -58,7 +29,7 @@ void ContactHistory::merge(std::span<const PairKey> keys, std::span<const PairHi
 }
 
 void ContactHistory::merge(HistoryRecords records) {
-  if (rebuilding_ || open_ > 0) refuse("merge: during a rebuild");
+  if (rebuilding_ || open_ > 0 || assembling_) refuse("merge: during a rebuild or an assembly");
   if (records.keys.size() != records.entries.size() ||
       records.sub_keys.size() != records.sub_entries.size()) {
     refuse("merge: keys and entries of different counts");
@@ -83,8 +54,7 @@ void ContactHistory::merge(HistoryRecords records) {
     } else if (r < records.keys.size() && records.keys[r] == sub.pair) {
       ++new_subs;
     } else {
-      throw Error(cat("ContactHistory: sub-contact history of pair (", sub.pair.lo, ", ",
-                      sub.pair.hi, ") without the pair's own history (inconsistent data)"));
+      refuseOrphan(sub.pair);
     }
   }
   mergePairs(records, new_pairs);

@@ -174,12 +174,14 @@ comm::HistoryRoutingStats Restart::restoreParticles(HistoryChunks& histories) co
     s_.forest->setRankMap(rankMap(s_, weights), s_.ranks);
   }
   s_.exchange.migrate(*s_.forest, s_.storage, s_.history, c_.step);
-  // Chunk by chunk: the records in transit stay bounded, and each chunk merges into the table in
-  // place (the table's order and contents are those of one merge of all records).
+  // Chunk by chunk: the records in transit stay bounded, each chunk's records are appended to
+  // the table, and the table is sorted once at the end (the table's order and contents are those
+  // of one merge of all records).
   comm::HistoryRouter router(s_.storage, s_.comm);
-  s_.history.clear();
+  s_.history.beginAssembly();
   particles::HistoryRecords chunk;
   while (histories.next(chunk)) router.route(chunk, s_.history);
+  router.finish(s_.history);
   log::info(cat("restored step ", c_.step, " (", toString(c_.stage), " stage) from ", file_,
                 ", written by ", dom.ranks, " rank(s), on ", s_.ranks, " rank(s)"));
   return router.stats();
