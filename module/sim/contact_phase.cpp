@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "polydem/core/error.h"
 #include "polydem/core/memory.h"
 #include "polydem/dynamics/driver.h"
 #include "polydem/sim/force_sum.h"
@@ -236,6 +237,12 @@ void ContactPhase::record(const particles::ParticleStorage& storage, const Order
   rec.energy = r.energy;
   rec.subcontacts = r.subcontacts;
   rec.joint = r.joint;
+}
+
+void ContactPhase::refuseRecords() {
+  throw Error(
+      "contact records read while the run keeps none (a reader not declared: "
+      "Simulation::keepContactRecords, Check::readsContacts)");
 }
 
 void ContactPhase::keepRecords(bool keep) {

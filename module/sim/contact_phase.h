@@ -96,8 +96,12 @@ class ContactPhase {
   /// Every evaluated pair of the last run(), in key order (load model, contact count).
   const std::vector<PairWork>& work() const { return work_; }
   /// The full record of every evaluated pair of the last run(), in key order, while records are
-  /// kept (the default); empty otherwise.
-  const std::vector<ContactRecord>& records() const { return records_; }
+  /// kept (the default). Throws polydem::Error when they are not: a reader the run did not
+  /// declare (run's readsContactRecords, Check::readsContacts) must fail, not read no contacts.
+  const std::vector<ContactRecord>& records() const {
+    if (!keep_records_) refuseRecords();
+    return records_;
+  }
   /// Whether run() keeps full records: a run whose output, tracked particles and checks read none
   /// turns them off, which gives their room back (about a tenth of a dense pack's memory).
   void keepRecords(bool keep);
@@ -154,6 +158,7 @@ class ContactPhase {
   std::vector<PairWork> work_;
   std::vector<ContactRecord> records_;
   bool keep_records_ = true;
+  [[noreturn]] static void refuseRecords();
   std::vector<EarlyPair> early_;  // in key order
   particles::ContactHistory early_history_;
   ContactSetup early_setup_;
