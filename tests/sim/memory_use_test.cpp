@@ -22,6 +22,19 @@
 namespace polydem::sim {
 namespace {
 
+// bench scaling's dense pack of 512 cubes in 8 layers, every face in contact from the first step,
+// with sub-contacts.
+setup::Setup densePack() {
+  PileOptions o;
+  o.particles = 512;
+  o.shapes = "cubes";
+  o.gap = -0.001;
+  o.layers = 8;
+  setup::Setup scene = makePileScene(o);
+  scene.contact_model = "sub-contacts";
+  return scene;
+}
+
 struct Counts {
   std::size_t particles = 0, vertices = 0, faces = 0;  // stored: local, fixed and ghosts
   std::size_t pairs = 0, subs = 0, candidates = 0, records = 0;
@@ -77,13 +90,7 @@ std::map<std::string, std::uint64_t> byName(const MemoryUse& use) {
 
 TEST(MemoryUse, DensePackWithinBoundsFromCounts) {
   log::setLevel(log::Level::kWarning);
-  PileOptions o;
-  o.particles = 512;
-  o.shapes = "cubes";
-  o.gap = -0.001;  // every face in contact from the first step
-  o.layers = 8;
-  setup::Setup scene = makePileScene(o);
-  scene.contact_model = "sub-contacts";
+  const setup::Setup scene = densePack();
   Simulation sim(scene, MPI_COMM_WORLD);
   Counts n;
   HistoryNeed need;
@@ -137,13 +144,7 @@ TEST(MemoryUse, DensePackWithinBoundsFromCounts) {
 // (load model, contact count) are the same, and so are the bits of the run.
 TEST(MemoryUse, ContactRecordsOnlyWhenKept) {
   log::setLevel(log::Level::kWarning);
-  PileOptions o;
-  o.particles = 512;
-  o.shapes = "cubes";
-  o.gap = -0.001;
-  o.layers = 8;
-  setup::Setup scene = makePileScene(o);
-  scene.contact_model = "sub-contacts";
+  const setup::Setup scene = densePack();
   Simulation kept(scene, MPI_COMM_WORLD), dropped(scene, MPI_COMM_WORLD);
   for (int step = 0; step < 3; ++step) kept.step();
   dropped.step();
@@ -177,13 +178,7 @@ TEST(MemoryUse, ContactRecordsOnlyWhenKept) {
 // continued from it gives the same bits as the run that never stopped.
 TEST(MemoryUse, RestartRoutesHistoriesInBoundedChunks) {
   log::setLevel(log::Level::kWarning);
-  PileOptions o;
-  o.particles = 512;
-  o.shapes = "cubes";
-  o.gap = -0.001;
-  o.layers = 8;
-  setup::Setup scene = makePileScene(o);
-  scene.contact_model = "sub-contacts";
+  const setup::Setup scene = densePack();
   Simulation sim(scene, MPI_COMM_WORLD);
   for (int step = 0; step < 10; ++step) sim.step();
   CheckpointData data = sim.checkpoint("", scene.file, "{}");
